@@ -1,0 +1,12 @@
+// apps/specht/commands.h: the subcommands of `specht`. Each registers its options
+// and a callback that sets the exit code (0 ok, 1 runtime failure, 2 bad input).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace specht::app {
+
+void AddReplayCommand(CLI::App& app, int& exit_code);
+void AddParamsCommand(CLI::App& app, int& exit_code);
+
+}  // namespace specht::app

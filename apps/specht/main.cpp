@@ -1,0 +1,34 @@
+// specht: one executable, one subcommand per job. See README.md.
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "specht/core/error.h"
+#include "specht/core/log.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"specht: an autonomy stack for small autonomous cars (mapping, perception, planning)"};
+  app.require_subcommand(1);
+  specht::InitLogging("info");
+  app.add_option_function<std::string>(
+      "--log-level", [](const std::string& level) { specht::InitLogging(level); },
+      "debug, info, warn, error or off (default info)");
+  int exit_code = 0;
+  specht::app::AddReplayCommand(app, exit_code);
+  specht::app::AddParamsCommand(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "specht: " << e.what() << "\n";
+    return specht::ExitCodeFor(e);
+  }
+  return exit_code;
+}

@@ -1,0 +1,30 @@
+#include "options_registry.h"
+
+#include "specht/core/transform_tree.h"
+#include "specht/io/replay.h"
+#include "specht/slam/scan_matching.h"
+
+namespace specht::app {
+
+const params::Registry& AllOptions() {
+  static const params::Registry registry = [] {
+    params::Registry r;
+    r.Add<FramesOptions>("frames", "coordinate frames and sensor mounts (REP-103/105)");
+    r.Add<io::ReplayOptions>("replay", "dataset replay: pacing, time window, bad records");
+    r.Add<slam::ScanMatchingOptions>("scan_matching", "scan-matching odometry: ICP against a local submap");
+    r.Add<slam::GridOptions>("grid", "occupancy grid built from keyframes");
+    return r;
+  }();
+  return registry;
+}
+
+const std::vector<DefaultsFile>& DefaultsFiles() {
+  static const std::vector<DefaultsFile> files = {
+      {"core.yaml", {"frames"}},
+      {"io.yaml", {"replay"}},
+      {"slam.yaml", {"scan_matching", "grid"}},
+  };
+  return files;
+}
+
+}  // namespace specht::app

@@ -1,0 +1,31 @@
+#include "run_setup.h"
+
+#include "options_registry.h"
+#include "specht/io/atomic_file.h"
+
+namespace specht::app {
+
+void AddCommonOptions(CLI::App& cmd, CommonArgs& args, const std::string& default_out) {
+  args.out_dir = default_out;
+  cmd.add_option("-p,--params", args.param_files, "parameter file(s), applied in order over the defaults");
+  cmd.add_option("--set", args.overrides, "override one parameter: section.key=value (repeatable)");
+  cmd.add_option("-o,--out", args.out_dir, "output directory")->capture_default_str();
+  cmd.add_option("--data-dir", args.data_dir, "evaluation data directory (default: $SPECHT_DATA_DIR)");
+  cmd.add_flag("-q,--quiet", args.quiet, "no progress line");
+}
+
+params::Params LoadParams(const CommonArgs& args) {
+  params::ParamTree tree;
+  for (const auto& file : args.param_files) tree.MergeFile(file);
+  for (const auto& assignment : args.overrides) tree.Set(assignment);
+  return AllOptions().Load(tree);
+}
+
+void PrepareOutputDir(const CommonArgs& args, const params::Params& params) {
+  io::MakeOutputDir(args.out_dir);
+  io::WriteTextAtomically(args.out_dir + "/params.yaml",
+                          "# effective parameters of this run (specht " + std::string("0.1.0") + ")\n" +
+                              params.ToYaml(true));
+}
+
+}  // namespace specht::app

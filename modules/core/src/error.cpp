@@ -1,0 +1,14 @@
+#include "specht/core/error.h"
+
+namespace specht {
+
+std::string Where(const std::string& file, int line) {
+  if (line > 0) return file + ":" + std::to_string(line) + ": ";
+  return file + ": ";
+}
+
+int ExitCodeFor(const std::exception& e) {
+  return dynamic_cast<const InputError*>(&e) != nullptr ? 2 : 1;
+}
+
+}  // namespace specht

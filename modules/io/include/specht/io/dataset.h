@@ -1,0 +1,60 @@
+// specht/io/dataset.h: dataset sources. A source yields MRPT observations in file
+// order, each with its stamp and the index of the record it came from, so that an
+// error can name where it happened. Sources never consult the wall clock.
+//
+// Formats: MRPT rawlogs (observation-only and action/sensory-frame; plain or gzip).
+// Action/sensory-frame rawlogs carry odometry as increments (CActionRobotMovement2D);
+// the source chains them into CObservationOdometry readings so that every consumer
+// sees one kind of odometry.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <mrpt/obs/CObservation.h>
+
+#include "specht/core/error.h"
+#include "specht/core/time.h"
+
+namespace specht::io {
+
+struct Observation {
+  Stamp stamp;
+  mrpt::obs::CObservation::Ptr data;
+  int64_t record = 0;  // index of the record in the file (0-based)
+};
+
+// Bad or truncated input met while reading a dataset. What was read before stays valid.
+class DatasetError : public InputError {
+ public:
+  DatasetError(const std::string& file, int64_t record, int64_t byte_offset, const std::string& why);
+  int64_t record() const { return record_; }
+  int64_t byte_offset() const { return byte_offset_; }
+
+ private:
+  int64_t record_;
+  int64_t byte_offset_;
+};
+
+class DatasetSource {
+ public:
+  virtual ~DatasetSource() = default;
+  // The next observation, or nullopt at the clean end of the data. Throws
+  // DatasetError on corrupt or truncated input.
+  virtual std::optional<Observation> Next() = 0;
+  virtual std::string Path() const = 0;
+  virtual std::string Format() const = 0;
+  // Fraction of the data read so far, in [0, 1] (for progress); negative if unknown.
+  virtual double FractionRead() const = 0;
+};
+
+// Opens a dataset by looking at its contents. Throws InputError if the file is
+// missing or of no known format.
+std::unique_ptr<DatasetSource> OpenDataset(const std::string& path);
+
+// The MRPT rawlog reader (both formats, plain or gzip).
+std::unique_ptr<DatasetSource> OpenRawlog(const std::string& path);
+
+}  // namespace specht::io

@@ -1,0 +1,162 @@
+// Reads MRPT rawlogs object by object, so that a corrupt or truncated file is
+// reported at the record where it breaks (MRPT's own CRawlog helpers treat any
+// error as the end of the file, which would silently cut a replay short).
+#include <deque>
+#include <algorithm>
+#include <fstream>
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/datetime.h>
+
+#include "specht/io/dataset.h"
+
+namespace specht::io {
+namespace {
+
+// MRPT exception texts carry a call stack; keep the reason only.
+std::string Reason(const std::exception& e) {
+  std::string text = e.what();
+  const auto pos = text.find_last_of('\n', text.find_last_not_of("\n "));
+  std::string last = pos == std::string::npos ? text : text.substr(pos + 1);
+  while (!last.empty() && (last.back() == '\n' || last.back() == ' ')) last.pop_back();
+  const auto msg = text.find("Message:");
+  if (msg != std::string::npos) {
+    last = text.substr(msg + 8);
+    last = last.substr(0, last.find('\n'));
+    while (!last.empty() && last.front() == ' ') last.erase(0, 1);
+  }
+  return last.empty() ? "unreadable record" : last;
+}
+
+// Size of the decompressed stream: the file size, or for gzip the ISIZE field of
+// its trailer (size modulo 2^32; good for progress, which is all it is used for).
+uint64_t UncompressedSize(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char magic[2] = {0, 0};
+  in.read(reinterpret_cast<char*>(magic), 2);
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<uint64_t>(in.tellg());
+  if (!(magic[0] == 0x1f && magic[1] == 0x8b) || size < 18) return size;
+  unsigned char isize[4];
+  in.seekg(-4, std::ios::end);
+  in.read(reinterpret_cast<char*>(isize), 4);
+  return uint64_t(isize[0]) | uint64_t(isize[1]) << 8 | uint64_t(isize[2]) << 16 | uint64_t(isize[3]) << 24;
+}
+
+class RawlogSource final : public DatasetSource {
+ public:
+  explicit RawlogSource(std::string path) : path_(std::move(path)) {
+    if (!in_.open(path_)) throw InputError(path_ + ": cannot open rawlog");
+    data_size_ = UncompressedSize(path_);
+  }
+
+  std::optional<Observation> Next() override {
+    while (pending_.empty()) {
+      if (!ReadRecord()) return std::nullopt;
+    }
+    Observation o = std::move(pending_.front());
+    pending_.pop_front();
+    return o;
+  }
+
+  std::string Path() const override { return path_; }
+  std::string Format() const override { return format_.empty() ? "rawlog" : format_; }
+  double FractionRead() const override {
+    if (data_size_ == 0) return -1.0;
+    return std::min(1.0, static_cast<double>(in_.getPosition()) / static_cast<double>(data_size_));
+  }
+
+ private:
+  bool ReadRecord() {
+    const int64_t start = static_cast<int64_t>(in_.getPosition());
+    mrpt::serialization::CSerializable::Ptr object;
+    try {
+      auto archive = mrpt::serialization::archiveFrom(in_);
+      archive >> object;
+    } catch (const mrpt::serialization::CExceptionEOF&) {
+      if (static_cast<int64_t>(in_.getPosition()) == start) return false;  // clean end
+      throw DatasetError(path_, record_, start, "file ends inside this record (truncated rawlog)");
+    } catch (const std::bad_alloc&) {
+      throw DatasetError(path_, record_, start, "corrupt record (implausible size field)");
+    } catch (const std::exception& e) {
+      throw DatasetError(path_, record_, start, "corrupt record: " + Reason(e));
+    }
+    if (!object) throw DatasetError(path_, record_, start, "empty object in rawlog");
+    Dispatch(object, start);
+    ++record_;
+    return true;
+  }
+
+  void Dispatch(const mrpt::serialization::CSerializable::Ptr& object, int64_t start) {
+    using namespace mrpt::obs;
+    if (auto obs = std::dynamic_pointer_cast<CObservation>(object)) {
+      SetFormat("rawlog (observations)");
+      Push(obs, start);
+    } else if (auto actions = std::dynamic_pointer_cast<CActionCollection>(object)) {
+      SetFormat("rawlog (actions/sensory frames)");
+      AddOdometryIncrement(*actions);
+    } else if (auto frame = std::dynamic_pointer_cast<CSensoryFrame>(object)) {
+      SetFormat("rawlog (actions/sensory frames)");
+      for (const auto& obs : *frame) {
+        if (pending_odometry_stamp_) {
+          EmitOdometry(obs->timestamp, start);
+        }
+        Push(obs, start);
+      }
+    } else {
+      throw DatasetError(path_, record_, start,
+                         std::string("unexpected object of class ") + object->GetRuntimeClass()->className);
+    }
+  }
+
+  void SetFormat(const char* f) {
+    if (format_.empty()) format_ = f;
+  }
+
+  // Chains CActionRobotMovement2D increments into an absolute odometry reading.
+  void AddOdometryIncrement(const mrpt::obs::CActionCollection& actions) {
+    auto move = actions.getBestMovementEstimation();
+    if (!move) return;
+    odometry_ = odometry_ + move->poseChange->getMeanVal();
+    pending_odometry_stamp_ = true;
+    if (move->timestamp != INVALID_TIMESTAMP) EmitOdometry(move->timestamp, -1);
+  }
+
+  void EmitOdometry(mrpt::Clock::time_point stamp, int64_t /*start*/) {
+    auto odo = mrpt::obs::CObservationOdometry::Create();
+    odo->odometry = odometry_;
+    odo->timestamp = stamp;
+    odo->sensorLabel = "ODOMETRY";
+    pending_.push_back(Observation{FromMrpt(stamp), odo, record_});
+    pending_odometry_stamp_ = false;
+  }
+
+  void Push(const mrpt::obs::CObservation::Ptr& obs, int64_t start) {
+    if (obs->timestamp == INVALID_TIMESTAMP) {
+      throw DatasetError(path_, record_, start, "observation '" + obs->sensorLabel + "' has no time stamp");
+    }
+    pending_.push_back(Observation{FromMrpt(obs->timestamp), obs, record_});
+  }
+
+  std::string path_;
+  mrpt::io::CFileGZInputStream in_;
+  uint64_t data_size_ = 0;
+  std::string format_;
+  std::deque<Observation> pending_;
+  int64_t record_ = 0;
+  mrpt::poses::CPose2D odometry_;
+  bool pending_odometry_stamp_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<DatasetSource> OpenRawlog(const std::string& path) {
+  return std::make_unique<RawlogSource>(path);
+}
+
+}  // namespace specht::io

@@ -1,0 +1,141 @@
+// specht/slam/scan_matching.h: scan-matching odometry and occupancy-grid mapping
+// from 2D laser scans and wheel odometry (the first mapping stage of `specht replay`;
+// the graph-SLAM back end builds on its keyframes).
+//
+// For every scan:
+//   guess_k   = pose_{k-1} ⊕ (odom_{k-1} ⊖ odom_k)^-1     (wheel odometry increment)
+//   pose_k    = ICP(local submap, scan_k, guess_k)          (MRPT CICP, point-to-point)
+// The local submap holds the points of the last `submap_keyframes` keyframes in the
+// map frame. A match is rejected (pose_k = guess_k) when fewer than `min_goodness`
+// of the scan's points found a partner or when the correction exceeds
+// `max_correction_m` / `max_correction_deg`. A scan becomes a keyframe when the car
+// moved `keyframe_translation_m` or turned `keyframe_rotation_deg` since the last one;
+// keyframes are what the grid is built from.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include "specht/core/params.h"
+#include "specht/core/trajectory.h"
+#include "specht/core/transform_tree.h"
+#include "specht/slam/icp.h"
+
+namespace specht::slam {
+
+// Section "scan_matching".
+struct ScanMatchingOptions {
+  bool use_odometry = true;
+  double min_range_m = 0.1;
+  double max_range_m = 30.0;
+  double keyframe_translation_m = 0.3;
+  double keyframe_rotation_deg = 10.0;
+  int submap_keyframes = 30;
+  double min_goodness = 0.3;
+  double max_correction_m = 1.0;
+  double max_correction_deg = 20.0;
+  IcpOptions icp;
+
+  template <class V>
+  void Visit(V& v) {
+    using params::Range;
+    v.Param("use_odometry", use_odometry, "seed each match with the wheel-odometry increment");
+    v.Param("min_range_m", min_range_m, "ignore returns closer than this", Range::Of(0.0, 2.0));
+    v.Param("max_range_m", max_range_m, "ignore returns farther than this", Range::Of(1.0, 200.0));
+    v.Param("keyframe_translation_m", keyframe_translation_m, "new keyframe after this much travel",
+            Range::Of(0.02, 3.0).Log());
+    v.Param("keyframe_rotation_deg", keyframe_rotation_deg, "new keyframe after this much turning",
+            Range::Of(1.0, 90.0).Log());
+    v.Param("submap_keyframes", submap_keyframes, "keyframes in the local submap scans are matched against",
+            Range::Of(1, 500));
+    v.Param("min_goodness", min_goodness, "reject a match when fewer than this fraction of points paired",
+            Range::Of(0.0, 1.0));
+    v.Param("max_correction_m", max_correction_m, "reject a match that moves the guess further than this",
+            Range::Of(0.05, 10.0));
+    v.Param("max_correction_deg", max_correction_deg, "reject a match that turns the guess more than this",
+            Range::Of(1.0, 180.0));
+    v.Group("icp", icp);
+  }
+  std::vector<std::string> Relations() const;
+};
+
+// Section "grid": the occupancy grid built from keyframes (MRPT COccupancyGridMap2D).
+struct GridOptions {
+  double resolution_m = 0.05;
+  double max_insert_range_m = 25.0;
+  double occupied_update = 0.65;  // per-hit occupancy probability (maxOccupancyUpdateCertainty)
+  double free_update = 0.0;       // per-pass freeness probability (maxFreenessUpdateCertainty; 0 = same)
+  bool invalid_ranges_are_free = false;
+
+  template <class V>
+  void Visit(V& v) {
+    using params::Range;
+    v.Param("resolution_m", resolution_m, "cell size", Range::Of(0.01, 1.0).Log());
+    v.Param("max_insert_range_m", max_insert_range_m, "returns beyond this do not update the grid",
+            Range::Of(1.0, 200.0));
+    v.Param("occupied_update", occupied_update, "occupancy probability a hit adds to its cell",
+            Range::Of(0.51, 0.99));
+    v.Param("free_update", free_update, "freeness probability a pass adds to a cell (0 = as occupied_update)",
+            Range::Of(0.0, 0.99));
+    v.Param("invalid_ranges_are_free", invalid_ranges_are_free,
+            "treat max-range / invalid beams as free space along the beam");
+  }
+  std::vector<std::string> Relations() const;
+};
+
+struct Keyframe {
+  size_t scan_index = 0;  // index into the trajectory
+  Stamp stamp;
+  mrpt::poses::CPose2D pose;  // base_link in the map frame
+  mrpt::obs::CObservation2DRangeScan::Ptr scan;  // with its sensor pose on base_link
+};
+
+struct MappingStats {
+  long scans = 0;
+  long odometry = 0;
+  long ignored = 0;        // observations of other kinds
+  long keyframes = 0;
+  long rejected_matches = 0;
+  long icp_iterations = 0;
+};
+
+class ScanMatchingMapper {
+ public:
+  // `frames` (may be null) supplies sensor mounts that override those in the data.
+  ScanMatchingMapper(const ScanMatchingOptions& options, const TransformTree* frames, std::string base_frame);
+  ~ScanMatchingMapper();
+  ScanMatchingMapper(const ScanMatchingMapper&) = delete;
+  ScanMatchingMapper& operator=(const ScanMatchingMapper&) = delete;
+
+  // Odometry (CObservationOdometry) and 2D scans are used; other kinds are counted.
+  void Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation);
+
+  const Trajectory& trajectory() const { return trajectory_; }
+  const std::vector<Keyframe>& keyframes() const { return keyframes_; }
+  const MappingStats& stats() const { return stats_; }
+
+ private:
+  void AddScan(Stamp stamp, const mrpt::obs::CObservation2DRangeScan& scan);
+  mrpt::obs::CObservation2DRangeScan::Ptr Prepare(const mrpt::obs::CObservation2DRangeScan& scan) const;
+  void RebuildSubmap();
+
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  ScanMatchingOptions options_;
+  const TransformTree* frames_;
+  std::string base_frame_;
+  Trajectory trajectory_;
+  std::vector<Keyframe> keyframes_;
+  MappingStats stats_;
+};
+
+// The occupancy grid of the given keyframes at their poses.
+mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes, const GridOptions& options);
+
+}  // namespace specht::slam

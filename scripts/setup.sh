@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Installs every Debian package specht needs to build, test and run, and nothing else.
+# Non-interactive and idempotent: when everything is present it only checks and exits.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  g++ cmake ninja-build pkg-config git
+  # robotics libraries
+  libmrpt-dev        # observations, rawlogs, ICP, occupancy grids, poses
+  mrpt-common        # the built-in default rawlog and MRPT's demo datasets
+  mrpt-apps          # rawlog-edit, icp-slam, graphslam-engine (comparisons in bench/)
+  libopencv-dev      # images, PNG output, drawing
+  libeigen3-dev
+  # configuration, CLI, output
+  libyaml-cpp-dev    # parameter files
+  libcli11-dev       # command line
+  nlohmann-json3-dev # JSON reports
+  libspdlog-dev libfmt-dev  # logging
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$p")
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "setup: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+echo "setup: done"
