@@ -13,18 +13,15 @@ function(specht_module name)
 endfunction()
 
 # specht_test(<name> SOURCES ... LIBS ... [LABELS ...])
-# A gtest executable; every test case becomes a ctest entry carrying the labels
-# and SPECHT_DATA_DIR / SPECHT_SOURCE_DIR in its environment.
+# A gtest executable; every test case becomes a ctest entry carrying the labels.
+# Where data, sources and the binary are is compiled into tests/support (and can be
+# overridden by the SPECHT_DATA_DIR, SPECHT_SOURCE_DIR, SPECHT_BINARY variables).
 function(specht_test name)
   cmake_parse_arguments(T "" "" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${T_SOURCES})
-  target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main specht_build_flags)
+  target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gmock GTest::gtest GTest::gtest_main specht_build_flags)
   if(NOT T_LABELS)
     set(T_LABELS fast)
   endif()
-  gtest_discover_tests(${name}
-    DISCOVERY_TIMEOUT 60
-    PROPERTIES
-      LABELS "${T_LABELS}"
-      ENVIRONMENT "SPECHT_DATA_DIR=${SPECHT_DATA_DIR};SPECHT_SOURCE_DIR=${CMAKE_SOURCE_DIR};SPECHT_BINARY=$<TARGET_FILE:specht>")
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${T_LABELS}")
 endfunction()

@@ -27,23 +27,27 @@ std::string Describe(const YAML::Node& n) {
   return "nothing";
 }
 
+std::string FormatNumber(double v, bool integer) {
+  return integer ? std::to_string(static_cast<long long>(v)) : FormatReal(v);
+}
+
 }  // namespace
 
-std::string Range::ToString() const {
+std::string Range::ToString(bool integer) const {
   const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
   if (!has_min && !has_max) return "";
   std::string s;
-  if (has_min && has_max) s = "[" + FormatReal(min) + ", " + FormatReal(max) + "]";
-  else if (has_min) s = ">= " + FormatReal(min);
-  else s = "<= " + FormatReal(max);
+  if (has_min && has_max) s = "[" + FormatNumber(min, integer) + ", " + FormatNumber(max, integer) + "]";
+  else if (has_min) s = ">= " + FormatNumber(min, integer);
+  else s = "<= " + FormatNumber(max, integer);
   if (log_scale) s += " log";
   if (!tunable) s += " fixed";
   return s;
 }
 
-std::string CheckRange(double value, const Range& range) {
+std::string CheckRange(double value, const Range& range, bool integer) {
   if (range.Contains(value)) return "";
-  return "value " + FormatReal(value) + " is outside " + range.ToString();
+  return "value " + FormatNumber(value, integer) + " is outside " + range.ToString(integer);
 }
 
 std::string JoinKey(const std::string& prefix, const std::string& key) {
@@ -258,17 +262,13 @@ void Reader::Choice(const char* key, std::string& field, const std::vector<std::
 
 void Writer::Emit(const char* key, const YAML::Node& value, const char* doc, const std::string& bounds) {
   out_ << YAML::Key << key << YAML::Value << value;
-  if (with_docs_) {
-    std::string comment = doc;
-    if (!bounds.empty()) comment += " [" + bounds + "]";
-    out_ << YAML::Comment(comment);
-  }
+  if (with_docs_) out_ << YAML::Comment(bounds.empty() ? std::string(doc) : std::string(doc) + " — " + bounds);
 }
 
 void Writer::Choice(const char* key, std::string& field, const std::vector<std::string>& choices,
                     const char* doc) {
   std::string list;
-  for (const auto& c : choices) list += (list.empty() ? "" : "|") + c;
+  for (const auto& c : choices) list += (list.empty() ? "one of " : "|") + c;
   Emit(key, YAML::Node(field), doc, list);
 }
 

@@ -84,12 +84,19 @@ class RawlogSource final : public DatasetSource {
     } catch (const std::bad_alloc&) {
       throw DatasetError(path_, record_, start, "corrupt record (implausible size field)");
     } catch (const std::exception& e) {
+      // MRPT wraps an end of file met inside an object into a generic exception.
+      if (AtEnd()) throw DatasetError(path_, record_, start, "file ends inside this record (truncated rawlog)");
       throw DatasetError(path_, record_, start, "corrupt record: " + Reason(e));
     }
     if (!object) throw DatasetError(path_, record_, start, "empty object in rawlog");
     Dispatch(object, start);
     ++record_;
     return true;
+  }
+
+  bool AtEnd() {
+    char byte = 0;
+    return in_.Read(&byte, 1) == 0;
   }
 
   void Dispatch(const mrpt::serialization::CSerializable::Ptr& object, int64_t start) {

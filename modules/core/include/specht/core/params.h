@@ -53,7 +53,8 @@ struct Range {
   // Validated, but not offered to the tuner (e.g. a sensor's physical constant).
   Range Fixed() const { Range r = *this; r.tunable = false; return r; }
   bool Contains(double v) const { return v >= min && v <= max; }
-  std::string ToString() const;
+  // "[min, max]" (integers without decimals), "log", "fixed" as they apply.
+  std::string ToString(bool integer = false) const;
 };
 
 // A description of one declared parameter (for --help, dumps and the tuner).
@@ -135,7 +136,7 @@ class ParamTree {
 std::string JoinKey(const std::string& prefix, const std::string& key);
 
 // Checks a decoded value against its range; empty string when fine.
-std::string CheckRange(double value, const Range& range);
+std::string CheckRange(double value, const Range& range, bool integer);
 
 // --- visitors over an options struct's Visit(v) declaration -------------------
 
@@ -160,7 +161,7 @@ class Reader {
       field = std::move(value);
     }
     if constexpr (std::is_arithmetic_v<T>) {
-      why = CheckRange(static_cast<double>(field), range);
+      why = CheckRange(static_cast<double>(field), range, std::is_integral_v<T>);
       if (!why.empty()) errors_.push_back(Located(leaf) + "key '" + full + "': " + why);
     }
   }
@@ -188,7 +189,7 @@ class Writer {
 
   template <class T>
   void Param(const char* key, T& field, const char* doc, Range range = {}) {
-    Emit(key, Codec<T>::Encode(field), doc, std::is_arithmetic_v<T> ? range.ToString() : "");
+    Emit(key, Codec<T>::Encode(field), doc, std::is_arithmetic_v<T> ? range.ToString(std::is_integral_v<T>) : "");
   }
   void Choice(const char* key, std::string& field, const std::vector<std::string>& choices,
               const char* doc);

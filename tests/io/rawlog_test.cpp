@@ -1,0 +1,112 @@
+// Rawlog reading: both formats, and what happens when the file is cut or corrupted.
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+
+#include <random>
+
+#include "specht/io/dataset.h"
+#include "test_support.h"
+
+namespace specht::io {
+namespace {
+
+struct ReadResult {
+  long scans = 0, odometry = 0;
+  std::vector<Stamp> stamps;
+  std::string error;
+  int64_t error_record = -1, error_offset = -1;
+};
+
+ReadResult ReadAll(const std::string& path) {
+  ReadResult r;
+  auto source = OpenDataset(path);
+  try {
+    while (auto obs = source->Next()) {
+      r.stamps.push_back(obs->stamp);
+      if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data)) ++r.scans;
+      if (std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs->data)) ++r.odometry;
+    }
+  } catch (const DatasetError& e) {
+    r.error = e.what();
+    r.error_record = e.record();
+    r.error_offset = e.byte_offset();
+  }
+  return r;
+}
+
+TEST(RawlogTest, ReadsTheBuiltInActionSensoryFrameRawlog) {
+  const std::string rawlog = testing::BuiltInRawlog();
+  SPECHT_REQUIRE_FILE(rawlog);
+  const ReadResult r = ReadAll(rawlog);
+  EXPECT_EQ(r.error, "");
+  EXPECT_EQ(r.scans, 225);      // rawlog-edit --info: 449 objects, 224 sensory frames
+  EXPECT_EQ(r.odometry, 224);   // one chained odometry reading per action
+  EXPECT_TRUE(std::is_sorted(r.stamps.begin(), r.stamps.end()));
+  EXPECT_NEAR(SecondsBetween(r.stamps.front(), r.stamps.back()), 58.8, 0.5);
+}
+
+TEST(RawlogTest, MissingFileIsAnInputError) {
+  EXPECT_THROW(OpenDataset("/nonexistent.rawlog"), InputError);
+}
+
+TEST(RawlogTest, TruncatedFileStopsAtTheBrokenRecordWithItsOffset) {
+  const std::string rawlog = testing::BuiltInRawlog();
+  SPECHT_REQUIRE_FILE(rawlog);
+  const std::string bytes = testing::ReadDecompressed(rawlog);
+  const std::string cut = testing::TempDir() + "/cut.rawlog";
+  testing::WriteFile(cut, bytes.substr(0, bytes.size() / 2));
+  const ReadResult r = ReadAll(cut);
+  EXPECT_THAT(r.error, ::testing::HasSubstr("cut.rawlog: record "));
+  EXPECT_THAT(r.error, ::testing::HasSubstr("truncated rawlog"));
+  EXPECT_GT(r.error_record, 100);
+  EXPECT_LT(r.error_offset, static_cast<int64_t>(bytes.size() / 2));
+  EXPECT_GT(r.scans, 100);  // everything before the cut was delivered
+}
+
+TEST(RawlogTest, TruncatedGzipStopsCleanly) {
+  const std::string rawlog = testing::BuiltInRawlog();
+  SPECHT_REQUIRE_FILE(rawlog);
+  const std::string gz = testing::ReadFile(rawlog);
+  const std::string cut = testing::TempDir() + "/cut.rawlog.gz";
+  testing::WriteFile(cut, gz.substr(0, gz.size() * 2 / 3));
+  const ReadResult r = ReadAll(cut);
+  EXPECT_THAT(r.error, ::testing::HasSubstr("record"));
+  EXPECT_GT(r.scans, 50);
+}
+
+// Fuzz-style: flip random bytes in random places; the reader must either read on or
+// stop with a DatasetError that names a record, never crash or hang.
+TEST(RawlogTest, RandomCorruptionIsReportedNeverFatal) {
+  const std::string rawlog = testing::BuiltInRawlog();
+  SPECHT_REQUIRE_FILE(rawlog);
+  const std::string bytes = testing::ReadDecompressed(rawlog);
+  std::mt19937 rng(42);
+  const std::string path = testing::TempDir() + "/fuzz.rawlog";
+  int reported = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    std::string corrupt = bytes;
+    const int flips = 1 + trial % 8;
+    for (int k = 0; k < flips; ++k) {
+      corrupt[std::uniform_int_distribution<size_t>(0, corrupt.size() - 1)(rng)] ^=
+          static_cast<char>(1 + rng() % 255);
+    }
+    testing::WriteFile(path, corrupt);
+    const ReadResult r = ReadAll(path);
+    if (!r.error.empty()) {
+      ++reported;
+      EXPECT_THAT(r.error, ::testing::MatchesRegex(".*fuzz.rawlog: record [0-9]+ \\(byte [0-9]+\\): .+"));
+    }
+  }
+  // Most flips land in range data and read on; some hit structure and are reported.
+  EXPECT_GT(reported, 0);
+}
+
+TEST(RawlogTest, GarbageIsNotARawlog) {
+  const std::string path = testing::TempDir() + "/garbage.rawlog";
+  testing::WriteFile(path, std::string(1000, 'x'));
+  const ReadResult r = ReadAll(path);
+  EXPECT_THAT(r.error, ::testing::HasSubstr("record 0 (byte 0)"));
+}
+
+}  // namespace
+}  // namespace specht::io

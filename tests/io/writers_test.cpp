@@ -1,0 +1,150 @@
+// Output formats: ROS map_server, MRPT gridmap, TUM, PNG, reports; all atomic.
+#include <filesystem>
+
+#include "specht/core/error.h"
+#include "specht/io/atomic_file.h"
+#include "specht/io/map_io.h"
+#include "specht/io/report.h"
+#include "specht/io/trajectory_io.h"
+#include "test_support.h"
+
+namespace specht::io {
+namespace {
+
+namespace fs = std::filesystem;
+using mrpt::maps::COccupancyGridMap2D;
+
+// A 4 m x 3 m room at 0.1 m: free inside, walls on the border, unknown outside.
+COccupancyGridMap2D Room() {
+  COccupancyGridMap2D grid(-1.0f, 5.0f, -1.0f, 4.0f, 0.1f);
+  for (unsigned y = 0; y < grid.getSizeY(); ++y) {
+    for (unsigned x = 0; x < grid.getSizeX(); ++x) {
+      const double wx = grid.idx2x(x), wy = grid.idx2y(y);
+      const bool inside = wx > 0 && wx < 4 && wy > 0 && wy < 3;
+      const bool wall = inside && (wx < 0.1 || wx > 3.9 || wy < 0.1 || wy > 2.9);
+      if (wall) grid.setCell(x, y, 0.05f);
+      else if (inside) grid.setCell(x, y, 0.95f);
+    }
+  }
+  return grid;
+}
+
+TEST(MapIoTest, RosMapRoundTripKeepsEveryCellClassAndTheOrigin) {
+  const std::string dir = testing::TempDir();
+  const COccupancyGridMap2D room = Room();
+  WriteRosMap(room, dir + "/room.yaml");
+  EXPECT_THAT(testing::ReadFile(dir + "/room.yaml"), ::testing::HasSubstr("image: room.pgm"));
+  const COccupancyGridMap2D back = ReadRosMap(dir + "/room.yaml");
+  ASSERT_EQ(back.getSizeX(), room.getSizeX());
+  ASSERT_EQ(back.getSizeY(), room.getSizeY());
+  EXPECT_NEAR(back.getXMin(), room.getXMin(), 1e-6);
+  EXPECT_NEAR(back.getYMin(), room.getYMin(), 1e-6);
+  auto cls = [](float p_free) { return p_free < 0.35f ? 0 : p_free > 0.804f ? 2 : 1; };
+  for (unsigned y = 0; y < room.getSizeY(); ++y) {
+    for (unsigned x = 0; x < room.getSizeX(); ++x) {
+      ASSERT_EQ(cls(back.getCell(x, y)), cls(room.getCell(x, y))) << x << "," << y;
+    }
+  }
+  // The PGM's first row is the top (largest y) of the map.
+  const std::string pgm = testing::ReadFile(dir + "/room.pgm");
+  EXPECT_EQ(pgm.substr(0, 2), "P5");
+}
+
+TEST(MapIoTest, RosMapErrorsNameTheFileAndField) {
+  const std::string dir = testing::TempDir();
+  testing::WriteFile(dir + "/m.yaml", "image: m.pgm\norigin: [0, 0, 0]\n");
+  try {
+    ReadRosMap(dir + "/m.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + "/m.yaml: missing field 'resolution'");
+  }
+  testing::WriteFile(dir + "/m.yaml", "image: none.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n");
+  EXPECT_THROW(ReadRosMap(dir + "/m.yaml"), InputError);
+}
+
+TEST(MapIoTest, MrptGridmapRoundTrip) {
+  const std::string dir = testing::TempDir();
+  const COccupancyGridMap2D room = Room();
+  WriteMrptGridmap(room, dir + "/room.gridmap");
+  const COccupancyGridMap2D back = ReadMrptGridmap(dir + "/room.gridmap");
+  ASSERT_EQ(back.getSizeX(), room.getSizeX());
+  for (unsigned y = 0; y < room.getSizeY(); ++y) {
+    for (unsigned x = 0; x < room.getSizeX(); ++x) ASSERT_NEAR(back.getCell(x, y), room.getCell(x, y), 0.01);
+  }
+  testing::WriteFile(dir + "/bad.gridmap", "not a map");
+  EXPECT_THROW(ReadMrptGridmap(dir + "/bad.gridmap"), InputError);
+}
+
+TEST(MapIoTest, PngShowsTheMapWithPaths) {
+  const std::string dir = testing::TempDir();
+  Trajectory t = {{Stamp{0}, mrpt::poses::CPose3D(1, 1, 0, 0, 0, 0)},
+                  {Stamp{1}, mrpt::poses::CPose3D(3, 2, 0, 0, 0, 0)}};
+  WriteMapPng(Room(), {{&t, {255, 0, 0}, "path"}}, dir + "/room.png", 400);
+  EXPECT_GT(fs::file_size(dir + "/room.png"), 1000u);
+}
+
+TEST(TrajectoryIoTest, TumRoundTripKeepsNanosecondStampsAndPoses) {
+  const std::string dir = testing::TempDir();
+  Trajectory t = {{Stamp{1137834225973759900}, mrpt::poses::CPose3D(1.5, -2.25, 0, 0.3, 0, 0)},
+                  {Stamp{1137834226000000001}, mrpt::poses::CPose3D(2, 0, 0.1, -3.0, 0.1, 0.2)}};
+  WriteTum(t, dir + "/t.tum");
+  const Trajectory back = ReadTum(dir + "/t.tum");
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_THAT(testing::ReadFile(dir + "/t.tum"), ::testing::HasSubstr("1137834225.973759900 1.500000 -2.250000"));
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(back[i].stamp.Seconds(), t[i].stamp.Seconds(), 1e-6);
+    EXPECT_NEAR(back[i].pose.distanceTo(t[i].pose), 0, 1e-6);
+    EXPECT_NEAR(back[i].pose.yaw(), t[i].pose.yaw(), 1e-6);
+    EXPECT_NEAR(back[i].pose.roll(), t[i].pose.roll(), 1e-6);
+  }
+}
+
+TEST(TrajectoryIoTest, MalformedLinesNameFileAndLine) {
+  const std::string dir = testing::TempDir();
+  testing::WriteFile(dir + "/t.tum", "# header\n1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n");
+  try {
+    ReadTum(dir + "/t.tum");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + "/t.tum:3: expected 8 numbers (t x y z qx qy qz qw), got 7");
+  }
+  testing::WriteFile(dir + "/gt.txt", "1 0 0 0\n2 nan 0 0\n");
+  try {
+    ReadPose2DText(dir + "/gt.txt");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_THAT(std::string(e.what()), ::testing::HasSubstr("gt.txt:2: 'nan' is not a finite number"));
+  }
+}
+
+TEST(AtomicFileTest, AFailedWriteLeavesTheOldFileAndNoTemporary) {
+  const std::string dir = testing::TempDir();
+  WriteTextAtomically(dir + "/a.txt", "old");
+  EXPECT_THROW(WriteAtomically(dir + "/a.txt",
+                               [](const std::string& tmp) {
+                                 testing::WriteFile(tmp, "half");
+                                 throw RuntimeError("disk full");
+                               }),
+               RuntimeError);
+  EXPECT_EQ(testing::ReadFile(dir + "/a.txt"), "old");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+TEST(ReportTest, WritesJsonAndMarkdownWithStatus) {
+  const std::string dir = testing::TempDir();
+  RunReport report("replay");
+  report.json()["counts"]["scans"] = 10;
+  report.SetIncomplete("x.rawlog: record 7 (byte 100): truncated");
+  report.AddOutput("map.png");
+  report.Write(dir);
+  const auto j = nlohmann::json::parse(testing::ReadFile(dir + "/report.json"));
+  EXPECT_EQ(j["status"], "incomplete");
+  EXPECT_EQ(j["counts"]["scans"], 10);
+  const std::string md = testing::ReadFile(dir + "/report.md");
+  EXPECT_THAT(md, ::testing::HasSubstr("Status: **incomplete** — x.rawlog: record 7"));
+  EXPECT_THAT(md, ::testing::HasSubstr("![map.png](map.png)"));
+}
+
+}  // namespace
+}  // namespace specht::io

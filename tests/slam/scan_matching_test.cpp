@@ -1,0 +1,183 @@
+// Scan-matching odometry: known offsets in a ray-cast room, and the built-in rawlog's
+// second pass over its first corridor.
+#include "specht/slam/scan_matching.h"
+
+#include <cmath>
+
+#include <mrpt/obs/CObservationOdometry.h>
+
+#include "specht/eval/map_quality.h"
+#include "specht/io/dataset.h"
+#include "test_support.h"
+
+namespace specht::slam {
+namespace {
+
+using mrpt::poses::CPose2D;
+
+// A 10 m x 6 m room with a 1 m x 1 m pillar at (6.5, 2.5): distance along a ray.
+double RayCast(double x, double y, double angle) {
+  const double dx = std::cos(angle), dy = std::sin(angle);
+  double best = 1e9;
+  auto slab = [&](double x0, double x1, double y0, double y1, bool inside) {
+    // Hit the four sides of an axis-aligned box.
+    for (double wx : {x0, x1}) {
+      if (std::abs(dx) < 1e-12) continue;
+      const double t = (wx - x) / dx, hy = y + t * dy;
+      if (t > 1e-9 && hy >= y0 && hy <= y1) best = std::min(best, t);
+    }
+    for (double wy : {y0, y1}) {
+      if (std::abs(dy) < 1e-12) continue;
+      const double t = (wy - y) / dy, hx = x + t * dx;
+      if (t > 1e-9 && hx >= x0 && hx <= x1) best = std::min(best, t);
+    }
+    (void)inside;
+  };
+  slab(0, 10, 0, 6, true);
+  slab(6, 7, 2, 3, false);
+  return best;
+}
+
+mrpt::obs::CObservation2DRangeScan::Ptr ScanAt(const CPose2D& pose, Stamp stamp) {
+  auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+  const size_t n = 361;
+  scan->aperture = static_cast<float>(M_PI);
+  scan->rightToLeft = true;
+  scan->maxRange = 30.0f;
+  scan->resizeScan(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double a = -M_PI / 2 + M_PI * static_cast<double>(i) / (n - 1);
+    scan->setScanRange(i, static_cast<float>(RayCast(pose.x(), pose.y(), pose.phi() + a)));
+    scan->setScanRangeValidity(i, true);
+  }
+  scan->timestamp = ToMrpt(stamp);
+  scan->sensorLabel = "LASER";
+  return scan;
+}
+
+mrpt::obs::CObservationOdometry::Ptr OdometryAt(const CPose2D& pose) {
+  auto odo = mrpt::obs::CObservationOdometry::Create();
+  odo->odometry = pose;
+  return odo;
+}
+
+TEST(ScanMatchingTest, RecoversAKnownMotionWithinOneCentimetreDespiteOdometryError) {
+  ScanMatchingOptions options;
+  ScanMatchingMapper mapper(options, nullptr, "base_link");
+  const CPose2D a(2.0, 2.0, 0.1), b(2.6, 2.3, 0.25);
+  // Odometry says the car moved 15 cm less and turned 3 degrees less than it did.
+  mapper.Add(Stamp{0}, OdometryAt(CPose2D(0, 0, 0)));
+  mapper.Add(Stamp{1}, ScanAt(a, Stamp{1}));
+  const CPose2D true_motion = b - a;
+  const CPose2D odo_motion(true_motion.x() - 0.15, true_motion.y(), true_motion.phi() - mrpt::DEG2RAD(3.0));
+  mapper.Add(Stamp{2}, OdometryAt(odo_motion));
+  mapper.Add(Stamp{3}, ScanAt(b, Stamp{3}));
+  ASSERT_EQ(mapper.trajectory().size(), 2u);
+  const CPose2D estimated = CPose2D(mapper.trajectory()[1].pose) - CPose2D(mapper.trajectory()[0].pose);
+  EXPECT_NEAR(estimated.x(), true_motion.x(), 0.01);
+  EXPECT_NEAR(estimated.y(), true_motion.y(), 0.01);
+  EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), mrpt::RAD2DEG(true_motion.phi()), 0.2);
+  EXPECT_EQ(mapper.stats().rejected_matches, 0);
+}
+
+TEST(ScanMatchingTest, ImplausibleMatchFallsBackToOdometry) {
+  ScanMatchingOptions options;
+  options.max_correction_m = 0.05;  // any real correction is now "implausible"
+  ScanMatchingMapper mapper(options, nullptr, "base_link");
+  mapper.Add(Stamp{0}, OdometryAt(CPose2D(0, 0, 0)));
+  mapper.Add(Stamp{1}, ScanAt(CPose2D(2, 2, 0), Stamp{1}));
+  mapper.Add(Stamp{2}, OdometryAt(CPose2D(0.3, 0, 0)));
+  mapper.Add(Stamp{3}, ScanAt(CPose2D(2.5, 2, 0), Stamp{3}));  // truly moved 0.5 m
+  EXPECT_EQ(mapper.stats().rejected_matches, 1);
+  EXPECT_NEAR(mapper.trajectory()[1].pose.x(), 0.3, 1e-9);
+}
+
+TEST(ScanMatchingTest, SensorMountFromFramesOverridesTheRecordedOne) {
+  FramesOptions frames_options;
+  frames_options.static_transforms.push_back({"base_link", "LASER", {0.5, 0, 0}, {0, 0, 0}});
+  const TransformTree frames(frames_options);
+  ScanMatchingMapper mapper(ScanMatchingOptions{}, &frames, "base_link");
+  // The laser is 0.5 m ahead of base_link; its scan is taken from (2.5, 2).
+  mapper.Add(Stamp{1}, ScanAt(CPose2D(2.5, 2, 0), Stamp{1}));
+  const auto& kf = mapper.keyframes().at(0);
+  EXPECT_NEAR(kf.scan->sensorPose.x(), 0.5, 1e-12);
+}
+
+struct Pass {
+  std::vector<Keyframe> first, second;
+};
+
+// The built-in rawlog drives one loop, then its first corridor again. The second pass
+// starts where the car, after 30 m of travel, comes closest to where it started.
+Pass SplitAtReturn(const std::vector<Keyframe>& keyframes) {
+  double travelled = 0, closest = 1e9;
+  size_t split = keyframes.size();
+  for (size_t i = 1; i < keyframes.size(); ++i) {
+    travelled += keyframes[i].pose.distanceTo(keyframes[i - 1].pose);
+    const double d = keyframes[i].pose.distanceTo(keyframes[0].pose);
+    if (travelled > 30.0 && d < closest) closest = d, split = i;
+  }
+  Pass p;
+  p.first.assign(keyframes.begin(), keyframes.begin() + split);
+  p.second.assign(keyframes.begin() + split, keyframes.end());
+  return p;
+}
+
+class BuiltInRawlogTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    rawlog_ = testing::BuiltInRawlog();
+    if (rawlog_.empty()) GTEST_SKIP() << "mrpt-common's rawlog not installed";
+    mapper_ = std::make_unique<ScanMatchingMapper>(ScanMatchingOptions{}, nullptr, "base_link");
+    auto source = io::OpenDataset(rawlog_);
+    while (auto obs = source->Next()) mapper_->Add(obs->stamp, obs->data);
+  }
+  std::string rawlog_;
+  std::unique_ptr<ScanMatchingMapper> mapper_;
+};
+
+// Acceptance: scans of the second pass, registered (ICP) against the grid of the first
+// pass, need a mean correction below 0.5 m and 5 degrees.
+TEST_F(BuiltInRawlogTest, SecondPassAgreesWithTheFirstPassGrid) {
+  const Pass pass = SplitAtReturn(mapper_->keyframes());
+  ASSERT_GT(pass.first.size(), 50u);
+  ASSERT_GT(pass.second.size(), 10u);
+  const auto grid = BuildGrid(pass.first, GridOptions{});
+  const auto corrections = eval::RegisterAgainstGrid(grid, pass.second, IcpOptions{});
+  double mean_m = 0, mean_deg = 0;
+  for (const auto& c : corrections) mean_m += c.translation_m, mean_deg += c.rotation_deg;
+  mean_m /= corrections.size();
+  mean_deg /= corrections.size();
+  RecordProperty("second_pass_keyframes", static_cast<int>(pass.second.size()));
+  RecordProperty("mean_correction_m", std::to_string(mean_m));
+  RecordProperty("mean_correction_deg", std::to_string(mean_deg));
+  std::printf("second pass: %zu keyframes, mean ICP correction %.3f m, %.2f deg\n", pass.second.size(), mean_m,
+              mean_deg);
+  EXPECT_LT(mean_m, 0.5);
+  EXPECT_LT(mean_deg, 5.0);
+}
+
+// Walls are thin: on the centre line of every occupied band, 95 % of the band is at
+// most 3 cells (0.15 m) thick. Misregistered passes smear a wall into a band of
+// several cells (the 0.5 m tolerance above would allow up to 10).
+TEST_F(BuiltInRawlogTest, OccupiedCellsFormThinWalls) {
+  const auto grid = BuildGrid(mapper_->keyframes(), GridOptions{});
+  const auto walls = eval::MeasureWallThickness(grid);
+  std::printf("wall thickness: p50 %.3f m, p95 %.3f m over %zu centre cells\n", walls.p50_m, walls.p95_m,
+              walls.centre_cells);
+  EXPECT_GT(walls.centre_cells, 1000u);
+  EXPECT_LE(walls.p95_m, 0.15 + 1e-6);
+}
+
+// The measure itself: a 1-cell wall is 1 cell thick, a smeared 7-cell band is 7.
+TEST(WallThicknessTest, MeasuresBandWidthOnTheCentreLine) {
+  mrpt::maps::COccupancyGridMap2D grid(0.0f, 10.0f, 0.0f, 10.0f, 0.1f);
+  for (unsigned x = 10; x < 90; ++x) grid.setCell(x, 20, 0.0f);                       // thin wall
+  for (unsigned x = 10; x < 90; ++x) for (unsigned y = 60; y < 67; ++y) grid.setCell(x, y, 0.0f);  // band
+  const auto walls = eval::MeasureWallThickness(grid);
+  EXPECT_NEAR(walls.p50_m, 0.1, 0.001);
+  EXPECT_NEAR(walls.p95_m, 0.7, 0.001);
+}
+
+}  // namespace
+}  // namespace specht::slam

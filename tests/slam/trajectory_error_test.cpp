@@ -1,0 +1,58 @@
+#include "specht/eval/trajectory_error.h"
+
+#include "specht/core/error.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace specht::eval {
+namespace {
+
+using mrpt::poses::CPose2D;
+using mrpt::poses::CPose3D;
+
+Trajectory Circle(int n) {
+  Trajectory t;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    t.push_back({Stamp{int64_t(i) * 100'000'000}, CPose3D(5 * std::cos(a), 5 * std::sin(a), 0, a + M_PI / 2, 0, 0)});
+  }
+  return t;
+}
+
+TEST(TrajectoryErrorTest, ARigidlyMovedCopyHasZeroErrorAndTheAlignmentIsRecovered) {
+  const Trajectory reference = Circle(100);
+  const CPose2D offset(3, -2, 0.7);
+  const Trajectory estimate = Transform(reference, offset);
+  const AteResult r = AbsoluteTrajectoryError2D(estimate, reference, 0.01);
+  EXPECT_EQ(r.pairs, 100u);
+  EXPECT_NEAR(r.rmse_m, 0, 1e-9);
+  EXPECT_NEAR(r.rmse_deg, 0, 1e-7);
+  const CPose2D back = r.alignment + offset;  // alignment undoes the offset
+  EXPECT_NEAR(back.norm(), 0, 1e-9);
+  EXPECT_NEAR(back.phi(), 0, 1e-9);
+}
+
+TEST(TrajectoryErrorTest, IsotropicNoiseGivesItsExpectedRmse) {
+  const Trajectory reference = Circle(2000);
+  Trajectory estimate = reference;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0, 0.1);
+  for (auto& p : estimate) p.pose.x_incr(noise(rng)), p.pose.y_incr(noise(rng));
+  // E|e| for 2D Gaussian noise with sigma 0.1: RMSE = 0.1 * sqrt(2).
+  EXPECT_NEAR(AbsoluteTrajectoryError2D(estimate, reference, 0.01).rmse_m, 0.1 * std::sqrt(2.0), 0.005);
+}
+
+TEST(TrajectoryErrorTest, PairsByNearestStampWithinTolerance) {
+  Trajectory a = {{Stamp{0}, CPose3D()}, {Stamp{1'000'000'000}, CPose3D()}, {Stamp{5'000'000'000}, CPose3D()}};
+  Trajectory b = {{Stamp{20'000'000}, CPose3D()}, {Stamp{990'000'000}, CPose3D()}};
+  const auto pairs = AssociateByTime(a, b, 0.05);
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0], std::make_pair(size_t(0), size_t(0)));
+  EXPECT_EQ(pairs[1], std::make_pair(size_t(1), size_t(1)));
+  EXPECT_THROW(AbsoluteTrajectoryError2D(a, {}, 0.05), InputError);
+}
+
+}  // namespace
+}  // namespace specht::eval

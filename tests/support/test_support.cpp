@@ -1,0 +1,85 @@
+#include "test_support.h"
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <mrpt/io/CFileGZInputStream.h>
+
+namespace fs = std::filesystem;
+
+namespace specht::testing {
+
+namespace {
+
+std::string EnvOr(const char* name, const char* fallback) {
+  const char* v = std::getenv(name);
+  return v != nullptr && *v != '\0' ? std::string(v) : std::string(fallback);
+}
+
+}  // namespace
+
+std::string DataDir() {
+  const std::string d = EnvOr("SPECHT_DATA_DIR", SPECHT_DEFAULT_DATA_DIR);
+  return fs::is_directory(d) ? d : std::string();
+}
+
+std::string SourceDir() { return EnvOr("SPECHT_SOURCE_DIR", SPECHT_DEFAULT_SOURCE_DIR); }
+
+std::string BuiltInRawlog() {
+  const std::string p = "/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+  return fs::exists(p) ? p : std::string();
+}
+
+std::string MrptDemoDir() {
+  const std::string p = "/usr/share/mrpt/datasets/graphslam-engine-demos/action_observations_map";
+  return fs::is_directory(p) ? p : std::string();
+}
+
+std::string TempDir(const std::string& suffix) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = std::string(info->test_suite_name()) + "." + info->name() + suffix;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("specht-" + std::to_string(getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+CommandResult RunSpecht(const std::string& args) {
+  const std::string bin = EnvOr("SPECHT_BINARY", SPECHT_DEFAULT_BINARY);
+  CommandResult r;
+  const std::string dir = TempDir("-cmd");
+  const std::string out = dir + "/stdout", err = dir + "/stderr";
+  const std::string cmd = std::string("'") + bin + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+  const int status = std::system(cmd.c_str());
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = ReadFile(out);
+  r.err = ReadFile(err);
+  return r;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void WriteFile(const std::string& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+}
+
+std::string ReadDecompressed(const std::string& path) {
+  mrpt::io::CFileGZInputStream in(path);
+  std::string bytes;
+  char buf[65536];
+  size_t n = 0;
+  while ((n = in.Read(buf, sizeof(buf))) > 0) bytes.append(buf, n);
+  return bytes;
+}
+
+}  // namespace specht::testing

@@ -1,0 +1,44 @@
+// tests/support/test_support.h: what the suites share: where data and the binary
+// are, temporary directories, running the CLI, and reading files.
+#pragma once
+
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace specht::testing {
+
+// The evaluation data ($SPECHT_DATA_DIR, else ../shared/data as configured) if it
+// is a directory, else "" (tests then skip).
+std::string DataDir();
+// The source tree ($SPECHT_SOURCE_DIR).
+std::string SourceDir();
+// The built-in rawlog from Debian's mrpt-common, or "" when not installed.
+std::string BuiltInRawlog();
+// MRPT's simulated rawlogs with ground truth (graphslam-engine-demos).
+std::string MrptDemoDir();
+
+// A fresh empty directory under the test temp dir, named after the running test.
+std::string TempDir(const std::string& suffix = "");
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+// Runs the specht binary (as built, or $SPECHT_BINARY) with the given arguments
+// (shell-quoted by the caller).
+CommandResult RunSpecht(const std::string& args);
+
+std::string ReadFile(const std::string& path);
+void WriteFile(const std::string& path, const std::string& bytes);
+// The decompressed bytes of a (possibly gzip) file.
+std::string ReadDecompressed(const std::string& path);
+
+}  // namespace specht::testing
+
+#define SPECHT_REQUIRE_FILE(path)                                        \
+  do {                                                                   \
+    if ((path).empty()) GTEST_SKIP() << "test data not available here"; \
+  } while (0)
