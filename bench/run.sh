@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Runs every benchmark and prints one JSON object per case (also saved to
+# build/release/bench-results.jsonl). Usage: bench/run.sh [build-dir]
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-$root/build/release}
+out=$build/bench-results.jsonl
+: > "$out"
+run() { "$@" | tee -a "$out"; }
+
+mrpt=/usr/share/mrpt/datasets
+run "$build/bench/replay_bench" "$mrpt/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog" builtin-telecom-faculty
+for f in simul range_030_bearing_015; do
+  run "$build/bench/replay_bench" "$mrpt/graphslam-engine-demos/action_observations_map/$f.rawlog" "mrpt-$f"
+done
+echo "bench: results in $out" >&2

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# The whole test suite, as CI runs it: install packages, build release and run every
+# test (fast, e2e and slow labels), then build with AddressSanitizer + UBSan and run
+# all but the slow tests again. Evaluation data is read from ../shared/data when it
+# exists (override with SPECHT_DATA_DIR); tests that need it skip without it.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+
+"$root/scripts/setup.sh"
+
+data_args=()
+if [[ -n "${SPECHT_DATA_DIR:-}" ]]; then data_args=(-DSPECHT_DATA_DIR="$SPECHT_DATA_DIR"); fi
+
+echo "== release build and tests"
+cmake --preset release "${data_args[@]}" > /dev/null
+cmake --build --preset release
+ctest --preset release
+
+if [[ "${SPECHT_SKIP_SANITIZERS:-0}" != "1" ]]; then
+  echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
+  cmake --preset asan "${data_args[@]}" > /dev/null
+  cmake --build --preset asan
+  ctest --preset asan
+fi
