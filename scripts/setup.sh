@@ -12,6 +12,7 @@ PACKAGES=(
   mrpt-apps          # rawlog-edit, icp-slam, graphslam-engine (comparisons in bench/)
   libopencv-dev      # images, PNG output, drawing
   libeigen3-dev
+  zlib1g-dev         # reading gzip CARMEN logs
   # configuration, CLI, output
   libyaml-cpp-dev    # parameter files
   libcli11-dev       # command line

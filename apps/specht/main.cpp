@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   specht::app::AddReplayCommand(app, exit_code);
   specht::app::AddParamsCommand(app, exit_code);
+  specht::app::AddEvalCommand(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "reference.h"
 #include "run_setup.h"
 #include "specht/core/log.h"
 #include "specht/core/progress.h"
@@ -37,22 +38,6 @@ std::string Real(double v) {
   s.precision(15);
   s << v;
   return s.str();
-}
-
-// A reference trajectory: TUM (8 columns) or MRPT's "t x y theta" (4 columns).
-Trajectory ReadReference(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open ground-truth file");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    std::string token;
-    int columns = 0;
-    while (s >> token) ++columns;
-    return columns == 8 ? io::ReadTum(path) : io::ReadPose2DText(path);
-  }
-  throw InputError(path + ": ground-truth file is empty");
 }
 
 // The observations' MRPT class names, counted.

@@ -196,4 +196,22 @@ void WriteMapPng(const COccupancyGridMap2D& grid, const std::vector<PathOverlay>
   });
 }
 
+void WriteTrajectoryPng(const std::vector<PathOverlay>& paths, const std::string& path, int min_width_px) {
+  double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+  for (const auto& overlay : paths) {
+    for (const auto& p : *overlay.trajectory) {
+      x0 = std::min(x0, p.pose.x()), x1 = std::max(x1, p.pose.x());
+      y0 = std::min(y0, p.pose.y()), y1 = std::max(y1, p.pose.y());
+    }
+  }
+  if (x1 < x0) x0 = y0 = 0, x1 = y1 = 1;
+  const double extent = std::max({x1 - x0, y1 - y0, 1.0});
+  const float res = static_cast<float>(extent / 400.0);
+  const float margin = static_cast<float>(extent * 0.05);
+  COccupancyGridMap2D canvas(static_cast<float>(x0) - margin, static_cast<float>(x1) + margin,
+                             static_cast<float>(y0) - margin, static_cast<float>(y1) + margin, res);
+  canvas.fill(1.0f);  // all free: a white background
+  WriteMapPng(canvas, paths, path, min_width_px);
+}
+
 }  // namespace specht::io

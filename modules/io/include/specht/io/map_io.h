@@ -38,4 +38,7 @@ struct PathOverlay {
 void WriteMapPng(const mrpt::maps::COccupancyGridMap2D& grid, const std::vector<PathOverlay>& paths,
                  const std::string& path, int min_width_px = 900);
 
+// Trajectories alone on a white background, same conventions as WriteMapPng.
+void WriteTrajectoryPng(const std::vector<PathOverlay>& paths, const std::string& path, int min_width_px = 900);
+
 }  // namespace specht::io

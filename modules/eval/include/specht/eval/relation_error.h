@@ -1,0 +1,41 @@
+// specht/eval/relation_error.h: the relation error of Kümmerle et al. (2009), the
+// metric Cartographer and most 2D SLAM papers report on the Radish logs.
+//
+// A relation (i, j) is a pair of scans. Its error compares the estimated relative
+// motion with the reference one:
+//   δ_ij = x_i ⊖ x_j (pose of j seen from i),  e_ij = δ̂_ij ⊖ δ*_ij
+//   translational error |t(e_ij)| in metres, rotational |θ(e_ij)| in degrees.
+// Relations are every pair of consecutive scans, plus every pair whose reference
+// poses lie within `loop_max_distance_m` but more than `loop_min_separation` scans
+// apart (the loops, where global consistency shows).
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "specht/core/trajectory.h"
+
+namespace specht::eval {
+
+struct RelationStats {
+  size_t count = 0;
+  double mean_m = 0, std_m = 0, max_m = 0;
+  double mean_deg = 0, std_deg = 0, max_deg = 0;
+};
+
+struct RelationError {
+  RelationStats consecutive, loop, all;
+  size_t paired_poses = 0;
+};
+
+struct RelationOptions {
+  double loop_max_distance_m = 3.0;
+  int loop_min_separation = 100;
+  double max_dt_s = 0.001;  // estimate and reference poses pair by stamp within this
+};
+
+// Throws InputError when fewer than 2 poses pair up.
+RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory& reference,
+                                   const RelationOptions& options = {});
+
+}  // namespace specht::eval

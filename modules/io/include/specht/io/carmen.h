@@ -1,0 +1,39 @@
+// specht/io/carmen.h: CARMEN robot logs (text, one message per line; gzip or plain).
+//
+//   FLASER n r_1..r_n x y θ odom_x odom_y odom_θ ipc_t host logger_t
+//       front laser, 180° field of view, n beams evenly spaced from −90° to +90°.
+//   ROBOTLASER1 type start_angle fov resolution max_range accuracy remission_mode
+//       n r_1..r_n m e_1..e_m laser_x laser_y laser_θ robot_x robot_y robot_θ
+//       tv rv forward_safety side_safety turn_axis ipc_t host logger_t
+//   ODOM x y θ tv rv accel ipc_t host logger_t
+//   PARAM name value ...       (robot_frontlaser_offset: laser x offset on the robot)
+//   anything else (NEFF, SYNC, TRUEPOS, '#'): ignored
+//
+// Odometry. Corrected logs (the Freiburg/Radish logs republished with corrected
+// poses) re-anchor ODOM to the corrected pose at every laser message, so the raw
+// odometry is the chain of ODOM-to-ODOM increments, continuing across each laser
+// message from the last ODOM before it:
+//   raw_k = raw_{k-1} ⊕ (prev ⊖ odom_k),  prev = odom_k, and at a laser message
+//   prev = its pose (the anchor the following ODOM lines are relative to).
+// The laser message's pose is never input: it is the reference trajectory.
+//
+// Time stamps are the ipc time stamps; logs without usable ones (all zero, or not
+// increasing) are stamped max(t, previous + 1 ms) so order and pairing still hold.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "specht/core/trajectory.h"
+#include "specht/io/dataset.h"
+
+namespace specht::io {
+
+bool LooksLikeCarmen(const std::string& path);
+std::unique_ptr<DatasetSource> OpenCarmen(const std::string& path, OnBadRecord on_bad);
+
+// The laser messages' poses (base_link in the corrected map frame), stamped like the
+// scans OpenCarmen delivers: the reference for `specht eval slam`.
+Trajectory ReadCarmenReference(const std::string& path);
+
+}  // namespace specht::io

@@ -1,0 +1,306 @@
+#include "specht/io/carmen.h"
+
+#include <zlib.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+
+namespace specht::io {
+namespace {
+
+using mrpt::poses::CPose2D;
+
+// Reads text lines from a gzip or plain file (zlib reads both).
+class LineReader {
+ public:
+  explicit LineReader(const std::string& path) : file_(gzopen(path.c_str(), "rb")) {
+    if (file_ == nullptr) throw InputError(path + ": cannot open");
+  }
+  ~LineReader() {
+    if (file_ != nullptr) gzclose(file_);
+  }
+  LineReader(const LineReader&) = delete;
+  LineReader& operator=(const LineReader&) = delete;
+
+  bool Next(std::string& line) {
+    line.clear();
+    char buf[8192];
+    while (gzgets(file_, buf, sizeof(buf)) != nullptr) {
+      line += buf;
+      if (!line.empty() && line.back() == '\n') break;
+    }
+    if (line.empty()) return false;
+    ++number_;
+    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+    return true;
+  }
+  int64_t number() const { return number_; }
+  // Compressed bytes consumed (gzoffset) over the file size.
+  double Fraction(uint64_t file_size) const {
+    return file_size > 0 ? std::min(1.0, static_cast<double>(gzoffset(file_)) / file_size) : -1.0;
+  }
+
+ private:
+  gzFile file_;
+  int64_t number_ = 0;
+};
+
+struct LaserMessage {
+  std::vector<float> ranges;
+  double start_angle = -M_PI / 2;
+  double increment = 0;
+  double max_range = 0;
+  CPose2D pose;          // reference (corrected) robot pose
+  CPose2D laser_offset;  // laser on the robot (ROBOTLASER1), else from PARAM
+  bool has_offset = false;
+  double stamp = 0;
+};
+
+// Parses one line into tokens and checks numbers, naming the field on error.
+class Fields {
+ public:
+  explicit Fields(const std::string& line) {
+    std::istringstream s(line);
+    for (std::string t; s >> t;) tokens_.push_back(std::move(t));
+  }
+  size_t size() const { return tokens_.size(); }
+  const std::string& operator[](size_t i) const { return tokens_[i]; }
+  // The i-th token as a number; `what` names it in the error.
+  double Number(size_t i, const char* what) const {
+    if (i >= tokens_.size()) throw Bad(std::string("missing field '") + what + "'");
+    const char* s = tokens_[i].c_str();
+    char* end = nullptr;
+    const double v = std::strtod(s, &end);
+    if (end == s || *end != '\0') throw Bad(std::string("field '") + what + "' is not a number: '" + tokens_[i] + "'");
+    if (!std::isfinite(v)) throw Bad(std::string("field '") + what + "' is " + tokens_[i]);
+    return v;
+  }
+  int Count(size_t i, const char* what) const {
+    const double v = Number(i, what);
+    if (v < 1 || v > 100000 || v != std::floor(v)) throw Bad(std::string("'") + what + "' must be a positive count");
+    return static_cast<int>(v);
+  }
+  struct Bad : std::runtime_error {
+    using std::runtime_error::runtime_error;
+  };
+
+ private:
+  std::vector<std::string> tokens_;
+};
+
+std::vector<float> Ranges(const Fields& f, size_t first, int n) {
+  std::vector<float> r(n);
+  for (int i = 0; i < n; ++i) {
+    const std::string name = "range " + std::to_string(i + 1);
+    const double v = f.Number(first + i, name.c_str());
+    if (v < 0) throw Fields::Bad("'" + name + "' is negative");
+    r[i] = static_cast<float>(v);
+  }
+  return r;
+}
+
+// FLASER n r_1..r_n x y θ odom_x odom_y odom_θ ipc_t [host logger_t]
+LaserMessage ParseFlaser(const Fields& f) {
+  const int n = f.Count(1, "num_readings");
+  if (f.size() < static_cast<size_t>(2 + n + 7)) {
+    throw Fields::Bad("FLASER with " + std::to_string(n) + " beams needs at least " + std::to_string(2 + n + 7) +
+                      " fields, got " + std::to_string(f.size()) + " (beam count mismatch or truncated line)");
+  }
+  LaserMessage m;
+  m.ranges = Ranges(f, 2, n);
+  m.increment = n > 1 ? M_PI / (n - 1) : 0;  // 180° inclusive of both ends
+  m.pose = CPose2D(f.Number(2 + n, "x"), f.Number(3 + n, "y"), f.Number(4 + n, "theta"));
+  m.stamp = f.Number(8 + n, "ipc_timestamp");
+  return m;
+}
+
+// ROBOTLASER1 type start fov res max acc mode n r.. m e.. lx ly lθ rx ry rθ tv rv fs ss ta ipc_t ...
+LaserMessage ParseRobotLaser(const Fields& f) {
+  LaserMessage m;
+  m.start_angle = f.Number(2, "start_angle");
+  m.increment = f.Number(4, "angular_resolution");
+  m.max_range = f.Number(5, "maximum_range");
+  const int n = f.Count(8, "num_readings");
+  m.ranges = Ranges(f, 9, n);
+  const size_t rem = 9 + n;
+  const double remissions = f.Number(rem, "num_remissions");
+  if (remissions < 0 || remissions != std::floor(remissions)) throw Fields::Bad("'num_remissions' must be a count");
+  const size_t p = rem + 1 + static_cast<size_t>(remissions);
+  if (f.size() < p + 12) {
+    throw Fields::Bad("ROBOTLASER1 with " + std::to_string(n) + " beams needs at least " + std::to_string(p + 12) +
+                      " fields, got " + std::to_string(f.size()));
+  }
+  const CPose2D laser(f.Number(p, "laser_pose_x"), f.Number(p + 1, "laser_pose_y"), f.Number(p + 2, "laser_pose_theta"));
+  m.pose = CPose2D(f.Number(p + 3, "robot_pose_x"), f.Number(p + 4, "robot_pose_y"), f.Number(p + 5, "robot_pose_theta"));
+  m.laser_offset = laser - m.pose;
+  m.has_offset = true;
+  m.stamp = f.Number(p + 11, "ipc_timestamp");
+  return m;
+}
+
+// The event stream of a CARMEN log, shared by the dataset source and the reference
+// reader so both stamp scans identically.
+class CarmenReader {
+ public:
+  struct Event {
+    enum Kind { kOdometry, kLaser } kind;
+    Stamp stamp;
+    CPose2D odometry;   // kOdometry: raw chained odometry
+    LaserMessage laser;  // kLaser
+    int64_t line = 0;
+  };
+
+  CarmenReader(std::string path, OnBadRecord on_bad) : path_(std::move(path)), lines_(path_), on_bad_(on_bad) {
+    std::error_code ec;
+    file_size_ = std::filesystem::file_size(path_, ec);
+  }
+
+  std::optional<Event> Next() {
+    std::string line;
+    while (lines_.Next(line)) {
+      try {
+        if (auto e = Parse(line)) return e;
+      } catch (const Fields::Bad& bad) {
+        if (on_bad_ == OnBadRecord::kStop) throw DatasetError(path_, lines_.number(), -1, bad.what());
+        skipped_.push_back(path_ + ":" + std::to_string(lines_.number()) + ": " + bad.what());
+      }
+    }
+    return std::nullopt;
+  }
+  double Fraction() const { return lines_.Fraction(file_size_); }
+  const std::vector<std::string>& skipped() const { return skipped_; }
+  double front_laser_offset() const { return front_laser_offset_; }
+  double front_laser_max() const { return front_laser_max_; }
+
+ private:
+  std::optional<Event> Parse(const std::string& line) {
+    const Fields f(line);
+    if (f.size() == 0 || f[0][0] == '#') return std::nullopt;
+    const std::string& kind = f[0];
+    if (kind == "PARAM") {
+      if (f.size() >= 3 && f[1] == "robot_frontlaser_offset") front_laser_offset_ = f.Number(2, "value");
+      if (f.size() >= 3 && f[1] == "robot_front_laser_max") front_laser_max_ = f.Number(2, "value");
+      return std::nullopt;
+    }
+    if (kind == "ODOM") {
+      if (f.size() < 8) throw Fields::Bad("ODOM needs at least 8 fields, got " + std::to_string(f.size()));
+      const CPose2D odom(f.Number(1, "x"), f.Number(2, "y"), f.Number(3, "theta"));
+      const double t = f.Number(7, "ipc_timestamp");
+      if (anchor_) raw_ = raw_ + (odom - *anchor_);
+      anchor_ = odom;
+      return Event{Event::kOdometry, StampFor(t), raw_, {}, lines_.number()};
+    }
+    if (kind == "FLASER" || kind == "ROBOTLASER1") {
+      LaserMessage m = kind == "FLASER" ? ParseFlaser(f) : ParseRobotLaser(f);
+      if (m.max_range <= 0) m.max_range = front_laser_max_;
+      anchor_ = m.pose;  // following ODOM lines are relative to this pose
+      const Stamp stamp = StampFor(m.stamp);
+      return Event{Event::kLaser, stamp, raw_, std::move(m), lines_.number()};
+    }
+    return std::nullopt;  // NEFF, SYNC, TRUEPOS, RLASER, ...
+  }
+
+  // max(t, previous + 1 ms): logs without usable stamps still order and pair.
+  Stamp StampFor(double t) {
+    Stamp s = Stamp::FromSeconds(t);
+    if (last_ && s.ns <= last_->ns) s = Stamp{last_->ns + 1'000'000};
+    last_ = s;
+    return s;
+  }
+
+  std::string path_;
+  LineReader lines_;
+  OnBadRecord on_bad_;
+  uint64_t file_size_ = 0;
+  std::vector<std::string> skipped_;
+  CPose2D raw_;
+  std::optional<CPose2D> anchor_;
+  std::optional<Stamp> last_;
+  double front_laser_offset_ = 0;
+  double front_laser_max_ = 81.9;
+};
+
+mrpt::obs::CObservation2DRangeScan::Ptr ToScan(const LaserMessage& m, double front_laser_offset, Stamp stamp) {
+  auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+  const size_t n = m.ranges.size();
+  const double aperture = m.increment * static_cast<double>(n - 1);
+  scan->aperture = static_cast<float>(aperture);
+  scan->rightToLeft = true;
+  scan->maxRange = static_cast<float>(m.max_range);
+  scan->resizeScan(n);
+  for (size_t i = 0; i < n; ++i) {
+    scan->setScanRange(i, m.ranges[i]);
+    scan->setScanRangeValidity(i, m.ranges[i] > 0.0f && m.ranges[i] < m.max_range);
+  }
+  // MRPT scans are centred on the sensor's x axis: turn the sensor to the scan centre.
+  const double centre = m.start_angle + aperture / 2;
+  const CPose2D mount = m.has_offset ? m.laser_offset : CPose2D(front_laser_offset, 0, 0);
+  scan->sensorPose = mrpt::poses::CPose3D(mount + CPose2D(0, 0, centre));
+  scan->sensorLabel = "LASER";
+  scan->timestamp = ToMrpt(stamp);
+  return scan;
+}
+
+class CarmenSource final : public DatasetSource {
+ public:
+  CarmenSource(std::string path, OnBadRecord on_bad) : path_(std::move(path)), reader_(path_, on_bad) {}
+
+  std::optional<Observation> Next() override {
+    auto e = reader_.Next();
+    if (!e) return std::nullopt;
+    if (e->kind == CarmenReader::Event::kOdometry) {
+      auto odo = mrpt::obs::CObservationOdometry::Create();
+      odo->odometry = e->odometry;
+      odo->timestamp = ToMrpt(e->stamp);
+      odo->sensorLabel = "ODOMETRY";
+      return Observation{e->stamp, odo, e->line};
+    }
+    return Observation{e->stamp, ToScan(e->laser, reader_.front_laser_offset(), e->stamp), e->line};
+  }
+  std::string Path() const override { return path_; }
+  std::string Format() const override { return "carmen"; }
+  double FractionRead() const override { return reader_.Fraction(); }
+  const std::vector<std::string>& SkippedRecords() const override { return reader_.skipped(); }
+
+ private:
+  std::string path_;
+  CarmenReader reader_;
+};
+
+}  // namespace
+
+bool LooksLikeCarmen(const std::string& path) {
+  LineReader lines(path);
+  std::string line;
+  for (int i = 0; i < 50 && lines.Next(line); ++i) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::string word = line.substr(0, line.find(' '));
+    for (const char* k : {"PARAM", "ODOM", "FLASER", "RLASER", "ROBOTLASER1", "SYNC", "NEFF", "TRUEPOS"}) {
+      if (word == k) return true;
+    }
+    return false;
+  }
+  return false;
+}
+
+std::unique_ptr<DatasetSource> OpenCarmen(const std::string& path, OnBadRecord on_bad) {
+  return std::make_unique<CarmenSource>(path, on_bad);
+}
+
+Trajectory ReadCarmenReference(const std::string& path) {
+  CarmenReader reader(path, OnBadRecord::kSkip);
+  Trajectory t;
+  while (auto e = reader.Next()) {
+    if (e->kind == CarmenReader::Event::kLaser) t.push_back({e->stamp, mrpt::poses::CPose3D(e->laser.pose)});
+  }
+  return t;
+}
+
+}  // namespace specht::io
