@@ -13,4 +13,8 @@ run "$build/bench/replay_bench" "$mrpt/2006-01ENE-21-SENA_Telecom Faculty_one_lo
 for f in simul range_030_bearing_015; do
   run "$build/bench/replay_bench" "$mrpt/graphslam-engine-demos/action_observations_map/$f.rawlog" "mrpt-$f"
 done
+data=${SPECHT_DATA_DIR:-$root/../shared/data}
+if [[ -d "$data/slam/g2o" ]]; then
+  run "$build/bench/pose_graph_bench" "$data"/slam/g2o/{intel,CSAIL,manhattan,city10000}.g2o
+fi
 echo "bench: results in $out" >&2

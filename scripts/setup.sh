@@ -10,6 +10,7 @@ PACKAGES=(
   libmrpt-dev        # observations, rawlogs, ICP, occupancy grids, poses
   mrpt-common        # the built-in default rawlog and MRPT's demo datasets
   mrpt-apps          # rawlog-edit, icp-slam, graphslam-engine (comparisons in bench/)
+  libceres-dev       # pose-graph optimisation
   libopencv-dev      # images, PNG output, drawing
   libeigen3-dev
   zlib1g-dev         # reading gzip CARMEN logs

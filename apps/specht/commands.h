@@ -9,5 +9,6 @@ namespace specht::app {
 void AddReplayCommand(CLI::App& app, int& exit_code);
 void AddParamsCommand(CLI::App& app, int& exit_code);
 void AddEvalCommand(CLI::App& app, int& exit_code);
+void AddSlamCommand(CLI::App& app, int& exit_code);
 
 }  // namespace specht::app

@@ -2,6 +2,7 @@
 
 #include "specht/core/transform_tree.h"
 #include "specht/io/replay.h"
+#include "specht/slam/pose_graph_optimizer.h"
 #include "specht/slam/scan_matching.h"
 
 namespace specht::app {
@@ -13,6 +14,7 @@ const params::Registry& AllOptions() {
     r.Add<io::ReplayOptions>("replay", "dataset replay: pacing, time window, bad records");
     r.Add<slam::ScanMatchingOptions>("scan_matching", "scan-matching odometry: ICP against a local submap");
     r.Add<slam::GridOptions>("grid", "occupancy grid built from keyframes");
+    r.Add<slam::PoseGraphOptions>("pose_graph", "pose-graph back end (Ceres)");
     return r;
   }();
   return registry;
@@ -22,7 +24,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
   static const std::vector<DefaultsFile> files = {
       {"core.yaml", {"frames"}},
       {"io.yaml", {"replay"}},
-      {"slam.yaml", {"scan_matching", "grid"}},
+      {"slam.yaml", {"scan_matching", "grid", "pose_graph"}},
   };
   return files;
 }

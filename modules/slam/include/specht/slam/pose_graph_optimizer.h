@@ -1,0 +1,63 @@
+// specht/slam/pose_graph_optimizer.h: the 2D pose-graph back end on Ceres.
+//
+// For each edge (i, j) with measurement z_ij = (t_ij, θ_ij) and information Ω_ij,
+// the error is g2o's, expressed in the frame of the measurement (where Ω_ij lives):
+//   e_ij = [ R(θ_ij)ᵀ (R(θ_i)ᵀ (p_j − p_i) − t_ij) ;  wrap(θ_j − θ_i − θ_ij) ]
+//   r_ij = S_ij M_ij ẽ_ij,  S_ijᵀ S_ij = Ω_ij (Cholesky), M_ij = diag(R(θ_ij)ᵀ, 1),
+//   cost ½ Σ ρ(|r_ij|²)
+// where ẽ_ij is the error before the rotation into the measurement frame (the
+// rotation is constant, so it folds into the square-root information).
+// with ρ the identity for odometry edges and a robust loss (Cauchy or Huber) for
+// loop closures. Positions (x, y) and headings θ are separate parameter blocks; θ
+// lives on an angle manifold (Plus = wrap(θ + δ)). Jacobians of ẽ are analytic:
+//   ∂ẽ_p/∂p_i = −R_iᵀ,  ∂ẽ_p/∂θ_i = dR_iᵀ/dθ (p_j − p_i),  ∂ẽ_p/∂p_j = R_iᵀ,
+//   ∂ẽ_θ/∂θ_i = −1,     ∂ẽ_θ/∂θ_j = 1.
+// The first node (lowest id) is held fixed. Solved with Levenberg-Marquardt and a
+// sparse normal Cholesky factorisation.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "specht/core/error.h"
+#include "specht/core/params.h"
+#include "specht/core/pose_graph.h"
+
+namespace specht::slam {
+
+// Section "pose_graph".
+struct PoseGraphOptions {
+  int max_iterations = 100;
+  std::string loop_loss = "cauchy";
+  double loop_loss_scale = 1.0;  // in whitened units (√χ²)
+  double function_tolerance = 1e-6;
+  int threads = 2;
+
+  template <class V>
+  void Visit(V& v) {
+    using params::Range;
+    v.Param("max_iterations", max_iterations, "Levenberg-Marquardt iterations per optimisation",
+            Range::Of(1, 1000));
+    v.Choice("loop_loss", loop_loss, {"cauchy", "huber", "none"}, "robust loss on loop-closure edges");
+    v.Param("loop_loss_scale", loop_loss_scale, "scale of the robust loss, in standard deviations",
+            Range::Of(0.1, 100.0).Log());
+    v.Param("function_tolerance", function_tolerance, "stop when the cost changes less than this (relative)",
+            Range::Of(1e-12, 1e-2).Log());
+    v.Param("threads", threads, "solver threads", Range::Of(1, 64).Fixed());
+  }
+};
+
+struct OptimizeSummary {
+  double initial_chi2 = 0;
+  double final_chi2 = 0;
+  int iterations = 0;
+  double seconds = 0;
+  bool usable = false;  // Ceres reports a usable solution
+  std::string report;   // Ceres' one-line summary
+};
+
+// Optimises the node poses in place. Throws InputError when an edge names a missing
+// node or an information matrix is not symmetric positive definite.
+OptimizeSummary Optimize(PoseGraph2D& graph, const PoseGraphOptions& options);
+
+}  // namespace specht::slam
