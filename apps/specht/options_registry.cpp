@@ -2,6 +2,7 @@
 
 #include "specht/core/transform_tree.h"
 #include "specht/io/replay.h"
+#include "specht/slam/graph_slam.h"
 #include "specht/slam/pose_graph_optimizer.h"
 #include "specht/slam/scan_matching.h"
 
@@ -12,7 +13,9 @@ const params::Registry& AllOptions() {
     params::Registry r;
     r.Add<FramesOptions>("frames", "coordinate frames and sensor mounts (REP-103/105)");
     r.Add<io::ReplayOptions>("replay", "dataset replay: pacing, time window, bad records");
+    r.Add<slam::SlamOptions>("slam", "graph SLAM: method and edge uncertainties");
     r.Add<slam::ScanMatchingOptions>("scan_matching", "scan-matching odometry: ICP against a local submap");
+    r.Add<slam::LoopClosureOptions>("loop_closure", "submaps and loop-closure search (branch and bound)");
     r.Add<slam::GridOptions>("grid", "occupancy grid built from keyframes");
     r.Add<slam::PoseGraphOptions>("pose_graph", "pose-graph back end (Ceres)");
     return r;
@@ -24,7 +27,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
   static const std::vector<DefaultsFile> files = {
       {"core.yaml", {"frames"}},
       {"io.yaml", {"replay"}},
-      {"slam.yaml", {"scan_matching", "grid", "pose_graph"}},
+      {"slam.yaml", {"slam", "scan_matching", "loop_closure", "pose_graph", "grid"}},
   };
   return files;
 }

@@ -1,8 +1,11 @@
+// `specht slam <dataset>`: graph SLAM alone, writing the map artefact (grid, graph,
+// trajectory) and a report.
 // `specht slam optimize <graph.g2o>`: the pose-graph back end alone. Writes the
 // optimised graph (g2o) and reports χ² before and after.
 #include <cstdio>
 
 #include "commands.h"
+#include "mapping_run.h"
 #include "run_setup.h"
 #include "specht/core/log.h"
 #include "specht/io/atomic_file.h"
@@ -46,7 +49,13 @@ int RunOptimize(const OptimizeArgs& a) {
 }  // namespace
 
 void AddSlamCommand(CLI::App& app, int& exit_code) {
-  CLI::App* slam = app.add_subcommand("slam", "graph SLAM and its back end");
+  CLI::App* slam = app.add_subcommand("slam", "graph SLAM on a dataset, or `slam optimize` a pose graph");
+  auto run_args = std::make_shared<MappingArgs>();
+  AddMappingOptions(*slam, *run_args, "specht-out/slam");
+  slam->require_subcommand(0, 1);
+  slam->callback([slam, run_args, &exit_code] {
+    if (slam->get_subcommands().empty()) exit_code = RunMapping(*run_args, "slam");
+  });
   auto args = std::make_shared<OptimizeArgs>();
   CLI::App* optimize = slam->add_subcommand("optimize", "optimise a 2D pose graph (g2o VERTEX_SE2/EDGE_SE2)");
   optimize->add_option("graph", args->graph, "g2o file")->required();

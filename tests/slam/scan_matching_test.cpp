@@ -72,8 +72,9 @@ TEST(ScanMatchingTest, RecoversAKnownMotionWithinOneCentimetreDespiteOdometryErr
   const CPose2D odo_motion(true_motion.x() - 0.15, true_motion.y(), true_motion.phi() - mrpt::DEG2RAD(3.0));
   mapper.Add(Stamp{2}, OdometryAt(odo_motion));
   mapper.Add(Stamp{3}, ScanAt(b, Stamp{3}));
-  ASSERT_EQ(mapper.trajectory().size(), 2u);
-  const CPose2D estimated = CPose2D(mapper.trajectory()[1].pose) - CPose2D(mapper.trajectory()[0].pose);
+  const Trajectory trajectory = mapper.trajectory();
+  ASSERT_EQ(trajectory.size(), 2u);
+  const CPose2D estimated = CPose2D(trajectory[1].pose) - CPose2D(trajectory[0].pose);
   EXPECT_NEAR(estimated.x(), true_motion.x(), 0.01);
   EXPECT_NEAR(estimated.y(), true_motion.y(), 0.01);
   EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), mrpt::RAD2DEG(true_motion.phi()), 0.2);
@@ -90,6 +91,7 @@ TEST(ScanMatchingTest, ImplausibleMatchFallsBackToOdometry) {
   mapper.Add(Stamp{3}, ScanAt(CPose2D(2.5, 2, 0), Stamp{3}));  // truly moved 0.5 m
   EXPECT_EQ(mapper.stats().rejected_matches, 1);
   EXPECT_NEAR(mapper.trajectory()[1].pose.x(), 0.3, 1e-9);
+  EXPECT_EQ(mapper.stats().recovered_matches, 0);
 }
 
 TEST(ScanMatchingTest, SensorMountFromFramesOverridesTheRecordedOne) {

@@ -6,6 +6,8 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
+#include "specht/slam/correlative_matcher.h"
+
 namespace specht::slam {
 
 using mrpt::maps::CSimplePointsMap;
@@ -32,7 +34,7 @@ struct ScanMatchingMapper::Impl {
   IcpAligner icp;
   CSimplePointsMap submap;
   std::deque<CSimplePointsMap> keyframe_points;  // the last submap_keyframes, base frame
-  std::deque<CPose2D> keyframe_poses;
+  std::deque<size_t> keyframe_poses;             // their indices into keyframes_
   bool have_odometry = false;
   CPose2D odom_now;
   CPose2D odom_at_last_scan;
@@ -75,54 +77,91 @@ CObservation2DRangeScan::Ptr ScanMatchingMapper::Prepare(const CObservation2DRan
   return copy;
 }
 
+CPose2D ScanMatchingMapper::LastPose() const {
+  if (scans_.empty()) return CPose2D();
+  const ScanPose& last = scans_.back();
+  return keyframes_[last.keyframe].pose + last.from_keyframe;
+}
+
+// ICP from the guess; on rejection, the correlative recovery (when enabled); on
+// failure of both, the guess itself.
+CPose2D ScanMatchingMapper::Match(const CSimplePointsMap& points, const CPose2D& guess) {
+  Impl& m = *impl_;
+  auto plausible = [&](const IcpResult& r, const CPose2D& from) {
+    const CPose2D correction = r.pose - from;
+    return r.goodness >= options_.min_goodness && correction.norm() <= options_.max_correction_m &&
+           std::abs(correction.phi()) <= mrpt::DEG2RAD(options_.max_correction_deg);
+  };
+  const IcpResult match = m.icp.Align(m.submap, points, guess);
+  stats_.icp_iterations += match.iterations;
+  if (plausible(match, guess)) return match.pose;
+  if (options_.recovery_window_m > 0) {
+    const CorrelativeMatcher matcher(Decimate(m.submap, 0.05), 0.05, options_.recovery_window_m);
+    const auto coarse = matcher.Match(Decimate(points, 0.1), guess, options_.recovery_window_m,
+                                      mrpt::DEG2RAD(options_.recovery_window_deg), options_.recovery_min_score);
+    if (coarse) {
+      const IcpResult refined = m.icp.Align(m.submap, points, coarse->pose);
+      if (plausible(refined, coarse->pose)) {
+        ++stats_.recovered_matches;
+        return refined.pose;
+      }
+    }
+  }
+  ++stats_.rejected_matches;
+  return guess;
+}
+
 void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw) {
   Impl& m = *impl_;
   const auto scan = Prepare(raw);
   const CSimplePointsMap points = ScanToPoints(*scan);
 
   CPose2D guess;
-  if (!trajectory_.empty()) {
-    const CPose2D last(trajectory_.back().pose);
+  if (!scans_.empty()) {
+    const CPose2D last = LastPose();
     guess = options_.use_odometry && m.have_odometry ? last + (m.odom_now - m.odom_at_last_scan) : last;
   }
   m.odom_at_last_scan = m.odom_now;
 
-  CPose2D pose = guess;
-  if (!keyframes_.empty() && !points.empty()) {
-    const IcpResult match = m.icp.Align(m.submap, points, guess);
-    const CPose2D matched = match.pose;
-    const CPose2D correction = matched - guess;
-    stats_.icp_iterations += match.iterations;
-    const bool plausible = match.goodness >= options_.min_goodness &&
-                           correction.norm() <= options_.max_correction_m &&
-                           std::abs(correction.phi()) <= mrpt::DEG2RAD(options_.max_correction_deg);
-    if (plausible) pose = matched;
-    else ++stats_.rejected_matches;
-  }
+  const CPose2D pose = !keyframes_.empty() && !points.empty() ? Match(points, guess) : guess;
   ++stats_.scans;
-  trajectory_.push_back({stamp, CPose3D(pose)});
 
   const bool first = keyframes_.empty();
   const CPose2D since = first ? CPose2D() : pose - keyframes_.back().pose;
   if (first || since.norm() >= options_.keyframe_translation_m ||
       std::abs(since.phi()) >= mrpt::DEG2RAD(options_.keyframe_rotation_deg)) {
-    keyframes_.push_back({trajectory_.size() - 1, stamp, pose, scan});
+    keyframes_.push_back({scans_.size(), stamp, pose, scan});
     ++stats_.keyframes;
     m.keyframe_points.push_back(points);
-    m.keyframe_poses.push_back(pose);
+    m.keyframe_poses.push_back(keyframes_.size() - 1);
     while (static_cast<int>(m.keyframe_points.size()) > options_.submap_keyframes) {
       m.keyframe_points.pop_front();
       m.keyframe_poses.pop_front();
     }
     RebuildSubmap();
+    scans_.push_back({stamp, keyframes_.size() - 1, CPose2D()});
+  } else {
+    scans_.push_back({stamp, keyframes_.size() - 1, since});
   }
+}
+
+Trajectory ScanMatchingMapper::trajectory() const {
+  Trajectory t;
+  t.reserve(scans_.size());
+  for (const ScanPose& s : scans_) t.push_back({s.stamp, CPose3D(keyframes_[s.keyframe].pose + s.from_keyframe)});
+  return t;
+}
+
+void ScanMatchingMapper::CorrectKeyframes(const std::vector<CPose2D>& poses) {
+  for (size_t i = 0; i < poses.size() && i < keyframes_.size(); ++i) keyframes_[i].pose = poses[i];
+  RebuildSubmap();
 }
 
 void ScanMatchingMapper::RebuildSubmap() {
   Impl& m = *impl_;
   m.submap.clear();
   for (size_t i = 0; i < m.keyframe_points.size(); ++i) {
-    m.submap.insertAnotherMap(&m.keyframe_points[i], CPose3D(m.keyframe_poses[i]));
+    m.submap.insertAnotherMap(&m.keyframe_points[i], CPose3D(keyframes_[m.keyframe_poses[i]].pose));
   }
 }
 

@@ -11,6 +11,14 @@
 // `max_correction_m` / `max_correction_deg`. A scan becomes a keyframe when the car
 // moved `keyframe_translation_m` or turned `keyframe_rotation_deg` since the last one;
 // keyframes are what the grid is built from.
+//
+// Recovery: when ICP is rejected and `recovery_window_m` > 0, the scan is matched by
+// the correlative matcher (branch and bound, correlative_matcher.h) against the local
+// submap within ±recovery_window_m and ±recovery_window_deg of the guess, then refined
+// by ICP. This carries logs with poor or no odometry.
+//
+// Every scan's pose is kept relative to the keyframe before it, so correcting the
+// keyframes (graph SLAM) corrects every scan.
 #pragma once
 
 #include <memory>
@@ -40,6 +48,9 @@ struct ScanMatchingOptions {
   double min_goodness = 0.3;
   double max_correction_m = 1.0;
   double max_correction_deg = 20.0;
+  double recovery_window_m = 0.0;
+  double recovery_window_deg = 30.0;
+  double recovery_min_score = 0.55;
   IcpOptions icp;
 
   template <class V>
@@ -60,6 +71,13 @@ struct ScanMatchingOptions {
             Range::Of(0.05, 10.0));
     v.Param("max_correction_deg", max_correction_deg, "reject a match that turns the guess more than this",
             Range::Of(1.0, 180.0));
+    v.Param("recovery_window_m", recovery_window_m,
+            "after a rejected match, search this far around the guess (correlative matcher); 0 = off",
+            Range::Of(0.0, 5.0));
+    v.Param("recovery_window_deg", recovery_window_deg, "angular half-width of the recovery search",
+            Range::Of(1.0, 180.0));
+    v.Param("recovery_min_score", recovery_min_score, "accept a recovery match from this mean likelihood",
+            Range::Of(0.1, 0.95));
     v.Group("icp", icp);
   }
   std::vector<std::string> Relations() const;
@@ -101,7 +119,8 @@ struct MappingStats {
   long odometry = 0;
   long ignored = 0;        // observations of other kinds
   long keyframes = 0;
-  long rejected_matches = 0;
+  long rejected_matches = 0;  // ICP matches rejected (and not recovered)
+  long recovered_matches = 0; // rejected by ICP, recovered by the correlative matcher
   long icp_iterations = 0;
 };
 
@@ -116,13 +135,25 @@ class ScanMatchingMapper {
   // Odometry (CObservationOdometry) and 2D scans are used; other kinds are counted.
   void Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation);
 
-  const Trajectory& trajectory() const { return trajectory_; }
+  // One pose per scan: its keyframe's pose composed with the scan's offset from it.
+  Trajectory trajectory() const;
   const std::vector<Keyframe>& keyframes() const { return keyframes_; }
   const MappingStats& stats() const { return stats_; }
 
+  // Replaces the keyframe poses (e.g. after pose-graph optimisation); later scans are
+  // matched against the corrected local submap.
+  void CorrectKeyframes(const std::vector<mrpt::poses::CPose2D>& poses);
+
  private:
+  struct ScanPose {
+    Stamp stamp;
+    size_t keyframe = 0;                 // the keyframe at or before this scan
+    mrpt::poses::CPose2D from_keyframe;  // this scan's pose seen from that keyframe
+  };
   void AddScan(Stamp stamp, const mrpt::obs::CObservation2DRangeScan& scan);
   mrpt::obs::CObservation2DRangeScan::Ptr Prepare(const mrpt::obs::CObservation2DRangeScan& scan) const;
+  mrpt::poses::CPose2D Match(const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess);
+  mrpt::poses::CPose2D LastPose() const;
   void RebuildSubmap();
 
   struct Impl;
@@ -130,7 +161,7 @@ class ScanMatchingMapper {
   ScanMatchingOptions options_;
   const TransformTree* frames_;
   std::string base_frame_;
-  Trajectory trajectory_;
+  std::vector<ScanPose> scans_;
   std::vector<Keyframe> keyframes_;
   MappingStats stats_;
 };

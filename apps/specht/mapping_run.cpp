@@ -1,0 +1,220 @@
+#include "mapping_run.h"
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+
+#include "reference.h"
+#include "specht/core/log.h"
+#include "specht/core/progress.h"
+#include "specht/core/transform_tree.h"
+#include "specht/eval/map_quality.h"
+#include "specht/eval/relation_error.h"
+#include "specht/eval/trajectory_error.h"
+#include "specht/io/carmen.h"
+#include "specht/io/data_dir.h"
+#include "specht/io/dataset.h"
+#include "specht/io/g2o.h"
+#include "specht/io/map_io.h"
+#include "specht/io/replay.h"
+#include "specht/io/report.h"
+#include "specht/io/trajectory_io.h"
+#include "specht/slam/graph_slam.h"
+
+namespace specht::app {
+namespace {
+
+std::string Real(double v) {
+  std::ostringstream s;
+  s.precision(15);
+  s << v;
+  return s.str();
+}
+
+struct DriveResult {
+  std::map<std::string, long> observations;  // by MRPT class name
+  std::optional<Stamp> first, last;
+  double wall_s = 0;
+};
+
+DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, slam::GraphSlam& slam, io::StageTimer& timer,
+                  io::RunReport& report, bool quiet, int& exit_code) {
+  DriveResult r;
+  ProgressLine progress("slam", "scans", !quiet);
+  const auto wall0 = std::chrono::steady_clock::now();
+  while (true) {
+    std::optional<io::Observation> obs;
+    try {
+      auto t = timer.Time("read");
+      obs = source.Next();
+    } catch (const io::DatasetError& e) {
+      // Stop here and keep everything computed so far.
+      spdlog::error("{}", e.what());
+      report.SetIncomplete(e.what());
+      exit_code = 2;
+      break;
+    }
+    if (!obs) break;
+    const auto verdict = clock.Classify(obs->stamp);
+    if (verdict == io::ReplayClock::Verdict::kBefore) continue;
+    if (verdict == io::ReplayClock::Verdict::kAfter) break;
+    clock.WaitFor(obs->stamp);
+    ++r.observations[obs->data->GetRuntimeClass()->className];
+    {
+      auto t = timer.Time("slam");
+      slam.Add(obs->stamp, obs->data);
+    }
+    if (!r.first) r.first = obs->stamp;
+    r.last = obs->stamp;
+    progress.Update(static_cast<double>(slam.front_end_stats().scans), source.FractionRead(),
+                    "loops " + std::to_string(slam.stats().loops_accepted));
+  }
+  {
+    auto t = timer.Time("slam");
+    slam.Finish();
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  progress.Finish("(" + std::to_string(slam.keyframes().size()) + " keyframes, " +
+                  std::to_string(slam.stats().loops_accepted) + " loop closures)");
+  return r;
+}
+
+nlohmann::json ToJson(const eval::RelationStats& s) {
+  return {{"count", s.count}, {"mean_m", s.mean_m}, {"std_m", s.std_m}, {"max_m", s.max_m},
+          {"mean_deg", s.mean_deg}, {"std_deg", s.std_deg}, {"max_deg", s.max_deg}};
+}
+
+// Metrics against the reference, when there is one; returns the reference moved into
+// the map frame for the picture.
+Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& reference, nlohmann::json& metrics) {
+  if (reference.empty() || trajectory.size() < 2) return {};
+  try {
+    const auto ate = eval::AbsoluteTrajectoryError2D(trajectory, reference, 0.05);
+    metrics["ate"] = {{"pairs", ate.pairs}, {"rmse_m", ate.rmse_m}, {"mean_m", ate.mean_m},
+                      {"max_m", ate.max_m}, {"rmse_deg", ate.rmse_deg}, {"final_m", ate.final_error_m}};
+    eval::RelationOptions rel_options;
+    rel_options.max_dt_s = 0.05;
+    const auto rel = eval::ComputeRelationError(trajectory, reference, rel_options);
+    metrics["relation"] = {{"consecutive", ToJson(rel.consecutive)}, {"loop", ToJson(rel.loop)},
+                           {"all", ToJson(rel.all)}};
+    spdlog::info("against the reference: ATE RMSE {:.3f} m; relation error {:.4f} ± {:.4f} m (max {:.3f}), "
+                 "{:.3f} ± {:.3f} deg over {} relations",
+                 ate.rmse_m, rel.all.mean_m, rel.all.std_m, rel.all.max_m, rel.all.mean_deg, rel.all.std_deg,
+                 rel.all.count);
+    return eval::Transform(reference, -ate.alignment);
+  } catch (const InputError& e) {
+    spdlog::warn("reference not used: {}", e.what());
+    return {};
+  }
+}
+
+}  // namespace
+
+void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& default_out) {
+  cmd.add_option("dataset", args.dataset,
+                 "MRPT rawlog or CARMEN log (default: the rawlog shipped by Debian's mrpt-common, " +
+                     io::DefaultRawlog() + ")");
+  AddCommonOptions(cmd, args.common, default_out);
+  cmd.add_option("--ground-truth", args.ground_truth,
+                 "reference trajectory (TUM, 't x y theta' or CARMEN log); default <dataset>.GT.txt when present, "
+                 "or the corrected poses of a CARMEN log");
+  cmd.add_option("--rate", args.rate, "pace at R x real time (same as --set replay.rate=R)");
+  cmd.add_option("--from", args.from_s, "start S seconds into the data (replay.from_s)");
+  cmd.add_option("--to", args.to_s, "stop S seconds into the data (replay.to_s)");
+}
+
+int RunMapping(MappingArgs a, const std::string& command) {
+  CommonArgs& common = a.common;
+  if (a.rate) common.overrides.push_back("replay.rate=" + Real(*a.rate));
+  if (a.from_s) common.overrides.push_back("replay.from_s=" + Real(*a.from_s));
+  if (a.to_s) common.overrides.push_back("replay.to_s=" + Real(*a.to_s));
+
+  // Everything that can be wrong with the input is checked before anything is written.
+  const params::Params params = LoadParams(common);
+  const auto& frames_options = params.Get<FramesOptions>("frames");
+  const auto& replay_options = params.Get<io::ReplayOptions>("replay");
+  io::ResolveDataDir(common.data_dir);
+  const std::string dataset = a.dataset.empty() ? io::DefaultRawlog() : a.dataset;
+  auto source = io::OpenDataset(dataset, replay_options.on_bad_record == "skip" ? io::OnBadRecord::kSkip
+                                                                                : io::OnBadRecord::kStop);
+  std::string gt_path = a.ground_truth;
+  if (gt_path.empty() && std::filesystem::exists(dataset + ".GT.txt")) gt_path = dataset + ".GT.txt";
+  if (gt_path.empty() && source->Format() == "carmen") gt_path = dataset;
+  const Trajectory reference = gt_path.empty() ? Trajectory{} : ReadReference(gt_path);
+  PrepareOutputDir(common, params);
+
+  spdlog::info("{}: {} -> {}", command, dataset, common.out_dir);
+  TransformTree frames(frames_options);
+  slam::GraphSlam slam(params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
+                       params.Get<slam::LoopClosureOptions>("loop_closure"),
+                       params.Get<slam::PoseGraphOptions>("pose_graph"), &frames, frames_options.base_frame);
+  io::ReplayClock clock(replay_options);
+  io::StageTimer timer;
+  io::RunReport report(command);
+  int exit_code = 0;
+  const DriveResult run = Drive(*source, clock, slam, timer, report, common.quiet, exit_code);
+  for (const auto& skipped : source->SkippedRecords()) spdlog::warn("skipped {}", skipped);
+
+  const Trajectory trajectory = slam.trajectory();
+  mrpt::maps::COccupancyGridMap2D grid;
+  {
+    auto t = timer.Time("grid");
+    grid = slam::BuildGrid(slam.keyframes(), params.Get<slam::GridOptions>("grid"));
+  }
+  const auto& fe = slam.front_end_stats();
+  const auto& be = slam.stats();
+  auto& j = report.json();
+  j["inputs"] = {{"dataset", dataset}, {"format", source->Format()}, {"ground_truth", gt_path},
+                 {"params_files", common.param_files}, {"overrides", common.overrides}};
+  j["counts"] = {{"observations", run.observations},
+                 {"scans", fe.scans},
+                 {"keyframes", fe.keyframes},
+                 {"rejected_matches", fe.rejected_matches},
+                 {"recovered_matches", fe.recovered_matches},
+                 {"odometry", fe.odometry},
+                 {"ignored", fe.ignored},
+                 {"skipped_records", source->SkippedRecords().size()},
+                 {"loop_searches", be.loop_searches},
+                 {"loops_found", be.loops_found},
+                 {"loops_accepted", be.loops_accepted},
+                 {"optimizations", be.optimizations}};
+  const double data_s = run.first ? SecondsBetween(*run.first, *run.last) : 0.0;
+  const double slam_ms = timer.TotalMs("slam");
+  j["metrics"]["path_length_m"] = PathLength(trajectory);
+  j["metrics"]["graph_chi2"] = be.final_chi2;
+  const auto walls = eval::MeasureWallThickness(grid);
+  j["metrics"]["wall_thickness_p50_m"] = walls.p50_m;
+  j["metrics"]["wall_thickness_p95_m"] = walls.p95_m;
+  j["metrics"]["map_size_m"] = {grid.getXMax() - grid.getXMin(), grid.getYMax() - grid.getYMin()};
+  const Trajectory reference_in_map = AddReferenceMetrics(trajectory, reference, j["metrics"]);
+
+  const std::string out = common.out_dir;
+  {
+    auto t = timer.Time("write");
+    io::WriteRosMap(grid, out + "/map.yaml");
+    io::WriteMrptGridmap(grid, out + "/map.gridmap");
+    io::WriteTum(trajectory, out + "/trajectory.tum");
+    io::WriteG2o(slam.graph(), out + "/graph.g2o");
+    std::vector<io::PathOverlay> paths;
+    if (!reference_in_map.empty()) paths.push_back({&reference_in_map, {40, 170, 60}, "reference"});
+    paths.push_back({&trajectory, {30, 90, 220}, "estimate"});
+    io::WriteMapPng(grid, paths, out + "/map.png");
+  }
+  for (const char* f : {"map.yaml", "map.pgm", "map.gridmap", "map.png", "trajectory.tum", "graph.g2o", "params.yaml"}) {
+    report.AddOutput(f);
+  }
+  j["timing"] = {{"stages", timer.ToJson()},
+                 {"wall_s", run.wall_s},
+                 {"data_s", data_s},
+                 {"real_time_factor", run.wall_s > 0 ? data_s / run.wall_s : 0.0},
+                 {"ms_per_scan", fe.scans > 0 ? slam_ms / fe.scans : 0.0},
+                 {"loop_search_ms", be.loop_search_ms},
+                 {"optimize_ms", be.optimize_ms}};
+  report.Write(out);
+  spdlog::info("{}: {} scans, {} keyframes, {} loop closures, {:.1f} m, {:.2f} ms/scan, {:.0f}x real time{}", command,
+               fe.scans, fe.keyframes, be.loops_accepted, PathLength(trajectory), fe.scans ? slam_ms / fe.scans : 0.0,
+               run.wall_s > 0 ? data_s / run.wall_s : 0.0, exit_code ? " (INCOMPLETE)" : "");
+  return exit_code;
+}
+
+}  // namespace specht::app

@@ -1,0 +1,27 @@
+// apps/specht/mapping_run.h: the mapping pipeline shared by `specht replay` and
+// `specht slam`: dataset -> replay clock -> graph SLAM -> map artefact and report.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "run_setup.h"
+
+namespace specht::app {
+
+struct MappingArgs {
+  CommonArgs common;
+  std::string dataset;
+  std::string ground_truth;
+  std::optional<double> rate, from_s, to_s;
+};
+
+// Adds the dataset positional and --ground-truth/--rate/--from/--to.
+void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& default_out);
+
+// Runs the pipeline; returns the exit code (2 when the input broke off midway).
+int RunMapping(MappingArgs args, const std::string& command);
+
+}  // namespace specht::app

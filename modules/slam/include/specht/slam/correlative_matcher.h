@@ -1,0 +1,67 @@
+// specht/slam/correlative_matcher.h: a scan matcher robust to large initial error,
+// for loop closure and for front-end recovery (branch and bound over a multi-
+// resolution grid, as Cartographer's FastCorrelativeScanMatcher2D; Olson 2009).
+//
+// The map is a likelihood grid L over cells c: L(c) = exp(−d(c)² / 2σ²), d the
+// distance from c to the nearest map point, σ = `blur_cells` cells. A candidate pose
+// (x, y, θ) scores the mean of L over the scan's points moved by it:
+//   score(x, y, θ) = 1/N Σ_i L(cell(R(θ) s_i + (x, y)))
+// Search: every angle θ0 + kδθ within ±window (δθ so that the farthest point moves
+// by about one cell: δθ = acos(1 − r²/2d²) with r the cell size, d the range), every
+// translation within ±window. Branch and bound over translations: level h keeps
+//   P_h(c) = max_{0≤u,v<2^h} L(c + (u, v)),
+// so the mean of P_h over the points bounds every translation in the 2^h × 2^h block
+// below a candidate. Candidates are expanded best first; a branch whose bound is not
+// above the best leaf found is cut. The result is the exact best-scoring pose on the
+// search lattice.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/poses/CPose2D.h>
+
+namespace specht::slam {
+
+struct CorrelativeResult {
+  mrpt::poses::CPose2D pose;  // of the scan in the map's frame
+  double score = 0;           // mean likelihood of the scan points, in [0, 1]
+};
+
+class CorrelativeMatcher {
+ public:
+  // Builds the likelihood grid and its max pyramid for `map_points` (in the map
+  // frame) with cells of `resolution_m`, padded so that translations up to
+  // `max_window_m` stay inside.
+  CorrelativeMatcher(const mrpt::maps::CSimplePointsMap& map_points, double resolution_m, double max_window_m,
+                     double blur_cells = 1.0);
+
+  // Best pose within ±window_m, ±window_rad of `guess` whose score reaches
+  // `min_score`, or nullopt. `scan` is in the scan's own frame.
+  std::optional<CorrelativeResult> Match(const mrpt::maps::CSimplePointsMap& scan, const mrpt::poses::CPose2D& guess,
+                                         double window_m, double window_rad, double min_score) const;
+
+  // Score of one pose (for tests and diagnostics).
+  double Score(const mrpt::maps::CSimplePointsMap& scan, const mrpt::poses::CPose2D& pose) const;
+
+  // Bytes held by the grid pyramid.
+  size_t MemoryBytes() const;
+
+ private:
+  struct Level {
+    std::vector<uint8_t> cells;  // likelihood × 255, row-major, width_ × height_
+  };
+  uint8_t At(int level, int cx, int cy) const;
+
+  double resolution_;
+  double x0_, y0_;  // world coordinates of cell (0, 0)'s corner
+  int width_ = 0, height_ = 0;
+  std::vector<Level> levels_;  // levels_[h] = P_h
+};
+
+// Keeps at most one point per cell of `cell_m` (the first), for fast scoring.
+mrpt::maps::CSimplePointsMap Decimate(const mrpt::maps::CSimplePointsMap& points, double cell_m);
+
+}  // namespace specht::slam

@@ -1,0 +1,150 @@
+#include "specht/slam/graph_slam.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "specht/slam/correlative_matcher.h"
+
+namespace specht::slam {
+
+using mrpt::maps::CSimplePointsMap;
+using mrpt::poses::CPose2D;
+using mrpt::poses::CPose3D;
+
+struct GraphSlam::Submap {
+  size_t anchor = 0;        // keyframe whose frame the submap is in
+  size_t last = 0;          // its last keyframe
+  CPose2D centre_in_anchor;  // mean of its keyframe positions
+  CSimplePointsMap points;  // in the anchor frame
+  std::unique_ptr<CorrelativeMatcher> matcher;
+};
+
+namespace {
+
+Eigen::Matrix3d Information(double sigma_m, double sigma_deg) {
+  const double r = mrpt::DEG2RAD(sigma_deg);
+  return Eigen::Vector3d(1 / (sigma_m * sigma_m), 1 / (sigma_m * sigma_m), 1 / (r * r)).asDiagonal();
+}
+
+CSimplePointsMap WithinRange(const CSimplePointsMap& points, double max_range) {
+  CSimplePointsMap out;
+  const auto& xs = points.getPointsBufferRef_x();
+  const auto& ys = points.getPointsBufferRef_y();
+  for (size_t i = 0; i < xs.size(); ++i) {
+    if (std::hypot(xs[i], ys[i]) <= max_range) out.insertPoint(xs[i], ys[i], 0);
+  }
+  return out;
+}
+
+double MillisSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+GraphSlam::GraphSlam(const SlamOptions& slam, const ScanMatchingOptions& matching, const LoopClosureOptions& loops,
+                     const PoseGraphOptions& back_end, const TransformTree* frames, std::string base_frame)
+    : slam_(slam),
+      loops_(loops),
+      back_end_(back_end),
+      front_end_(matching, frames, std::move(base_frame)),
+      icp_(matching.icp) {}
+
+GraphSlam::~GraphSlam() = default;
+
+void GraphSlam::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation) {
+  const size_t before = front_end_.keyframes().size();
+  front_end_.Add(stamp, observation);
+  if (front_end_.keyframes().size() > before) OnKeyframe(front_end_.keyframes().size() - 1);
+}
+
+void GraphSlam::OnKeyframe(size_t k) {
+  const auto& kfs = front_end_.keyframes();
+  graph_.nodes[static_cast<int>(k)] = kfs[k].pose;
+  if (k > 0) {
+    graph_.edges.push_back({static_cast<int>(k - 1), static_cast<int>(k), kfs[k].pose - kfs[k - 1].pose,
+                            Information(slam_.odometry_sigma_m, slam_.odometry_sigma_deg), false});
+  }
+  if (slam_.method != "graph" || !loops_.enabled) return;
+  open_submap_.push_back(k);
+  if (static_cast<int>(open_submap_.size()) >= loops_.keyframes_per_submap) FinishSubmap();
+  if (static_cast<int>(k) % loops_.search_every == 0) SearchLoops(k);
+  if (loops_since_optimize_ >= loops_.optimize_every) OptimizeAndCorrect();
+}
+
+void GraphSlam::FinishSubmap() {
+  const auto& kfs = front_end_.keyframes();
+  auto s = std::make_unique<Submap>();
+  s->anchor = open_submap_.front();
+  s->last = open_submap_.back();
+  const CPose2D anchor = kfs[s->anchor].pose;
+  double cx = 0, cy = 0;
+  for (size_t k : open_submap_) {
+    const CPose2D in_anchor = kfs[k].pose - anchor;
+    const CSimplePointsMap scan = WithinRange(ScanToPoints(*kfs[k].scan), loops_.submap_max_range_m);
+    s->points.insertAnotherMap(&scan, CPose3D(in_anchor));
+    cx += in_anchor.x(), cy += in_anchor.y();
+  }
+  s->centre_in_anchor = CPose2D(cx / open_submap_.size(), cy / open_submap_.size(), 0);
+  s->points = Decimate(s->points, loops_.resolution_m / 2);
+  s->matcher = std::make_unique<CorrelativeMatcher>(s->points, loops_.resolution_m, loops_.window_m);
+  submaps_.push_back(std::move(s));
+  open_submap_.clear();
+}
+
+void GraphSlam::SearchLoops(size_t k) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto& kfs = front_end_.keyframes();
+  const CPose2D node = graph_.nodes.at(static_cast<int>(k));
+  std::vector<std::pair<double, const Submap*>> candidates;
+  for (const auto& s : submaps_) {
+    if (s->last + loops_.exclude_recent_keyframes > k) continue;
+    const CPose2D anchor = graph_.nodes.at(static_cast<int>(s->anchor));
+    const double d = (anchor + s->centre_in_anchor).distanceTo(node);
+    if (d <= loops_.search_radius_m) candidates.emplace_back(d, s.get());
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (static_cast<int>(candidates.size()) > loops_.max_candidates) candidates.resize(loops_.max_candidates);
+  if (candidates.empty()) return;
+
+  const CSimplePointsMap scan = ScanToPoints(*kfs[k].scan);
+  const CSimplePointsMap query = Decimate(WithinRange(scan, loops_.submap_max_range_m), loops_.resolution_m);
+  for (const auto& [distance, s] : candidates) {
+    ++stats_.loop_searches;
+    const CPose2D guess = node - graph_.nodes.at(static_cast<int>(s->anchor));
+    const auto match = s->matcher->Match(query, guess, loops_.window_m, mrpt::DEG2RAD(loops_.window_deg),
+                                         loops_.min_score);
+    if (!match) continue;
+    ++stats_.loops_found;
+    const IcpResult refined = icp_.Align(s->points, scan, match->pose);
+    if (refined.goodness < loops_.min_icp_goodness || (refined.pose - match->pose).norm() > 2 * loops_.resolution_m) {
+      continue;
+    }
+    graph_.edges.push_back({static_cast<int>(s->anchor), static_cast<int>(k), refined.pose,
+                            Information(slam_.loop_sigma_m, slam_.loop_sigma_deg), true});
+    ++stats_.loops_accepted;
+    ++loops_since_optimize_;
+  }
+  stats_.loop_search_ms += MillisSince(t0);
+}
+
+void GraphSlam::OptimizeAndCorrect() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const OptimizeSummary summary = Optimize(graph_, back_end_);
+  stats_.final_chi2 = summary.final_chi2;
+  std::vector<CPose2D> poses;
+  poses.reserve(graph_.nodes.size());
+  for (const auto& [id, pose] : graph_.nodes) poses.push_back(pose);
+  front_end_.CorrectKeyframes(poses);
+  ++stats_.optimizations;
+  loops_since_optimize_ = 0;
+  stats_.optimize_ms += MillisSince(t0);
+}
+
+void GraphSlam::Finish() {
+  if (stats_.loops_accepted > 0) OptimizeAndCorrect();
+}
+
+}  // namespace specht::slam
