@@ -38,6 +38,7 @@ struct ScanMatchingMapper::Impl {
   bool have_odometry = false;
   CPose2D odom_now;
   CPose2D odom_at_last_scan;
+  CPose2D last_step;  // the matched motion between the last two scans
 };
 
 
@@ -83,30 +84,39 @@ CPose2D ScanMatchingMapper::LastPose() const {
   return keyframes_[last.keyframe].pose + last.from_keyframe;
 }
 
-// ICP from the guess; on rejection, the correlative recovery (when enabled); on
-// failure of both, the guess itself.
+// ICP from the guess. A match pairing fewer than min_goodness of the points is
+// doubted: when recovery is on, the correlative matcher searches around the guess and
+// its refined pose competes with ICP's on the same likelihood score; otherwise (or
+// when nothing scores) ICP's pose stands if at least half min_goodness paired, else
+// the guess.
 CPose2D ScanMatchingMapper::Match(const CSimplePointsMap& points, const CPose2D& guess) {
   Impl& m = *impl_;
-  auto plausible = [&](const IcpResult& r, const CPose2D& from) {
-    const CPose2D correction = r.pose - from;
-    return r.goodness >= options_.min_goodness && correction.norm() <= options_.max_correction_m &&
+  auto within_bounds = [&](const CPose2D& pose, const CPose2D& from) {
+    const CPose2D correction = pose - from;
+    return correction.norm() <= options_.max_correction_m &&
            std::abs(correction.phi()) <= mrpt::DEG2RAD(options_.max_correction_deg);
   };
   const IcpResult match = m.icp.Align(m.submap, points, guess);
   stats_.icp_iterations += match.iterations;
-  if (plausible(match, guess)) return match.pose;
+  const bool icp_bounded = within_bounds(match.pose, guess);
+  if (icp_bounded && match.goodness >= options_.min_goodness) return match.pose;
   if (options_.recovery_window_m > 0) {
-    const CorrelativeMatcher matcher(Decimate(m.submap, 0.05), 0.05, options_.recovery_window_m);
-    const auto coarse = matcher.Match(Decimate(points, 0.1), guess, options_.recovery_window_m,
+    const double res = options_.recovery_resolution_m;
+    const CorrelativeMatcher matcher(Decimate(m.submap, res / 2), res, options_.recovery_window_m);
+    const CSimplePointsMap query = Decimate(points, res);
+    const auto coarse = matcher.Match(query, guess, options_.recovery_window_m,
                                       mrpt::DEG2RAD(options_.recovery_window_deg), options_.recovery_min_score);
     if (coarse) {
       const IcpResult refined = m.icp.Align(m.submap, points, coarse->pose);
-      if (plausible(refined, coarse->pose)) {
+      const bool icp_weak_ok = icp_bounded && match.goodness >= options_.min_goodness / 2;
+      if (refined.goodness >= options_.min_goodness / 2 && within_bounds(refined.pose, coarse->pose) &&
+          (!icp_weak_ok || matcher.Score(query, refined.pose) > matcher.Score(query, match.pose))) {
         ++stats_.recovered_matches;
         return refined.pose;
       }
     }
   }
+  if (icp_bounded && match.goodness >= options_.min_goodness / 2) return match.pose;
   ++stats_.rejected_matches;
   return guess;
 }
@@ -119,11 +129,15 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   CPose2D guess;
   if (!scans_.empty()) {
     const CPose2D last = LastPose();
-    guess = options_.use_odometry && m.have_odometry ? last + (m.odom_now - m.odom_at_last_scan) : last;
+    const CPose2D odometry_step = m.odom_now - m.odom_at_last_scan;
+    const bool odometry_moved = m.have_odometry && (odometry_step.norm() > 0 || odometry_step.phi() != 0);
+    // Without odometry (or when it reports no motion at all), keep the last velocity.
+    guess = options_.use_odometry && odometry_moved ? last + odometry_step : last + m.last_step;
   }
   m.odom_at_last_scan = m.odom_now;
 
   const CPose2D pose = !keyframes_.empty() && !points.empty() ? Match(points, guess) : guess;
+  if (!scans_.empty()) m.last_step = pose - LastPose();
   ++stats_.scans;
 
   const bool first = keyframes_.empty();

@@ -4,6 +4,8 @@
 //
 // For every scan:
 //   guess_k   = pose_{k-1} ⊕ (odom_{k-1} ⊖ odom_k)^-1     (wheel odometry increment)
+//             = pose_{k-1} ⊕ (pose_{k-2} ⊖ pose_{k-1})^-1 (constant velocity, when the
+//                                                       odometry reports no motion)
 //   pose_k    = ICP(local submap, scan_k, guess_k)          (MRPT CICP, point-to-point)
 // The local submap holds the points of the last `submap_keyframes` keyframes in the
 // map frame. A match is rejected (pose_k = guess_k) when fewer than `min_goodness`
@@ -45,12 +47,13 @@ struct ScanMatchingOptions {
   double keyframe_translation_m = 0.3;
   double keyframe_rotation_deg = 10.0;
   int submap_keyframes = 30;
-  double min_goodness = 0.3;
+  double min_goodness = 0.6;
   double max_correction_m = 1.0;
   double max_correction_deg = 20.0;
-  double recovery_window_m = 0.0;
-  double recovery_window_deg = 30.0;
-  double recovery_min_score = 0.55;
+  double recovery_window_m = 2.0;
+  double recovery_window_deg = 90.0;
+  double recovery_resolution_m = 0.1;
+  double recovery_min_score = 0.5;
   IcpOptions icp;
 
   template <class V>
@@ -76,6 +79,8 @@ struct ScanMatchingOptions {
             Range::Of(0.0, 5.0));
     v.Param("recovery_window_deg", recovery_window_deg, "angular half-width of the recovery search",
             Range::Of(1.0, 180.0));
+    v.Param("recovery_resolution_m", recovery_resolution_m, "cell size of the recovery search grid",
+            Range::Of(0.02, 0.5).Log());
     v.Param("recovery_min_score", recovery_min_score, "accept a recovery match from this mean likelihood",
             Range::Of(0.1, 0.95));
     v.Group("icp", icp);
