@@ -33,7 +33,7 @@ struct LoopClosureOptions {
   bool enabled = true;
   int keyframes_per_submap = 20;
   double submap_max_range_m = 15.0;
-  double resolution_m = 0.05;
+  double resolution_m = 0.1;
   int search_every = 1;
   double search_radius_m = 10.0;
   int exclude_recent_keyframes = 40;

@@ -46,7 +46,7 @@ struct ScanMatchingOptions {
   double max_range_m = 30.0;
   double keyframe_translation_m = 0.3;
   double keyframe_rotation_deg = 10.0;
-  int submap_keyframes = 30;
+  int submap_keyframes = 60;
   double min_goodness = 0.6;
   double max_correction_m = 1.0;
   double max_correction_deg = 20.0;
