@@ -9,11 +9,16 @@ out=$build/bench-results.jsonl
 run() { "$@" | tee -a "$out"; }
 
 mrpt=/usr/share/mrpt/datasets
-run "$build/bench/replay_bench" "$mrpt/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog" builtin-telecom-faculty
+run "$build/bench/slam_bench" "$mrpt/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog" builtin-telecom-faculty
 for f in simul range_030_bearing_015; do
-  run "$build/bench/replay_bench" "$mrpt/graphslam-engine-demos/action_observations_map/$f.rawlog" "mrpt-$f"
+  run "$build/bench/slam_bench" "$mrpt/graphslam-engine-demos/action_observations_map/$f.rawlog" "mrpt-$f"
 done
 data=${SPECHT_DATA_DIR:-$root/../shared/data}
+if [[ -d "$data/slam/carmen" ]]; then
+  for f in intel freiburg-079 seattle orebro freiburg-101; do
+    run "$build/bench/slam_bench" "$data/slam/carmen/$f-corrected.log.gz" "carmen-$f"
+  done
+fi
 if [[ -d "$data/slam/g2o" ]]; then
   run "$build/bench/pose_graph_bench" "$data"/slam/g2o/{intel,CSAIL,manhattan,city10000}.g2o
 fi

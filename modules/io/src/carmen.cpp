@@ -20,7 +20,7 @@ using mrpt::poses::CPose2D;
 // Reads text lines from a gzip or plain file (zlib reads both).
 class LineReader {
  public:
-  explicit LineReader(const std::string& path) : file_(gzopen(path.c_str(), "rb")) {
+  explicit LineReader(const std::string& path) : path_(path), file_(gzopen(path.c_str(), "rb")) {
     if (file_ == nullptr) throw InputError(path + ": cannot open");
   }
   ~LineReader() {
@@ -36,6 +36,12 @@ class LineReader {
       line += buf;
       if (!line.empty() && line.back() == '\n') break;
     }
+    int error = Z_OK;
+    const char* message = gzerror(file_, &error);
+    if (error != Z_OK) {
+      throw DatasetError(path_, number_ + 1, -1, std::string("compressed data ends or breaks here (") + message +
+                                                     "): truncated or corrupt gzip file");
+    }
     if (line.empty()) return false;
     ++number_;
     while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
@@ -48,6 +54,7 @@ class LineReader {
   }
 
  private:
+  std::string path_;
   gzFile file_;
   int64_t number_ = 0;
 };
