@@ -1,6 +1,8 @@
 #include "mapping_run.h"
 
 #include <chrono>
+#include <functional>
+#include <tuple>
 #include <filesystem>
 #include <map>
 
@@ -17,9 +19,12 @@
 #include "specht/io/g2o.h"
 #include "specht/io/map_io.h"
 #include "specht/io/replay.h"
+#include "specht/io/rawlog_writer.h"
 #include "specht/io/report.h"
 #include "specht/io/trajectory_io.h"
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include "specht/slam/graph_slam.h"
+#include "specht/slam/localizer.h"
 
 namespace specht::app {
 namespace {
@@ -37,11 +42,16 @@ struct DriveResult {
   double wall_s = 0;
 };
 
-DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, slam::GraphSlam& slam, io::StageTimer& timer,
+// Feeds every observation inside the replay window to `add` (which returns the scans
+// processed so far and a note for the progress line).
+using Consumer = std::function<std::pair<long, std::string>(Stamp, const mrpt::obs::CObservation::Ptr&)>;
+
+DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, const Consumer& add, io::StageTimer& timer,
                   io::RunReport& report, bool quiet, int& exit_code) {
   DriveResult r;
-  ProgressLine progress("slam", "scans", !quiet);
+  ProgressLine progress(report.json().value("command", "run"), "scans", !quiet);
   const auto wall0 = std::chrono::steady_clock::now();
+  long scans = 0;
   while (true) {
     std::optional<io::Observation> obs;
     try {
@@ -60,22 +70,17 @@ DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, slam::Graph
     if (verdict == io::ReplayClock::Verdict::kAfter) break;
     clock.WaitFor(obs->stamp);
     ++r.observations[obs->data->GetRuntimeClass()->className];
+    std::string note;
     {
       auto t = timer.Time("slam");
-      slam.Add(obs->stamp, obs->data);
+      std::tie(scans, note) = add(obs->stamp, obs->data);
     }
     if (!r.first) r.first = obs->stamp;
     r.last = obs->stamp;
-    progress.Update(static_cast<double>(slam.front_end_stats().scans), source.FractionRead(),
-                    "loops " + std::to_string(slam.stats().loops_accepted));
-  }
-  {
-    auto t = timer.Time("slam");
-    slam.Finish();
+    progress.Update(static_cast<double>(scans), source.FractionRead(), note);
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  progress.Finish("(" + std::to_string(slam.keyframes().size()) + " keyframes, " +
-                  std::to_string(slam.stats().loops_accepted) + " loop closures)");
+  progress.Finish();
   return r;
 }
 
@@ -108,6 +113,40 @@ Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& r
   }
 }
 
+// The map artefact: grid (ROS + MRPT), pose graph (g2o; node i = keyframe i) and the
+// keyframe scans (rawlog, in node order): what localization and continuing need.
+void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyGridMap2D& grid,
+                      const std::string& out) {
+  io::WriteRosMap(grid, out + "/map.yaml");
+  io::WriteMrptGridmap(grid, out + "/map.gridmap");
+  io::WriteG2o(slam.graph(), out + "/graph.g2o");
+  io::RawlogWriter keyframes(out + "/keyframes.rawlog");
+  for (const auto& kf : slam.keyframes()) keyframes.Write(*kf.scan);
+  keyframes.Close();
+}
+
+std::pair<std::vector<slam::Keyframe>, mrpt::maps::COccupancyGridMap2D> ReadMapArtefact(const std::string& dir) {
+  for (const char* f : {"graph.g2o", "keyframes.rawlog", "map.gridmap"}) {
+    if (!std::filesystem::is_regular_file(dir + "/" + f)) {
+      throw InputError(dir + ": not a specht map (missing " + f + "; write one with `specht slam -o DIR`)");
+    }
+  }
+  const io::G2oReadResult graph = io::ReadG2o(dir + "/graph.g2o");
+  std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> scans;
+  auto rawlog = io::OpenRawlog(dir + "/keyframes.rawlog");
+  while (auto obs = rawlog->Next()) {
+    if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data)) scans.push_back(scan);
+  }
+  std::vector<mrpt::poses::CPose2D> poses;
+  for (const auto& [id, pose] : graph.graph.nodes) poses.push_back(pose);
+  if (scans.size() != poses.size() || scans.empty()) {
+    throw InputError(dir + ": map artefact is inconsistent: " + std::to_string(scans.size()) +
+                     " keyframe scans in keyframes.rawlog but " + std::to_string(poses.size()) +
+                     " nodes in graph.g2o");
+  }
+  return {slam::KeyframesFromGraph(scans, poses), io::ReadMrptGridmap(dir + "/map.gridmap")};
+}
+
 }  // namespace
 
 void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& default_out) {
@@ -118,6 +157,8 @@ void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& defa
   cmd.add_option("--ground-truth", args.ground_truth,
                  "reference trajectory (TUM, 't x y theta' or CARMEN log); default <dataset>.GT.txt when present, "
                  "or the corrected poses of a CARMEN log");
+  cmd.add_option("--map", args.map_dir,
+                 "localize on the map artefact in this directory (written by `specht slam`) instead of mapping");
   cmd.add_option("--rate", args.rate, "pace at R x real time (same as --set replay.rate=R)");
   cmd.add_option("--from", args.from_s, "start S seconds into the data (replay.from_s)");
   cmd.add_option("--to", args.to_s, "stop S seconds into the data (replay.to_s)");
@@ -141,79 +182,108 @@ int RunMapping(MappingArgs a, const std::string& command) {
   if (gt_path.empty() && std::filesystem::exists(dataset + ".GT.txt")) gt_path = dataset + ".GT.txt";
   if (gt_path.empty() && source->Format() == "carmen") gt_path = dataset;
   const Trajectory reference = gt_path.empty() ? Trajectory{} : ReadReference(gt_path);
+  std::vector<slam::Keyframe> saved;
+  mrpt::maps::COccupancyGridMap2D saved_grid;
+  if (!a.map_dir.empty()) std::tie(saved, saved_grid) = ReadMapArtefact(a.map_dir);
   PrepareOutputDir(common, params);
 
-  spdlog::info("{}: {} -> {}", command, dataset, common.out_dir);
+  spdlog::info("{}: {} -> {}{}", command, dataset, common.out_dir,
+               a.map_dir.empty() ? "" : " (localization on " + a.map_dir + ")");
   TransformTree frames(frames_options);
-  slam::GraphSlam slam(params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
-                       params.Get<slam::LoopClosureOptions>("loop_closure"),
-                       params.Get<slam::PoseGraphOptions>("pose_graph"), &frames, frames_options.base_frame);
   io::ReplayClock clock(replay_options);
   io::StageTimer timer;
   io::RunReport report(command);
-  int exit_code = 0;
-  const DriveResult run = Drive(*source, clock, slam, timer, report, common.quiet, exit_code);
-  for (const auto& skipped : source->SkippedRecords()) spdlog::warn("skipped {}", skipped);
-
-  const Trajectory trajectory = slam.trajectory();
-  mrpt::maps::COccupancyGridMap2D grid;
-  {
-    auto t = timer.Time("grid");
-    grid = slam::BuildGrid(slam.keyframes(), params.Get<slam::GridOptions>("grid"));
-  }
-  const auto& fe = slam.front_end_stats();
-  const auto& be = slam.stats();
   auto& j = report.json();
   j["inputs"] = {{"dataset", dataset}, {"format", source->Format()}, {"ground_truth", gt_path},
-                 {"params_files", common.param_files}, {"overrides", common.overrides}};
-  j["counts"] = {{"observations", run.observations},
-                 {"scans", fe.scans},
-                 {"keyframes", fe.keyframes},
-                 {"rejected_matches", fe.rejected_matches},
-                 {"recovered_matches", fe.recovered_matches},
-                 {"odometry", fe.odometry},
-                 {"ignored", fe.ignored},
-                 {"skipped_records", source->SkippedRecords().size()},
-                 {"loop_searches", be.loop_searches},
-                 {"loops_found", be.loops_found},
-                 {"loops_accepted", be.loops_accepted},
-                 {"optimizations", be.optimizations}};
+                 {"map", a.map_dir}, {"params_files", common.param_files}, {"overrides", common.overrides}};
+  int exit_code = 0;
+  const std::string out = common.out_dir;
+
+  Trajectory trajectory;
+  mrpt::maps::COccupancyGridMap2D grid;
+  DriveResult run;
+  slam::MappingStats fe;
+  if (!saved.empty()) {
+    slam::Localizer localizer(saved, params.Get<slam::LocalizationOptions>("localization"),
+                              params.Get<slam::ScanMatchingOptions>("scan_matching"), &frames,
+                              frames_options.base_frame);
+    run = Drive(*source, clock,
+                [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
+                  localizer.Add(t, o);
+                  return std::make_pair(localizer.stats().scans, std::string());
+                },
+                timer, report, common.quiet, exit_code);
+    trajectory = localizer.trajectory();
+    fe = localizer.stats();
+    if (localizer.global_score()) j["metrics"]["global_search_score"] = *localizer.global_score();
+    grid = saved_grid;
+  } else {
+    slam::GraphSlam slam(params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
+                         params.Get<slam::LoopClosureOptions>("loop_closure"),
+                         params.Get<slam::PoseGraphOptions>("pose_graph"), &frames, frames_options.base_frame);
+    run = Drive(*source, clock,
+                [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
+                  slam.Add(t, o);
+                  return std::make_pair(slam.front_end_stats().scans,
+                                        "loops " + std::to_string(slam.stats().loops_accepted));
+                },
+                timer, report, common.quiet, exit_code);
+    {
+      auto t = timer.Time("slam");
+      slam.Finish();
+    }
+    trajectory = slam.trajectory();
+    fe = slam.front_end_stats();
+    {
+      auto t = timer.Time("grid");
+      grid = slam::BuildGrid(slam.keyframes(), params.Get<slam::GridOptions>("grid"));
+    }
+    const auto& be = slam.stats();
+    j["counts"] = {{"keyframes", fe.keyframes},         {"loop_searches", be.loop_searches},
+                   {"loops_found", be.loops_found},     {"loops_accepted", be.loops_accepted},
+                   {"optimizations", be.optimizations}};
+    j["metrics"]["graph_chi2"] = be.final_chi2;
+    j["timing"]["loop_search_ms"] = be.loop_search_ms;
+    j["timing"]["optimize_ms"] = be.optimize_ms;
+    auto t = timer.Time("write");
+    WriteMapArtefact(slam, grid, out);
+    for (const char* f : {"map.yaml", "map.pgm", "map.gridmap", "graph.g2o", "keyframes.rawlog"}) report.AddOutput(f);
+  }
+  for (const auto& skipped : source->SkippedRecords()) spdlog::warn("skipped {}", skipped);
+
+  j["counts"]["observations"] = run.observations;
+  j["counts"]["scans"] = fe.scans;
+  j["counts"]["rejected_matches"] = fe.rejected_matches;
+  j["counts"]["recovered_matches"] = fe.recovered_matches;
+  j["counts"]["odometry"] = fe.odometry;
+  j["counts"]["ignored"] = fe.ignored;
+  j["counts"]["skipped_records"] = source->SkippedRecords().size();
   const double data_s = run.first ? SecondsBetween(*run.first, *run.last) : 0.0;
   const double slam_ms = timer.TotalMs("slam");
   j["metrics"]["path_length_m"] = PathLength(trajectory);
-  j["metrics"]["graph_chi2"] = be.final_chi2;
   const auto walls = eval::MeasureWallThickness(grid);
   j["metrics"]["wall_thickness_p50_m"] = walls.p50_m;
   j["metrics"]["wall_thickness_p95_m"] = walls.p95_m;
   j["metrics"]["map_size_m"] = {grid.getXMax() - grid.getXMin(), grid.getYMax() - grid.getYMin()};
   const Trajectory reference_in_map = AddReferenceMetrics(trajectory, reference, j["metrics"]);
-
-  const std::string out = common.out_dir;
   {
     auto t = timer.Time("write");
-    io::WriteRosMap(grid, out + "/map.yaml");
-    io::WriteMrptGridmap(grid, out + "/map.gridmap");
     io::WriteTum(trajectory, out + "/trajectory.tum");
-    io::WriteG2o(slam.graph(), out + "/graph.g2o");
     std::vector<io::PathOverlay> paths;
     if (!reference_in_map.empty()) paths.push_back({&reference_in_map, {40, 170, 60}, "reference"});
     paths.push_back({&trajectory, {30, 90, 220}, "estimate"});
     io::WriteMapPng(grid, paths, out + "/map.png");
   }
-  for (const char* f : {"map.yaml", "map.pgm", "map.gridmap", "map.png", "trajectory.tum", "graph.g2o", "params.yaml"}) {
-    report.AddOutput(f);
-  }
-  j["timing"] = {{"stages", timer.ToJson()},
-                 {"wall_s", run.wall_s},
-                 {"data_s", data_s},
-                 {"real_time_factor", run.wall_s > 0 ? data_s / run.wall_s : 0.0},
-                 {"ms_per_scan", fe.scans > 0 ? slam_ms / fe.scans : 0.0},
-                 {"loop_search_ms", be.loop_search_ms},
-                 {"optimize_ms", be.optimize_ms}};
+  for (const char* f : {"map.png", "trajectory.tum", "params.yaml"}) report.AddOutput(f);
+  j["timing"]["stages"] = timer.ToJson();
+  j["timing"]["wall_s"] = run.wall_s;
+  j["timing"]["data_s"] = data_s;
+  j["timing"]["real_time_factor"] = run.wall_s > 0 ? data_s / run.wall_s : 0.0;
+  j["timing"]["ms_per_scan"] = fe.scans > 0 ? slam_ms / fe.scans : 0.0;
   report.Write(out);
-  spdlog::info("{}: {} scans, {} keyframes, {} loop closures, {:.1f} m, {:.2f} ms/scan, {:.0f}x real time{}", command,
-               fe.scans, fe.keyframes, be.loops_accepted, PathLength(trajectory), fe.scans ? slam_ms / fe.scans : 0.0,
-               run.wall_s > 0 ? data_s / run.wall_s : 0.0, exit_code ? " (INCOMPLETE)" : "");
+  spdlog::info("{}: {} scans, {:.1f} m, {:.2f} ms/scan, {:.0f}x real time{}", command, fe.scans,
+               PathLength(trajectory), fe.scans ? slam_ms / fe.scans : 0.0, run.wall_s > 0 ? data_s / run.wall_s : 0.0,
+               exit_code ? " (INCOMPLETE)" : "");
   return exit_code;
 }
 

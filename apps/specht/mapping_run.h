@@ -15,6 +15,7 @@ struct MappingArgs {
   CommonArgs common;
   std::string dataset;
   std::string ground_truth;
+  std::string map_dir;  // localization on a saved map when set
   std::optional<double> rate, from_s, to_s;
 };
 

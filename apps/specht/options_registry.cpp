@@ -3,6 +3,7 @@
 #include "specht/core/transform_tree.h"
 #include "specht/io/replay.h"
 #include "specht/slam/graph_slam.h"
+#include "specht/slam/localizer.h"
 #include "specht/slam/pose_graph_optimizer.h"
 #include "specht/slam/scan_matching.h"
 
@@ -18,6 +19,7 @@ const params::Registry& AllOptions() {
     r.Add<slam::LoopClosureOptions>("loop_closure", "submaps and loop-closure search (branch and bound)");
     r.Add<slam::GridOptions>("grid", "occupancy grid built from keyframes");
     r.Add<slam::PoseGraphOptions>("pose_graph", "pose-graph back end (Ceres)");
+    r.Add<slam::LocalizationOptions>("localization", "localization on a saved map (--map)");
     return r;
   }();
   return registry;
@@ -27,7 +29,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
   static const std::vector<DefaultsFile> files = {
       {"core.yaml", {"frames"}},
       {"io.yaml", {"replay"}},
-      {"slam.yaml", {"slam", "scan_matching", "loop_closure", "pose_graph", "grid"}},
+      {"slam.yaml", {"slam", "scan_matching", "loop_closure", "pose_graph", "grid", "localization"}},
   };
   return files;
 }

@@ -11,8 +11,8 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const char* kOutputs[] = {"map.yaml", "map.pgm", "map.gridmap", "map.png", "trajectory.tum",
-                          "params.yaml", "report.json", "report.md"};
+const char* kOutputs[] = {"map.yaml", "map.pgm",    "map.gridmap", "map.png",   "trajectory.tum",
+                          "graph.g2o", "keyframes.rawlog", "params.yaml", "report.json", "report.md"};
 
 nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
@@ -108,6 +108,26 @@ TEST(ReplayCliTest, TimeWindowCutsTheReplay) {
   const auto report = Report(out);
   EXPECT_NEAR(report["timing"]["data_s"].get<double>(), 10.0, 0.5);
   EXPECT_THAT(testing::ReadFile(out + "/params.yaml"), HasSubstr("from_s: 10.0"));
+}
+
+TEST(SlamCliTest, MapArtefactReloadsForLocalization) {
+  SPECHT_REQUIRE_FILE(testing::BuiltInRawlog());
+  const std::string dir = testing::TempDir();
+  ASSERT_EQ(testing::RunSpecht("slam -q -o '" + dir + "/map'").exit_code, 0);
+  for (const char* f : {"graph.g2o", "keyframes.rawlog", "map.gridmap", "map.yaml", "trajectory.tum"}) {
+    EXPECT_TRUE(fs::exists(dir + "/map/" + f)) << f;
+  }
+  // Localize the same log on it, from a whole-map search (no initial pose).
+  const auto r = testing::RunSpecht("slam -q --map '" + dir + "/map' -o '" + dir + "/loc'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = Report(dir + "/loc");
+  EXPECT_GT(report["metrics"]["global_search_score"].get<double>(), 0.7);
+  EXPECT_EQ(report["counts"]["scans"], 225);
+  // A map directory without its keyframes is refused before anything is written.
+  fs::remove(dir + "/map/keyframes.rawlog");
+  const auto bad = testing::RunSpecht("slam -q --map '" + dir + "/map' -o '" + dir + "/loc2'");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir + "/loc2"));
 }
 
 TEST(ReplayCliTest, HelpListsEveryOption) {

@@ -8,7 +8,11 @@
 // its long corridors leave a 30 m error that loop search does not yet recover.
 #include <mrpt/core/bits_math.h>
 
+#include <algorithm>
+
 #include "specht/eval/relation_error.h"
+#include "specht/eval/trajectory_error.h"
+#include "specht/slam/localizer.h"
 #include "specht/io/carmen.h"
 #include "specht/io/dataset.h"
 #include "specht/slam/graph_slam.h"
@@ -72,6 +76,54 @@ TEST(CarmenSlamDeterminismTest, SameLogTwiceGivesIdenticalTrajectoryAndGraph) {
     ASSERT_EQ(ta[i].pose.yaw(), tb[i].pose.yaw()) << i;
   }
   EXPECT_EQ(a->graph().edges.size(), b->graph().edges.size());
+}
+
+}  // namespace
+}  // namespace specht::slam
+
+namespace specht::slam {
+namespace {
+
+// Localization on a saved map of the intel log: started 0.5 m and 10° off, it must
+// converge within 20 scans and then track the reference with a mean error ≤ 0.1 m.
+// The reference is brought into the map frame by the SE(2) alignment of the SLAM run
+// that made the map.
+TEST(LocalizationTest, ConvergesFromAPerturbedPoseAndTracksTheReference) {
+  const std::string data = testing::DataDir();
+  SPECHT_REQUIRE_FILE(data);
+  const std::string log = data + "/slam/carmen/intel-corrected.log.gz";
+  const Trajectory reference = io::ReadCarmenReference(log);
+  const auto mapping = RunSlam(log);
+  const auto alignment = eval::AbsoluteTrajectoryError2D(mapping->trajectory(), reference, 0.001).alignment;
+  const Trajectory reference_in_map = eval::Transform(reference, -alignment);
+
+  LocalizationOptions options;
+  const mrpt::poses::CPose2D start(reference_in_map.front().pose);
+  const mrpt::poses::CPose2D perturbed = start + mrpt::poses::CPose2D(0.4, 0.3, mrpt::DEG2RAD(10));  // 0.5 m, 10°
+  options.initial_pose = {perturbed.x(), perturbed.y(), mrpt::RAD2DEG(perturbed.phi())};
+  Localizer localizer(mapping->keyframes(), options, ScanMatchingOptions{}, nullptr, "base_link");
+  auto source = io::OpenDataset(log);
+  while (auto obs = source->Next()) localizer.Add(obs->stamp, obs->data);
+
+  const Trajectory& t = localizer.trajectory();
+  ASSERT_EQ(t.size(), reference_in_map.size());
+  std::vector<double> error;
+  for (size_t i = 0; i < t.size(); ++i) error.push_back(t[i].pose.distanceTo(reference_in_map[i].pose));
+  // Converged: the first scan from which ten in a row are within 0.15 m.
+  size_t converged = error.size();
+  for (size_t i = 0; i + 10 <= error.size(); ++i) {
+    if (std::all_of(error.begin() + i, error.begin() + i + 10, [](double e) { return e < 0.15; })) {
+      converged = i;
+      break;
+    }
+  }
+  double mean = 0;
+  for (size_t i = converged; i < error.size(); ++i) mean += error[i];
+  mean /= std::max<size_t>(1, error.size() - converged);
+  std::printf("localization: converged at scan %zu, then mean error %.4f m over %zu scans\n", converged, mean,
+              error.size() - converged);
+  EXPECT_LE(converged, 20u);
+  EXPECT_LE(mean, 0.1);
 }
 
 }  // namespace

@@ -51,7 +51,13 @@ uint64_t UncompressedSize(const std::string& path) {
 class RawlogSource final : public DatasetSource {
  public:
   explicit RawlogSource(std::string path) : path_(std::move(path)) {
-    if (!in_.open(path_)) throw InputError(path_ + ": cannot open rawlog");
+    bool opened = false;
+    try {
+      opened = in_.open(path_);
+    } catch (const std::exception&) {
+      opened = false;  // MRPT throws on some failures instead of returning false
+    }
+    if (!opened) throw InputError(path_ + ": cannot open rawlog");
     data_size_ = UncompressedSize(path_);
   }
 

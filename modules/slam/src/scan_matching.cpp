@@ -6,7 +6,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
-#include "specht/slam/correlative_matcher.h"
+#include "internal/matching.h"
 
 namespace specht::slam {
 
@@ -35,10 +35,7 @@ struct ScanMatchingMapper::Impl {
   CSimplePointsMap submap;
   std::deque<CSimplePointsMap> keyframe_points;  // the last submap_keyframes, base frame
   std::deque<size_t> keyframe_poses;             // their indices into keyframes_
-  bool have_odometry = false;
-  CPose2D odom_now;
-  CPose2D odom_at_last_scan;
-  CPose2D last_step;  // the matched motion between the last two scans
+  internal::MotionPrior motion;
 };
 
 
@@ -54,28 +51,12 @@ ScanMatchingMapper::~ScanMatchingMapper() = default;
 void ScanMatchingMapper::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation) {
   if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(observation)) {
     ++stats_.odometry;
-    impl_->odom_now = odo->odometry;
-    if (!impl_->have_odometry) impl_->odom_at_last_scan = odo->odometry;
-    impl_->have_odometry = true;
+    impl_->motion.AddOdometry(odo->odometry);
   } else if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(observation)) {
     AddScan(stamp, *scan);
   } else {
     ++stats_.ignored;
   }
-}
-
-CObservation2DRangeScan::Ptr ScanMatchingMapper::Prepare(const CObservation2DRangeScan& scan) const {
-  auto copy = std::make_shared<CObservation2DRangeScan>(scan);
-  if (frames_ != nullptr && frames_->Has(scan.sensorLabel) && frames_->Has(base_frame_)) {
-    copy->sensorPose = frames_->LookupStatic(base_frame_, scan.sensorLabel);
-  }
-  for (size_t i = 0; i < copy->getScanSize(); ++i) {
-    const float r = copy->getScanRange(i);
-    if (!std::isfinite(r) || r < options_.min_range_m || r > options_.max_range_m) {
-      copy->setScanRangeValidity(i, false);
-    }
-  }
-  return copy;
 }
 
 CPose2D ScanMatchingMapper::LastPose() const {
@@ -84,60 +65,18 @@ CPose2D ScanMatchingMapper::LastPose() const {
   return keyframes_[last.keyframe].pose + last.from_keyframe;
 }
 
-// ICP from the guess. A match pairing fewer than min_goodness of the points is
-// doubted: when recovery is on, the correlative matcher searches around the guess and
-// its refined pose competes with ICP's on the same likelihood score; otherwise (or
-// when nothing scores) ICP's pose stands if at least half min_goodness paired, else
-// the guess.
-CPose2D ScanMatchingMapper::Match(const CSimplePointsMap& points, const CPose2D& guess) {
-  Impl& m = *impl_;
-  auto within_bounds = [&](const CPose2D& pose, const CPose2D& from) {
-    const CPose2D correction = pose - from;
-    return correction.norm() <= options_.max_correction_m &&
-           std::abs(correction.phi()) <= mrpt::DEG2RAD(options_.max_correction_deg);
-  };
-  const IcpResult match = m.icp.Align(m.submap, points, guess);
-  stats_.icp_iterations += match.iterations;
-  const bool icp_bounded = within_bounds(match.pose, guess);
-  if (icp_bounded && match.goodness >= options_.min_goodness) return match.pose;
-  if (options_.recovery_window_m > 0) {
-    const double res = options_.recovery_resolution_m;
-    const CorrelativeMatcher matcher(Decimate(m.submap, res / 2), res, options_.recovery_window_m);
-    const CSimplePointsMap query = Decimate(points, res);
-    const auto coarse = matcher.Match(query, guess, options_.recovery_window_m,
-                                      mrpt::DEG2RAD(options_.recovery_window_deg), options_.recovery_min_score);
-    if (coarse) {
-      const IcpResult refined = m.icp.Align(m.submap, points, coarse->pose);
-      const bool icp_weak_ok = icp_bounded && match.goodness >= options_.min_goodness / 2;
-      if (refined.goodness >= options_.min_goodness / 2 && within_bounds(refined.pose, coarse->pose) &&
-          (!icp_weak_ok || matcher.Score(query, refined.pose) > matcher.Score(query, match.pose))) {
-        ++stats_.recovered_matches;
-        return refined.pose;
-      }
-    }
-  }
-  if (icp_bounded && match.goodness >= options_.min_goodness / 2) return match.pose;
-  ++stats_.rejected_matches;
-  return guess;
-}
-
 void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw) {
   Impl& m = *impl_;
-  const auto scan = Prepare(raw);
+  const auto scan = internal::PrepareScan(raw, options_, frames_, base_frame_);
   const CSimplePointsMap points = ScanToPoints(*scan);
 
-  CPose2D guess;
-  if (!scans_.empty()) {
-    const CPose2D last = LastPose();
-    const CPose2D odometry_step = m.odom_now - m.odom_at_last_scan;
-    const bool odometry_moved = m.have_odometry && (odometry_step.norm() > 0 || odometry_step.phi() != 0);
-    // Without odometry (or when it reports no motion at all), keep the last velocity.
-    guess = options_.use_odometry && odometry_moved ? last + odometry_step : last + m.last_step;
-  }
-  m.odom_at_last_scan = m.odom_now;
-
-  const CPose2D pose = !keyframes_.empty() && !points.empty() ? Match(points, guess) : guess;
-  if (!scans_.empty()) m.last_step = pose - LastPose();
+  // The map frame starts at the first scan.
+  const CPose2D predicted = m.motion.Predict(LastPose(), options_.use_odometry);
+  const CPose2D guess = scans_.empty() ? CPose2D() : predicted;
+  const CPose2D pose = !keyframes_.empty() && !points.empty()
+                           ? internal::MatchWithRecovery(m.icp, m.submap, points, guess, options_, stats_)
+                           : guess;
+  if (!scans_.empty()) m.motion.SetLastStep(pose - LastPose());
   ++stats_.scans;
 
   const bool first = keyframes_.empty();

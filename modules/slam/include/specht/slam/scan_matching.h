@@ -156,8 +156,6 @@ class ScanMatchingMapper {
     mrpt::poses::CPose2D from_keyframe;  // this scan's pose seen from that keyframe
   };
   void AddScan(Stamp stamp, const mrpt::obs::CObservation2DRangeScan& scan);
-  mrpt::obs::CObservation2DRangeScan::Ptr Prepare(const mrpt::obs::CObservation2DRangeScan& scan) const;
-  mrpt::poses::CPose2D Match(const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess);
   mrpt::poses::CPose2D LastPose() const;
   void RebuildSubmap();
 

@@ -1,0 +1,46 @@
+// Shared by the SLAM front end and the localizer: preparing a scan and matching it
+// against a reference point cloud (ICP, with the correlative recovery).
+#pragma once
+
+#include <string>
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include "specht/core/transform_tree.h"
+#include "specht/slam/icp.h"
+#include "specht/slam/scan_matching.h"
+
+namespace specht::slam::internal {
+
+// A copy of the scan with the mount from `frames` (when it names the sensor) and the
+// returns outside [min_range_m, max_range_m] marked invalid.
+mrpt::obs::CObservation2DRangeScan::Ptr PrepareScan(const mrpt::obs::CObservation2DRangeScan& scan,
+                                                    const ScanMatchingOptions& options, const TransformTree* frames,
+                                                    const std::string& base_frame);
+
+// ICP from the guess. A match pairing fewer than min_goodness of the points is
+// doubted: when recovery is on, the correlative matcher searches around the guess and
+// its refined pose competes with ICP's on the same likelihood score; otherwise (or
+// when nothing scores) ICP's pose stands if at least half min_goodness paired, else
+// the guess. Counts into `stats`.
+mrpt::poses::CPose2D MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimplePointsMap& reference,
+                                       const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
+                                       const ScanMatchingOptions& options, MappingStats& stats);
+
+// Odometry between scans: the increment since the last scan when the odometry moved,
+// else the last matched step (constant velocity).
+class MotionPrior {
+ public:
+  void AddOdometry(const mrpt::poses::CPose2D& odometry);
+  // The guess for a new scan after `last`, and remembers the odometry at this scan.
+  mrpt::poses::CPose2D Predict(const mrpt::poses::CPose2D& last, bool use_odometry);
+  void SetLastStep(const mrpt::poses::CPose2D& step) { last_step_ = step; }
+
+ private:
+  bool have_odometry_ = false;
+  mrpt::poses::CPose2D odom_now_, odom_at_last_scan_, last_step_;
+};
+
+}  // namespace specht::slam::internal
