@@ -21,6 +21,7 @@ PACKAGES=(
   libspdlog-dev libfmt-dev  # logging
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  jq                 # reading JSON reports in bench scripts
 )
 
 missing=()

@@ -10,5 +10,6 @@ void AddReplayCommand(CLI::App& app, int& exit_code);
 void AddParamsCommand(CLI::App& app, int& exit_code);
 void AddEvalCommand(CLI::App& app, int& exit_code);
 void AddSlamCommand(CLI::App& app, int& exit_code);
+void AddConvertCommand(CLI::App& app, int& exit_code);
 
 }  // namespace specht::app

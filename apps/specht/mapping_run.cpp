@@ -256,6 +256,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
   j["counts"]["rejected_matches"] = fe.rejected_matches;
   j["counts"]["recovered_matches"] = fe.recovered_matches;
   j["counts"]["odometry"] = fe.odometry;
+  j["counts"]["imu"] = fe.imu;
   j["counts"]["ignored"] = fe.ignored;
   j["counts"]["skipped_records"] = source->SkippedRecords().size();
   const double data_s = run.first ? SecondsBetween(*run.first, *run.last) : 0.0;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
 #include "specht/eval/map_quality.h"
@@ -113,6 +114,31 @@ TEST(ScanMatchingTest, RecoveryFindsAMotionTheOdometryMissed) {
   EXPECT_NEAR(estimated.y(), truth.y(), 0.02);
   EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), 40.0, 0.5);
   EXPECT_EQ(mapper.stats().recovered_matches, 1);
+}
+
+TEST(ScanMatchingTest, GyroYawRateSeedsTheRotationBetweenScans) {
+  // Wheels report 0.5 m straight ahead; the car also turned 35°, which only the gyro
+  // saw (10 samples over 1 s at 35°/s). Recovery is off: the seed must do it.
+  ScanMatchingOptions options;
+  options.recovery_window_m = 0;
+  ScanMatchingMapper mapper(options, nullptr, "base_link");
+  const CPose2D a(3.0, 3.0, 0.0), b(3.5, 3.0, mrpt::DEG2RAD(35));
+  mapper.Add(Stamp{0}, OdometryAt(CPose2D()));
+  mapper.Add(Stamp{1}, ScanAt(a, Stamp{1}));
+  for (int k = 0; k <= 10; ++k) {
+    auto imu = mrpt::obs::CObservationIMU::Create();
+    imu->set(mrpt::obs::IMU_WZ, mrpt::DEG2RAD(35.0));
+    mapper.Add(Stamp{1 + k * 100'000'000LL}, imu);
+  }
+  mapper.Add(Stamp{1'000'000'002}, OdometryAt(CPose2D(0.5, 0, 0)));
+  mapper.Add(Stamp{1'000'000'003}, ScanAt(b, Stamp{1'000'000'003}));
+  const Trajectory t = mapper.trajectory();
+  const CPose2D estimated = CPose2D(t[1].pose) - CPose2D(t[0].pose), truth = b - a;
+  EXPECT_NEAR(estimated.x(), truth.x(), 0.01);
+  EXPECT_NEAR(estimated.y(), truth.y(), 0.01);
+  EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), 35.0, 0.2);
+  EXPECT_EQ(mapper.stats().imu, 11);
+  EXPECT_EQ(mapper.stats().rejected_matches, 0);
 }
 
 TEST(ScanMatchingTest, SensorMountFromFramesOverridesTheRecordedOne) {

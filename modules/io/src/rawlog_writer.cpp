@@ -5,6 +5,9 @@
 #include <filesystem>
 
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include "specht/core/error.h"
@@ -32,6 +35,21 @@ RawlogWriter::~RawlogWriter() {
 void RawlogWriter::Write(const mrpt::obs::CObservation& observation) {
   auto archive = mrpt::serialization::archiveFrom(impl_->out);
   archive << observation;
+  ++count_;
+}
+
+void RawlogWriter::WriteFrame(const mrpt::poses::CPose2D& odometry_increment,
+                              const mrpt::obs::CObservation::Ptr& observation) {
+  mrpt::obs::CActionRobotMovement2D move;
+  mrpt::obs::CActionRobotMovement2D::TMotionModelOptions model;  // MRPT's default Gaussian model
+  move.computeFromOdometry(odometry_increment, model);
+  move.timestamp = observation->timestamp;
+  mrpt::obs::CActionCollection actions;
+  actions.insert(move);
+  mrpt::obs::CSensoryFrame frame;
+  frame.insert(observation);
+  auto archive = mrpt::serialization::archiveFrom(impl_->out);
+  archive << actions << frame;
   ++count_;
 }
 

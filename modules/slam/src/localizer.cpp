@@ -54,11 +54,7 @@ Localizer::~Localizer() = default;
 
 void Localizer::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation) {
   Impl& m = *impl_;
-  if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(observation)) {
-    ++stats_.odometry;
-    m.motion.AddOdometry(odo->odometry);
-    return;
-  }
+  if (m.motion.Consume(stamp, observation, stats_)) return;
   auto raw = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(observation);
   if (!raw) {
     ++stats_.ignored;
@@ -67,7 +63,7 @@ void Localizer::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation
   const auto scan = internal::PrepareScan(*raw, m.matching, m.frames, m.base_frame);
   const CSimplePointsMap points = ScanToPoints(*scan);
   const CPose2D last = trajectory_.empty() ? CPose2D() : CPose2D(trajectory_.back().pose);
-  const CPose2D predicted = m.motion.Predict(last, m.matching.use_odometry);
+  const CPose2D predicted = m.motion.Predict(last, m.matching.use_odometry, m.matching.use_imu);
   CPose2D guess = predicted;
   if (trajectory_.empty()) {
     const auto& p = m.options.initial_pose;

@@ -49,9 +49,8 @@ ScanMatchingMapper::ScanMatchingMapper(const ScanMatchingOptions& options, const
 ScanMatchingMapper::~ScanMatchingMapper() = default;
 
 void ScanMatchingMapper::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation) {
-  if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(observation)) {
-    ++stats_.odometry;
-    impl_->motion.AddOdometry(odo->odometry);
+  if (impl_->motion.Consume(stamp, observation, stats_)) {
+    return;
   } else if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(observation)) {
     AddScan(stamp, *scan);
   } else {
@@ -71,7 +70,7 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   const CSimplePointsMap points = ScanToPoints(*scan);
 
   // The map frame starts at the first scan.
-  const CPose2D predicted = m.motion.Predict(LastPose(), options_.use_odometry);
+  const CPose2D predicted = m.motion.Predict(LastPose(), options_.use_odometry, options_.use_imu);
   const CPose2D guess = scans_.empty() ? CPose2D() : predicted;
   const CPose2D pose = !keyframes_.empty() && !points.empty()
                            ? internal::MatchWithRecovery(m.icp, m.submap, points, guess, options_, stats_)

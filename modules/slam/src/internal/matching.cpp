@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
+
 #include "specht/slam/correlative_matcher.h"
 
 namespace specht::slam::internal {
@@ -55,18 +58,38 @@ CPose2D MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, co
   return guess;
 }
 
-void MotionPrior::AddOdometry(const CPose2D& odometry) {
-  odom_now_ = odometry;
-  if (!have_odometry_) odom_at_last_scan_ = odometry;
-  have_odometry_ = true;
+bool MotionPrior::Consume(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation, MappingStats& stats) {
+  if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(observation)) {
+    ++stats.odometry;
+    odom_now_ = odo->odometry;
+    if (!have_odometry_) odom_at_last_scan_ = odom_now_;
+    have_odometry_ = true;
+    return true;
+  }
+  if (auto imu = std::dynamic_pointer_cast<mrpt::obs::CObservationIMU>(observation)) {
+    ++stats.imu;
+    if (!imu->has(mrpt::obs::IMU_WZ)) return true;
+    const double rate = imu->get(mrpt::obs::IMU_WZ);
+    if (last_gyro_ && stamp > last_gyro_->first) {
+      gyro_yaw_ += 0.5 * (rate + last_gyro_->second) * SecondsBetween(last_gyro_->first, stamp);
+      ++gyro_samples_;
+    }
+    last_gyro_ = std::make_pair(stamp, rate);
+    return true;
+  }
+  return false;
 }
 
-CPose2D MotionPrior::Predict(const CPose2D& last, bool use_odometry) {
-  const CPose2D step = odom_now_ - odom_at_last_scan_;
+CPose2D MotionPrior::Predict(const CPose2D& last, bool use_odometry, bool use_imu) {
+  CPose2D step = odom_now_ - odom_at_last_scan_;
   odom_at_last_scan_ = odom_now_;
   // Without odometry (or when it reports no motion at all), keep the last velocity.
   const bool moved = have_odometry_ && (step.norm() > 0 || step.phi() != 0);
-  return use_odometry && moved ? last + step : last + last_step_;
+  if (!(use_odometry && moved)) step = last_step_;
+  if (use_imu && gyro_samples_ > 0) step = CPose2D(step.x(), step.y(), gyro_yaw_);
+  gyro_yaw_ = 0;
+  gyro_samples_ = 0;
+  return last + step;
 }
 
 }  // namespace specht::slam::internal

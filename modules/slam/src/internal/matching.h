@@ -2,12 +2,15 @@
 // against a reference point cloud (ICP, with the correlative recovery).
 #pragma once
 
+#include <optional>
 #include <string>
+#include <utility>
 
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include "specht/core/time.h"
 #include "specht/core/transform_tree.h"
 #include "specht/slam/icp.h"
 #include "specht/slam/scan_matching.h"
@@ -29,18 +32,25 @@ mrpt::poses::CPose2D MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimpl
                                        const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
                                        const ScanMatchingOptions& options, MappingStats& stats);
 
-// Odometry between scans: the increment since the last scan when the odometry moved,
-// else the last matched step (constant velocity).
+// Motion between scans: the wheel-odometry increment since the last scan when the
+// odometry moved, else the last matched step (constant velocity); when a gyro
+// reported since the last scan, its integrated yaw rate replaces the step's rotation:
+//   Δθ = Σ ½ (ω_k + ω_{k−1}) (t_k − t_{k−1})   over the IMU samples since the last scan.
 class MotionPrior {
  public:
-  void AddOdometry(const mrpt::poses::CPose2D& odometry);
-  // The guess for a new scan after `last`, and remembers the odometry at this scan.
-  mrpt::poses::CPose2D Predict(const mrpt::poses::CPose2D& last, bool use_odometry);
+  // Takes odometry (CObservationOdometry) and gyro yaw rate (CObservationIMU);
+  // returns whether the observation was one of those.
+  bool Consume(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation, MappingStats& stats);
+  // The guess for a new scan after `last`; starts the next interval.
+  mrpt::poses::CPose2D Predict(const mrpt::poses::CPose2D& last, bool use_odometry, bool use_imu);
   void SetLastStep(const mrpt::poses::CPose2D& step) { last_step_ = step; }
 
  private:
   bool have_odometry_ = false;
   mrpt::poses::CPose2D odom_now_, odom_at_last_scan_, last_step_;
+  std::optional<std::pair<Stamp, double>> last_gyro_;  // stamp, yaw rate
+  double gyro_yaw_ = 0;                                 // integrated since the last scan
+  int gyro_samples_ = 0;
 };
 
 }  // namespace specht::slam::internal

@@ -1,12 +1,16 @@
-// specht/io/rawlog_writer.h: writes observations as an MRPT rawlog in the
-// observation-only format (gzip-compressed), which `specht replay`, RawLogViewer and
-// rawlog-edit read. The file appears under its name only when Close() succeeds.
+// specht/io/rawlog_writer.h: writes MRPT rawlogs (gzip-compressed) that `specht
+// replay`, RawLogViewer, rawlog-edit and MRPT's SLAM apps read, in either layout:
+//   observations:   one CObservation after another (Write)
+//   actions/frames: pairs of CActionCollection (the odometry increment as a
+//                   CActionRobotMovement2D) and CSensoryFrame (WriteFrame)
+// The file appears under its name only when Close() succeeds.
 #pragma once
 
 #include <memory>
 #include <string>
 
 #include <mrpt/obs/CObservation.h>
+#include <mrpt/poses/CPose2D.h>
 
 namespace specht::io {
 
@@ -18,6 +22,9 @@ class RawlogWriter {
   RawlogWriter& operator=(const RawlogWriter&) = delete;
 
   void Write(const mrpt::obs::CObservation& observation);
+  // One action/sensory-frame pair: the odometry increment since the last frame, then
+  // the frame holding `observation`.
+  void WriteFrame(const mrpt::poses::CPose2D& odometry_increment, const mrpt::obs::CObservation::Ptr& observation);
   void Close();
   size_t count() const { return count_; }
 

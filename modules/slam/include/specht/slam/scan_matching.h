@@ -3,7 +3,9 @@
 // the graph-SLAM back end builds on its keyframes).
 //
 // For every scan:
-//   guess_k   = pose_{k-1} ⊕ (odom_{k-1} ⊖ odom_k)^-1     (wheel odometry increment)
+//   guess_k   = pose_{k-1} ⊕ (odom_{k-1} ⊖ odom_k)^-1     (wheel odometry increment,
+//                                                       its rotation from the gyro's
+//                                                       yaw rate when an IMU reports)
 //             = pose_{k-1} ⊕ (pose_{k-2} ⊖ pose_{k-1})^-1 (constant velocity, when the
 //                                                       odometry reports no motion)
 //   pose_k    = ICP(local submap, scan_k, guess_k)          (MRPT CICP, point-to-point)
@@ -42,6 +44,7 @@ namespace specht::slam {
 // Section "scan_matching".
 struct ScanMatchingOptions {
   bool use_odometry = true;
+  bool use_imu = true;
   double min_range_m = 0.1;
   double max_range_m = 30.0;
   double keyframe_translation_m = 0.3;
@@ -60,6 +63,7 @@ struct ScanMatchingOptions {
   void Visit(V& v) {
     using params::Range;
     v.Param("use_odometry", use_odometry, "seed each match with the wheel-odometry increment");
+    v.Param("use_imu", use_imu, "take the rotation between scans from the gyro's yaw rate when an IMU reports");
     v.Param("min_range_m", min_range_m, "ignore returns closer than this", Range::Of(0.0, 2.0));
     v.Param("max_range_m", max_range_m, "ignore returns farther than this", Range::Of(1.0, 200.0));
     v.Param("keyframe_translation_m", keyframe_translation_m, "new keyframe after this much travel",
@@ -122,6 +126,7 @@ struct Keyframe {
 struct MappingStats {
   long scans = 0;
   long odometry = 0;
+  long imu = 0;
   long ignored = 0;        // observations of other kinds
   long keyframes = 0;
   long rejected_matches = 0;  // ICP matches rejected (and not recovered)
