@@ -1,0 +1,39 @@
+// sim_bench <scenario.yaml>...: simulation speed per scenario, default seed, whole
+// duration: simulated seconds per wall second, ms per LiDAR scan (ray casting
+// included), peak memory. One JSON object per scenario. (Stereo rendering joins with
+// the stereo camera model.)
+#include <chrono>
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include "bench_support.h"
+#include "specht/sim/simulator.h"
+
+int main(int argc, char** argv) {
+  using Clock = std::chrono::steady_clock;
+  for (int i = 1; i < argc; ++i) {
+    const specht::sim::Scenario s = specht::sim::LoadScenario(argv[i]);
+    specht::sim::Simulator sim(s, s.seed);
+    long scans = 0, observations = 0;
+    const auto t0 = Clock::now();
+    const long steps = std::lround(s.duration_s / specht::sim::Simulator::kStepS);
+    for (long k = 0; k < steps; ++k) {
+      sim.Step([&](specht::Stamp, const mrpt::obs::CObservation::Ptr& obs) {
+        ++observations;
+        scans += std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs) != nullptr;
+      });
+    }
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    specht::bench::Emit({{"name", "sim/" + s.name},
+                         {"simulated_s", s.duration_s},
+                         {"wall_s", wall},
+                         {"simulated_s_per_wall_s", s.duration_s / wall},
+                         {"scans", scans},
+                         {"observations", observations},
+                         {"ms_per_simulated_second", 1000.0 * wall / s.duration_s},
+                         {"agents", s.agents.size()},
+                         {"peak_rss_mib", specht::bench::PeakRssMib()},
+                         {"machine", specht::bench::MachineNotes()}});
+  }
+  return 0;
+}

@@ -1,0 +1,190 @@
+// The simulator: sensors agree with the world's ground truth, agent classes move
+// differently, runs are reproducible, and bad scenario files are named precisely.
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <opencv2/imgproc.hpp>
+
+#include "specht/core/error.h"
+#include "specht/sim/simulator.h"
+#include "test_support.h"
+
+namespace specht::sim {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string ScenarioPath(const std::string& name) {
+  return testing::SourceDir() + "/datasets/scenarios/" + name + ".yaml";
+}
+
+// Acceptance: every noiseless beam endpoint lies within one cell of an occupied cell
+// of the true grid.
+TEST(SimulatorTest, NoiselessBeamEndpointsLieOnTheTrueGrid) {
+  for (const char* name : {"course-loop", "urban-crossing", "parking-lot"}) {
+    Scenario s = LoadScenario(ScenarioPath(name));
+    s.agents.clear();  // the true grid is the static world
+    s.lidar.range_noise_m = 0;
+    s.lidar.dropout = 0;
+    Simulator sim(s, 7);
+    const double res = 0.05;
+    const auto grid = sim.world().TrueGrid(res);
+    // Distance (in cells) from every cell to the nearest occupied one.
+    cv::Mat free(grid.getSizeY(), grid.getSizeX(), CV_8U);
+    for (unsigned y = 0; y < grid.getSizeY(); ++y) {
+      for (unsigned x = 0; x < grid.getSizeX(); ++x) free.at<uint8_t>(y, x) = grid.getCell(x, y) < 0.5f ? 0 : 255;
+    }
+    cv::Mat dist;
+    cv::distanceTransform(free, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    long endpoints = 0, off = 0;
+    for (int step = 0; step < 300; ++step) {
+      sim.Step([&](Stamp, const mrpt::obs::CObservation::Ptr& obs) {
+        auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
+        if (!scan) return;
+        const Pose2 ego = sim.ego().pose;
+        const double c = std::cos(ego.yaw_rad), sn = std::sin(ego.yaw_rad);
+        const double sx = ego.x + c * s.lidar.mount.x - sn * s.lidar.mount.y;
+        const double sy = ego.y + sn * s.lidar.mount.x + c * s.lidar.mount.y;
+        for (size_t i = 0; i < scan->getScanSize(); ++i) {
+          if (!scan->getScanRangeValidity(i)) continue;
+          const double a = ego.yaw_rad + s.lidar.mount.yaw_rad - s.lidar.fov_rad / 2 +
+                           s.lidar.fov_rad * i / (scan->getScanSize() - 1);
+          const double r = scan->getScanRange(i);
+          const int cx = grid.x2idx(sx + r * std::cos(a)), cy = grid.y2idx(sy + r * std::sin(a));
+          ++endpoints;
+          if (dist.at<float>(cy, cx) > 1.0f) ++off;
+        }
+      });
+    }
+    EXPECT_GT(endpoints, 5000) << name;
+    EXPECT_EQ(off, 0) << name << ": " << off << " of " << endpoints << " endpoints off the true grid";
+  }
+}
+
+struct ClassSamples {
+  std::vector<double> speed, turn;
+};
+
+std::map<AgentClass, ClassSamples> AgentSamples(const std::string& scenario, std::initializer_list<uint64_t> seeds) {
+  std::map<AgentClass, ClassSamples> out;
+  const Scenario s = LoadScenario(ScenarioPath(scenario));
+  for (uint64_t seed : seeds) {
+    Simulator sim(s, seed);
+    for (int step = 1; step <= static_cast<int>(s.duration_s / Simulator::kStepS); ++step) {
+      sim.Step([](Stamp, const mrpt::obs::CObservation::Ptr&) {});
+      if (step % 10 != 0) continue;
+      for (const auto& a : sim.agents()) {
+        out[a.cls].speed.push_back(a.speed_mps);
+        out[a.cls].turn.push_back(std::abs(a.yaw_rate));
+      }
+    }
+  }
+  return out;
+}
+
+// The best accuracy any single speed threshold reaches telling class a from class b.
+double BestThresholdAccuracy(const std::vector<double>& a, const std::vector<double>& b) {
+  double best = 0;
+  for (double t = 0; t < 15; t += 0.05) {
+    long right = 0;
+    for (double v : a) right += v < t;
+    for (double v : b) right += v >= t;
+    best = std::max(best, static_cast<double>(right) / (a.size() + b.size()));
+  }
+  return best;
+}
+
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Acceptance: motion differs by class in measurable ways, but no single speed
+// threshold separates the classes.
+TEST(SimulatorTest, AgentClassesMoveDifferentlyButSpeedAloneDoesNotSeparateThem) {
+  auto samples = AgentSamples("urban-crossing", {1, 2, 3});
+  const auto& ped = samples[AgentClass::kPedestrian];
+  const auto& cyc = samples[AgentClass::kCyclist];
+  const auto& car = samples[AgentClass::kCar];
+  ASSERT_GT(ped.speed.size(), 1000u);
+  ASSERT_GT(cyc.speed.size(), 500u);
+  ASSERT_GT(car.speed.size(), 500u);
+  const double ped_cyc = BestThresholdAccuracy(ped.speed, cyc.speed);
+  const double cyc_car = BestThresholdAccuracy(cyc.speed, car.speed);
+  const double ped_car = BestThresholdAccuracy(ped.speed, car.speed);
+  std::printf("speed medians: pedestrian %.2f, cyclist %.2f, car %.2f m/s; best single-threshold accuracy "
+              "ped/cyc %.3f, cyc/car %.3f, ped/car %.3f\n",
+              Median(ped.speed), Median(cyc.speed), Median(car.speed), ped_cyc, cyc_car, ped_car);
+  std::printf("|turn rate| p50: pedestrian %.3f, cyclist %.3f, car %.3f rad/s\n", Median(ped.turn),
+              Median(cyc.turn), Median(car.turn));
+  EXPECT_LT(Median(ped.speed), Median(cyc.speed));
+  EXPECT_LT(Median(cyc.speed), Median(car.speed));
+  EXPECT_LT(ped_cyc, 0.95);
+  EXPECT_LT(cyc_car, 0.95);
+  EXPECT_LT(ped_car, 0.98);
+  // Pedestrians wander (heading noise, sharp turns); cyclists and cars hold lines.
+  EXPECT_GT(Median(ped.turn), 2 * Median(cyc.turn));
+  // Cars stop at stop waypoints; pedestrians pause; cyclists roll on.
+  auto stopped = [](const std::vector<double>& v) {
+    return std::count_if(v.begin(), v.end(), [](double s) { return s < 0.05; }) / static_cast<double>(v.size());
+  };
+  EXPECT_GT(stopped(car.speed), 0.02);
+  EXPECT_GT(stopped(ped.speed), 0.05);
+  EXPECT_LT(stopped(cyc.speed), 0.01);
+}
+
+TEST(SimulatorTest, SameSeedIsByteIdenticalAndAnotherSeedChangesNoiseAndAgents) {
+  const std::string dir = testing::TempDir();
+  const std::string scenario = ScenarioPath("course-loop");
+  for (const char* run : {"a", "b"}) {
+    ASSERT_EQ(testing::RunSpecht("sim -q '" + scenario + "' --duration 15 -o '" + dir + "/" + run + "'").exit_code, 0);
+  }
+  ASSERT_EQ(testing::RunSpecht("sim -q '" + scenario + "' --duration 15 --seed 99 -o '" + dir + "/c'").exit_code, 0);
+  for (const char* f : {"sim.rawlog", "ground_truth.tum", "agents.csv", "true_map.pgm"}) {
+    EXPECT_TRUE(testing::ReadFile(dir + "/a/" + f) == testing::ReadFile(dir + "/b/" + f)) << f;
+  }
+  EXPECT_NE(testing::ReadFile(dir + "/a/agents.csv"), testing::ReadFile(dir + "/c/agents.csv"));
+  EXPECT_NE(testing::ReadFile(dir + "/a/sim.rawlog"), testing::ReadFile(dir + "/c/sim.rawlog"));
+  for (const char* f : {"true_map.yaml", "true_map.gridmap", "world.png", "report.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/a/" + f)) << f;
+  }
+}
+
+std::string ErrorOf(const std::string& yaml) {
+  try {
+    ParseScenario(yaml, "bad.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ScenarioTest, BadFilesNameFileLineKeyAndReason) {
+  EXPECT_EQ(ErrorOf("name: x\nduraton_s: 10\n"), "bad.yaml:2: duraton_s: unknown key (did you mean 'duration_s'?)");
+  EXPECT_EQ(ErrorOf("world:\n  objects:\n    - {type: wall, polygon: [[0, 0], [4, 4], [4, 0], [0, 4]]}\n"),
+            "bad.yaml:3: world.objects[0].polygon: self-intersecting");
+  EXPECT_EQ(ErrorOf("world:\n  bounds: [0, 0, 10, 10]\nagents:\n  - {id: 1, class: cyclist, route: [[1, 1], [12, 1]]}\n"),
+            "bad.yaml:4: agents[0].route[1]: agent outside the world bounds");
+  EXPECT_EQ(ErrorOf("ego:\n  cruise_speed_mps: -2\n"), "bad.yaml:2: ego.cruise_speed_mps: value -2 is outside [0, 60]");
+  EXPECT_EQ(ErrorOf("agents:\n  - {id: 1, class: horse, route: [[1, 1], [2, 2]]}\n"),
+            "bad.yaml:2: agents[0].class: 'horse' is not one of: car, cyclist, pedestrian");
+  EXPECT_EQ(ErrorOf("world:\n  bounds: [0, 0, 20, 20]\n  objects:\n    - {type: building, polygon: [[5, 5], [8, 5], [8, 8], [5, 8]]}\n"
+                    "agents:\n  - {id: 1, class: pedestrian, route: [[1, 6], [12, 6]]}\n"),
+            "bad.yaml:6: agents[0].route: leg 0 -> 1 passes through world.objects[0]");
+  EXPECT_THAT(ErrorOf("name: [unclosed\n"), HasSubstr("bad.yaml:"));
+  EXPECT_THROW(LoadScenario("/nonexistent.yaml"), InputError);
+}
+
+TEST(ScenarioTest, ShippedScenariosLoad) {
+  for (const char* name : {"course-loop", "urban-crossing", "parking-lot"}) {
+    const Scenario s = LoadScenario(ScenarioPath(name));
+    EXPECT_FALSE(s.objects.empty()) << name;
+    EXPECT_FALSE(s.agents.empty()) << name;
+    EXPECT_FALSE(s.bays.empty()) << name;
+  }
+}
+
+}  // namespace
+}  // namespace specht::sim
