@@ -1,7 +1,7 @@
 // sim_bench <scenario.yaml>...: simulation speed per scenario, default seed, whole
 // duration: simulated seconds per wall second, ms per LiDAR scan (ray casting
-// included), peak memory. One JSON object per scenario. (Stereo rendering joins with
-// the stereo camera model.)
+// included), stereo frames rendered per second (scenarios with a camera), peak memory.
+// One JSON object per scenario.
 #include <chrono>
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -14,16 +14,19 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const specht::sim::Scenario s = specht::sim::LoadScenario(argv[i]);
     specht::sim::Simulator sim(s, s.seed);
-    long scans = 0, observations = 0;
+    long scans = 0, observations = 0, stereo_frames = 0;
     const auto t0 = Clock::now();
     const long steps = std::lround(s.duration_s / specht::sim::Simulator::kStepS);
     for (long k = 0; k < steps; ++k) {
-      sim.Step([&](specht::Stamp, const mrpt::obs::CObservation::Ptr& obs) {
-        ++observations;
-        scans += std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs) != nullptr;
-      });
+      sim.Step(
+          [&](specht::Stamp, const mrpt::obs::CObservation::Ptr& obs) {
+            ++observations;
+            scans += std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs) != nullptr;
+          },
+          [&](specht::Stamp, const specht::sim::StereoFrame&) { ++stereo_frames; });
     }
-    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double total = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double render = sim.render_seconds(), wall = total - render;
     specht::bench::Emit({{"name", "sim/" + s.name},
                          {"simulated_s", s.duration_s},
                          {"wall_s", wall},
@@ -32,6 +35,10 @@ int main(int argc, char** argv) {
                          {"observations", observations},
                          {"ms_per_simulated_second", 1000.0 * wall / s.duration_s},
                          {"agents", s.agents.size()},
+                         {"stereo_frames", stereo_frames},
+                         {"stereo_frames_per_s", render > 0 ? stereo_frames / render : 0.0},
+                         {"stereo_resolution", s.stereo ? std::to_string(s.stereo->width) + "x" +
+                                                              std::to_string(s.stereo->height) : "-"},
                          {"peak_rss_mib", specht::bench::PeakRssMib()},
                          {"machine", specht::bench::MachineNotes()}});
   }

@@ -5,6 +5,11 @@
 //   true_map.yaml/.pgm/.gridmap   the true occupancy grid
 //   agents.csv        time,id,class,x,y,yaw,vx,vy,speed,yaw_rate at 10 Hz
 //   world.png         the true map with the ego's and the agents' paths
+// and, when the scenario has a stereo camera:
+//   sim_Images/       left_NNNNNN.png, right_NNNNNN.png (the rawlog's stereo
+//                     observations refer to them, as MRPT's external images do)
+//   stereo/disparity/NNNNNN.png  true disparity, KITTI uint16 (value / 256, 0 = none)
+//   stereo/labels/NNNNNN.txt     KITTI object labels of the agents in view
 //   report.json/.md   counts, per-class speed and turn-rate statistics, timing
 #include <cmath>
 #include <cstdio>
@@ -22,6 +27,11 @@
 #include "specht/io/report.h"
 #include "specht/io/trajectory_io.h"
 #include "specht/sim/simulator.h"
+
+#include <filesystem>
+
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <opencv2/imgcodecs.hpp>
 
 namespace specht::app {
 namespace {
@@ -50,6 +60,43 @@ double Quantile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)))];
 }
 
+// Writes one rendered stereo frame and returns the rawlog observation referring to it.
+mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index, Stamp stamp,
+                                              const sim::StereoFrame& f, const sim::StereoSpec& spec) {
+  char name[16];
+  std::snprintf(name, sizeof(name), "%06d", index);
+  auto png = [](const std::string& path, const cv::Mat& image) {
+    io::WriteAtomically(path, [&](const std::string& tmp) {
+      if (!cv::imwrite(tmp, image)) throw RuntimeError(path + ": cannot write PNG");
+    });
+  };
+  png(out + "/sim_Images/left_" + name + ".png", f.left);
+  png(out + "/sim_Images/right_" + name + ".png", f.right);
+  cv::Mat kitti(f.disparity.size(), CV_16U);
+  f.disparity.convertTo(kitti, CV_16U, 256.0);
+  png(out + "/stereo/disparity/" + std::string(name) + ".png", kitti);
+  std::string labels;
+  for (const auto& line : f.kitti_labels) labels += line + "\n";
+  io::WriteTextAtomically(out + "/stereo/labels/" + std::string(name) + ".txt", labels);
+
+  auto obs = mrpt::obs::CObservationStereoImages::Create();
+  obs->imageLeft.setExternalStorage(std::string("left_") + name + ".png");
+  obs->imageRight.setExternalStorage(std::string("right_") + name + ".png");
+  obs->hasImageRight = true;
+  const double cx = (spec.width - 1) / 2.0, cy = (spec.height - 1) / 2.0;
+  for (auto* cam : {&obs->leftCamera, &obs->rightCamera}) {
+    cam->ncols = spec.width, cam->nrows = spec.height;
+    cam->setIntrinsicParamsFromValues(spec.focal_px, spec.focal_px, cx, cy);
+  }
+  // The left camera on base_link (optical frame: x right, y down, z forward).
+  obs->cameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(spec.x_m, spec.y_m, spec.z_m, spec.yaw_rad - M_PI / 2,
+                                                                  0, -M_PI / 2 - spec.pitch_rad));
+  obs->rightCameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(spec.baseline_m, 0, 0, 0, 0, 0));
+  obs->sensorLabel = "STEREO";
+  obs->timestamp = ToMrpt(stamp);
+  return obs;
+}
+
 int RunSim(const SimArgs& a) {
   sim::Scenario scenario = sim::LoadScenario(a.scenario);
   if (a.seed) scenario.seed = *a.seed;
@@ -62,21 +109,32 @@ int RunSim(const SimArgs& a) {
   sim::Simulator simulator(scenario, scenario.seed);
 
   io::RawlogWriter rawlog(out + "/sim.rawlog");
+  if (scenario.stereo) {
+    for (const char* d : {"/sim_Images", "/stereo/disparity", "/stereo/labels"}) io::MakeOutputDir(out + d);
+  }
+  int stereo_frames = 0;
+  long labelled_boxes = 0;
   Trajectory truth;
   std::map<int, Trajectory> agent_paths;
   std::map<std::string, ClassStats> stats;
   std::string csv = "time_s,id,class,x_m,y_m,yaw_rad,vx_mps,vy_mps,speed_mps,yaw_rate_rad_s\n";
   std::map<std::string, long> counts;
   ProgressLine progress("sim", "s simulated", !a.quiet);
-  const long steps = std::lround(scenario.duration_s / sim::Simulator::kStepS);
   io::StageTimer timer;
+  const long steps = std::lround(scenario.duration_s / sim::Simulator::kStepS);
   {
     auto t = timer.Time("simulate");
     for (long k = 0; k < steps; ++k) {
-      simulator.Step([&](Stamp, const mrpt::obs::CObservation::Ptr& obs) {
-        rawlog.Write(*obs);
-        ++counts[obs->GetRuntimeClass()->className];
-      });
+      simulator.Step(
+          [&](Stamp, const mrpt::obs::CObservation::Ptr& obs) {
+            rawlog.Write(*obs);
+            ++counts[obs->GetRuntimeClass()->className];
+          },
+          [&](Stamp stamp, const sim::StereoFrame& frame) {
+            rawlog.Write(*WriteStereoFrame(out, stereo_frames++, stamp, frame, *scenario.stereo));
+            labelled_boxes += static_cast<long>(frame.kitti_labels.size());
+            ++counts["mrpt::obs::CObservationStereoImages"];
+          });
       const double t_s = simulator.time_s();
       if (simulator.scanned()) {
         const auto& p = simulator.ego().pose;
@@ -114,7 +172,11 @@ int RunSim(const SimArgs& a) {
   auto& j = report.json();
   j["inputs"] = {{"scenario", a.scenario}, {"name", scenario.name}, {"seed", scenario.seed},
                  {"duration_s", scenario.duration_s}};
-  j["counts"] = {{"observations", counts}, {"scans", truth.size()}, {"agents", scenario.agents.size()}};
+  j["counts"] = {{"observations", counts},
+                 {"scans", truth.size()},
+                 {"agents", scenario.agents.size()},
+                 {"stereo_frames", stereo_frames},
+                 {"labelled_boxes", labelled_boxes}};
   for (const auto& [cls, s] : stats) {
     j["metrics"]["agents"][cls] = {{"samples", s.speed.size()},
                                    {"speed_mean_mps", Mean(s.speed)},
@@ -124,8 +186,11 @@ int RunSim(const SimArgs& a) {
                                    {"turn_rate_p90_rad_s", Quantile(s.turn_rate, 0.9)}};
   }
   j["metrics"]["ego_path_length_m"] = PathLength(truth);
-  const double sim_s = timer.TotalMs("simulate") / 1000.0;
-  j["timing"] = {{"stages", timer.ToJson()}, {"simulated_s_per_wall_s", sim_s > 0 ? scenario.duration_s / sim_s : 0.0}};
+  const double render_s = simulator.render_seconds();
+  const double sim_s = timer.TotalMs("simulate") / 1000.0 - render_s;
+  if (stereo_frames > 0) j["timing"]["ms_per_stereo_frame"] = 1000.0 * render_s / stereo_frames;
+  j["timing"]["stages"] = timer.ToJson();
+  j["timing"]["simulated_s_per_wall_s"] = sim_s > 0 ? scenario.duration_s / sim_s : 0.0;
   for (const char* f : {"sim.rawlog", "ground_truth.tum", "true_map.yaml", "true_map.pgm", "true_map.gridmap",
                         "agents.csv", "world.png"}) {
     report.AddOutput(f);

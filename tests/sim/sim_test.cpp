@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <sstream>
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <opencv2/imgproc.hpp>
@@ -152,6 +153,19 @@ TEST(SimulatorTest, SameSeedIsByteIdenticalAndAnotherSeedChangesNoiseAndAgents) 
   }
 }
 
+TEST(SimulatorTest, StereoOutputsAreReproducibleToo) {
+  const std::string dir = testing::TempDir();
+  const std::string scenario = ScenarioPath("urban-crossing");
+  for (const char* run : {"a", "b"}) {
+    ASSERT_EQ(testing::RunSpecht("sim -q '" + scenario + "' --duration 2 -o '" + dir + "/" + run + "'").exit_code, 0);
+  }
+  for (const char* f : {"sim_Images/left_000001.png", "sim_Images/right_000001.png", "stereo/disparity/000001.png",
+                        "stereo/labels/000001.txt", "sim.rawlog"}) {
+    ASSERT_TRUE(std::filesystem::exists(dir + "/a/" + f)) << f;
+    EXPECT_TRUE(testing::ReadFile(dir + "/a/" + f) == testing::ReadFile(dir + "/b/" + f)) << f;
+  }
+}
+
 std::string ErrorOf(const std::string& yaml) {
   try {
     ParseScenario(yaml, "bad.yaml");
@@ -184,6 +198,104 @@ TEST(ScenarioTest, ShippedScenariosLoad) {
     EXPECT_FALSE(s.agents.empty()) << name;
     EXPECT_FALSE(s.bays.empty()) << name;
   }
+}
+
+}  // namespace
+}  // namespace specht::sim
+
+#include <opencv2/calib3d.hpp>
+
+namespace specht::sim {
+namespace {
+
+// Renders the urban crossing's camera view after `seconds` (that frame only).
+StereoFrame RenderAt(double seconds, uint64_t seed) {
+  static Scenario s;
+  s = LoadScenario(ScenarioPath("urban-crossing"));
+  s.stereo->rate_hz = 1.0 / seconds;
+  Simulator sim(s, seed);
+  StereoFrame last;
+  for (int k = 0; k < static_cast<int>(seconds / Simulator::kStepS); ++k) {
+    sim.Step([](Stamp, const mrpt::obs::CObservation::Ptr&) {}, [&](Stamp, const StereoFrame& f) { last = f; });
+  }
+  return last;
+}
+
+// Acceptance: OpenCV SGBM on a rendered pair has D1-all ≤ 10 % against the rendered
+// true disparity, on the pixels that see a surface (not the sky).
+TEST(StereoRenderTest, OpenCvSgbmAgreesWithTheRenderedTruth) {
+  for (double t : {3.0, 7.0}) {
+    const StereoFrame f = RenderAt(t, 2);
+    ASSERT_FALSE(f.left.empty());
+    auto sgbm = cv::StereoSGBM::create(0, 64, 5, 8 * 25, 32 * 25, 1, 0, 10, 100, 32, cv::StereoSGBM::MODE_SGBM_3WAY);
+    cv::Mat raw, disparity;
+    sgbm->compute(f.left, f.right, raw);
+    raw.convertTo(disparity, CV_32F, 1.0 / 16.0);
+    long pixels = 0, bad = 0;
+    for (int v = 0; v < disparity.rows; ++v) {
+      for (int u = 64; u < disparity.cols; ++u) {  // SGBM has no estimate left of its range
+        const float truth = f.disparity.at<float>(v, u);
+        if (truth <= 0 || truth > 63) continue;
+        ++pixels;
+        const float d = disparity.at<float>(v, u), err = std::abs(d - truth);
+        bad += d < 0 || (err > 3 && err > 0.05f * truth);
+      }
+    }
+    const double d1 = static_cast<double>(bad) / pixels;
+    std::printf("t=%.0f s: SGBM D1-all %.2f %% over %ld pixels with truth\n", t, 100 * d1, pixels);
+    EXPECT_GT(pixels, f.left.total() / 3);
+    EXPECT_LE(d1, 0.10);
+  }
+}
+
+// Acceptance: warping the right image by the true disparity reproduces the left image
+// on pixels the right camera also sees.
+TEST(StereoRenderTest, RightImageWarpedByTrueDisparityReproducesTheLeft) {
+  const StereoFrame f = RenderAt(5.0, 2);
+  double sum = 0;
+  long pixels = 0;
+  for (int v = 0; v < f.left.rows; ++v) {
+    for (int u = 0; u < f.left.cols; ++u) {
+      const float d = f.disparity.at<float>(v, u), z = f.depth.at<float>(v, u);
+      const float ur = static_cast<float>(u) - d;
+      if (d <= 0 || ur < 0 || ur > f.left.cols - 2) continue;
+      const int u0 = static_cast<int>(ur);
+      const float w = ur - u0;
+      // Not occluded: the right camera sees the same depth there.
+      const float zr = (1 - w) * f.depth_right.at<float>(v, u0) + w * f.depth_right.at<float>(v, u0 + 1);
+      if (std::abs(zr - z) > 0.02f * z) continue;
+      const float right = (1 - w) * f.right.at<uint8_t>(v, u0) + w * f.right.at<uint8_t>(v, u0 + 1);
+      sum += std::abs(right - f.left.at<uint8_t>(v, u));
+      ++pixels;
+    }
+  }
+  const double mean_error = sum / pixels;
+  std::printf("warp: mean |left - warped right| %.2f grey levels over %ld pixels\n", mean_error, pixels);
+  EXPECT_GT(pixels, f.left.total() / 3);
+  EXPECT_LT(mean_error, 4.0);
+}
+
+TEST(StereoRenderTest, LabelsListTheAgentsInView) {
+  // Within 12 s the crossing's agents come into view of the camera.
+  const Scenario s = LoadScenario(ScenarioPath("urban-crossing"));
+  Simulator sim(s, 2);
+  long labels = 0;
+  for (int k = 0; k < 1200 && labels == 0; ++k) {
+    sim.Step([](Stamp, const mrpt::obs::CObservation::Ptr&) {},
+             [&](Stamp, const StereoFrame& f) {
+               for (const auto& line : f.kitti_labels) {
+                 ++labels;
+                 std::istringstream fields(line);
+                 std::string type;
+                 double truncated, occluded, alpha, l, t, r, b;
+                 fields >> type >> truncated >> occluded >> alpha >> l >> t >> r >> b;
+                 EXPECT_TRUE(type == "Pedestrian" || type == "Cyclist" || type == "Car") << line;
+                 EXPECT_LE(l, r);
+                 EXPECT_LE(t, b);
+               }
+             });
+  }
+  EXPECT_GT(labels, 0);
 }
 
 }  // namespace

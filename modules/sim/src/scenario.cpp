@@ -364,7 +364,26 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
   }
 
   // sensors
-  if (const YAML::Node sn = root["sensors"]; sn && r.Map(sn, "sensors", {"lidar", "odometry", "imu"})) {
+  if (const YAML::Node sn = root["sensors"]; sn && r.Map(sn, "sensors", {"lidar", "odometry", "imu", "stereo"})) {
+    if (const YAML::Node st = sn["stereo"];
+        st && r.Map(st, "sensors.stereo", {"rate_hz", "width", "height", "focal_px", "baseline_m", "mount"})) {
+      StereoSpec x;
+      const std::string ctx = "sensors.stereo";
+      x.rate_hz = r.Number(st, ctx, "rate_hz", x.rate_hz, 0.1, 60);
+      x.width = static_cast<int>(r.Number(st, ctx, "width", x.width, 16, 4096));
+      x.height = static_cast<int>(r.Number(st, ctx, "height", x.height, 16, 4096));
+      x.focal_px = r.Number(st, ctx, "focal_px", x.focal_px, 10, 10000);
+      x.baseline_m = r.Number(st, ctx, "baseline_m", x.baseline_m, 0.01, 5);
+      if (const YAML::Node m = st["mount"]) {
+        if (!m.IsSequence() || m.size() != 5) {
+          r.Error(m, ctx + ".mount", "expected [x_m, y_m, z_m, yaw_deg, pitch_deg]");
+        } else {
+          x.x_m = m[0].as<double>(), x.y_m = m[1].as<double>(), x.z_m = m[2].as<double>();
+          x.yaw_rad = m[3].as<double>() * kDeg, x.pitch_rad = m[4].as<double>() * kDeg;
+        }
+      }
+      s.stereo = x;
+    }
     if (const YAML::Node l = sn["lidar"];
         l && r.Map(l, "sensors.lidar", {"rate_hz", "beams", "fov_deg", "max_range_m", "range_noise_m", "dropout", "mount"})) {
       LidarSpec& x = s.lidar;

@@ -1,5 +1,6 @@
 #include "specht/sim/simulator.h"
 
+#include <chrono>
 #include <cmath>
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -42,7 +43,9 @@ Simulator::Simulator(const Scenario& scenario, uint64_t seed)
       lidar_every_(Every(scenario.lidar.rate_hz)),
       odometry_every_(Every(scenario.odometry.rate_hz)),
       imu_every_(Every(scenario.imu.rate_hz)),
+      stereo_every_(scenario.stereo ? Every(scenario.stereo->rate_hz) : 0),
       ego_at_last_odometry_(scenario.ego.start) {
+  if (scenario.stereo) stereo_.emplace(scenario, world_, *scenario.stereo);
   for (const auto& a : scenario.agents) {
     const Waypoint& first = a.route.front();
     const Waypoint& second = a.route[1];
@@ -65,7 +68,17 @@ std::vector<AgentTruth> Simulator::agents() const {
   return out;
 }
 
-void Simulator::Step(const Sink& sink) {
+std::vector<Box3> Simulator::AgentBoxes() const {
+  std::vector<Box3> boxes;
+  for (const auto& a : agents()) {
+    const double height = a.cls == AgentClass::kCar ? 1.5 : a.cls == AgentClass::kCyclist ? 1.7 : 1.75;
+    const char* name = a.cls == AgentClass::kCar ? "Car" : a.cls == AgentClass::kCyclist ? "Cyclist" : "Pedestrian";
+    boxes.push_back({a.pose, a.length_m, a.width_m, height, a.id, name});
+  }
+  return boxes;
+}
+
+void Simulator::Step(const Sink& sink, const StereoSink& stereo) {
   ++step_;
   ego_.Step(kStepS, motion_rng_);
   for (size_t i = 0; i < agents_.size(); ++i) {
@@ -78,6 +91,12 @@ void Simulator::Step(const Sink& sink) {
   if (step_ % lidar_every_ == 0) {
     sink(now, Scan());
     scanned_ = true;
+  }
+  if (stereo_ && stereo && step_ % stereo_every_ == 0) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const StereoFrame frame = stereo_->Render(ego_.state().pose, AgentBoxes());
+    render_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stereo(now, frame);
   }
 }
 

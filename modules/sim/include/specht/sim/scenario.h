@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -104,6 +105,15 @@ struct ImuSpec {
   double accel_noise_mps2 = 0.05;
 };
 
+// A rectified stereo camera (rendered by camera.h).
+struct StereoSpec {
+  double rate_hz = 2;
+  int width = 640, height = 240;
+  double focal_px = 400;
+  double baseline_m = 0.4;
+  double x_m = 0.5, y_m = 0, z_m = 1.3, yaw_rad = 0, pitch_rad = 0;  // mount on base_link
+};
+
 struct Scenario {
   std::string path;  // the file it came from
   std::string name;
@@ -117,6 +127,7 @@ struct Scenario {
   LidarSpec lidar;
   OdometrySpec odometry;
   ImuSpec imu;
+  std::optional<StereoSpec> stereo;  // rendered only when the scenario has one
 };
 
 // Throws InputError with one line per problem.

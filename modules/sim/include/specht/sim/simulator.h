@@ -23,6 +23,7 @@
 #include <mrpt/obs/CObservation.h>
 
 #include "specht/core/time.h"
+#include "specht/sim/camera.h"
 #include "specht/sim/motion.h"
 #include "specht/sim/scenario.h"
 #include "specht/sim/world.h"
@@ -45,8 +46,12 @@ class Simulator {
   Simulator(const Scenario& scenario, uint64_t seed);
 
   using Sink = std::function<void(Stamp, const mrpt::obs::CObservation::Ptr&)>;
-  // One 10 ms step; observations due in it go to `sink` in time order.
-  void Step(const Sink& sink);
+  using StereoSink = std::function<void(Stamp, const StereoFrame&)>;
+  // One 10 ms step; observations due in it go to `sink` in time order, rendered
+  // stereo frames (when the scenario has a camera) to `stereo`.
+  void Step(const Sink& sink, const StereoSink& stereo = nullptr);
+  // The agents as the camera sees them (boxes with class heights and KITTI names).
+  std::vector<Box3> AgentBoxes() const;
 
   double time_s() const { return static_cast<double>(step_) * kStepS; }
   Stamp stamp() const { return Stamp{kEpochNs + step_ * 10'000'000LL}; }
@@ -55,6 +60,8 @@ class Simulator {
   const World& world() const { return world_; }
   // True when the step that just ran produced a LiDAR scan.
   bool scanned() const { return scanned_; }
+  // Wall time spent rendering stereo frames so far.
+  double render_seconds() const { return render_s_; }
 
  private:
   mrpt::obs::CObservation::Ptr Scan();
@@ -68,7 +75,9 @@ class Simulator {
   std::mt19937_64 motion_rng_, lidar_rng_, odometry_rng_, imu_rng_;
   int64_t step_ = 0;
   bool scanned_ = false;
-  int lidar_every_, odometry_every_, imu_every_;
+  double render_s_ = 0;
+  int lidar_every_, odometry_every_, imu_every_, stereo_every_;
+  std::optional<StereoRenderer> stereo_;
   Pose2 ego_at_last_odometry_;
   Pose2 odometry_;  // chained noisy odometry
 };
