@@ -11,6 +11,7 @@
 
 #include "specht/core/error.h"
 #include "specht/core/params.h"
+#include "internal/geometry.h"
 
 namespace specht::sim {
 
@@ -24,6 +25,9 @@ const char* Name(AgentClass c) {
 }
 
 namespace {
+
+using internal::InsidePolygon;
+using internal::SegmentsCross;
 
 constexpr double kDeg = M_PI / 180.0;
 
@@ -164,13 +168,6 @@ class Reader {
   std::vector<std::string>& errors_;
 };
 
-double Cross(Vec2 o, Vec2 a, Vec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
-
-bool SegmentsCross(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
-  const double d1 = Cross(c, d, a), d2 = Cross(c, d, b), d3 = Cross(a, b, c), d4 = Cross(a, b, d);
-  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 && d2 != 0 && d3 != 0 && d4 != 0;
-}
-
 bool SelfIntersects(const std::vector<Vec2>& p, bool closed) {
   const size_t n = p.size(), edges = closed ? n : n - 1;
   for (size_t i = 0; i < edges; ++i) {
@@ -180,17 +177,6 @@ bool SelfIntersects(const std::vector<Vec2>& p, bool closed) {
     }
   }
   return false;
-}
-
-bool InsidePolygon(const std::vector<Vec2>& poly, Vec2 p) {
-  bool inside = false;
-  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    if (((poly[i].y > p.y) != (poly[j].y > p.y)) &&
-        (p.x < (poly[j].x - poly[i].x) * (p.y - poly[i].y) / (poly[j].y - poly[i].y) + poly[i].x)) {
-      inside = !inside;
-    }
-  }
-  return inside;
 }
 
 // Reports route legs (a straight line between consecutive waypoints, and the closing

@@ -3,21 +3,14 @@
 #include <cmath>
 #include <limits>
 
+#include "internal/geometry.h"
+
 namespace specht::sim {
 namespace {
 
 double Cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 
-bool InsidePolygon(const std::vector<Vec2>& poly, Vec2 p) {
-  bool inside = false;
-  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    if (((poly[i].y > p.y) != (poly[j].y > p.y)) &&
-        (p.x < (poly[j].x - poly[i].x) * (p.y - poly[i].y) / (poly[j].y - poly[i].y) + poly[i].x)) {
-      inside = !inside;
-    }
-  }
-  return inside;
-}
+using internal::InsidePolygon;
 
 }  // namespace
 
