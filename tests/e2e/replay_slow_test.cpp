@@ -1,0 +1,28 @@
+// Longer `specht replay` runs (label: slow).
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace specht {
+namespace {
+
+nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
+
+// MRPT's simulated rawlogs come with ground truth: the run reports ATE against it.
+// Scan-matching odometry alone drifts; the bound catches a broken matcher (raw
+// odometry drifts metres here), and the graph-SLAM issue tightens it.
+TEST(ReplayCliTest, ReportsTrajectoryErrorAgainstMrptGroundTruth) {
+  SPECHT_REQUIRE_FILE(testing::MrptDemoDir());
+  const std::string out = testing::TempDir() + "/out";
+  const auto r = testing::RunSpecht("replay -q '" + testing::MrptDemoDir() + "/simul.rawlog' -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto ate = Report(out)["metrics"]["ate"];
+  std::printf("simul.rawlog ATE: RMSE %.3f m, max %.3f m, %.2f deg\n", ate["rmse_m"].get<double>(),
+              ate["max_m"].get<double>(), ate["rmse_deg"].get<double>());
+  EXPECT_EQ(ate["pairs"], 1733);
+  EXPECT_LT(ate["rmse_m"].get<double>(), 0.6);
+  EXPECT_LT(ate["rmse_deg"].get<double>(), 3.0);
+}
+
+}  // namespace
+}  // namespace specht
