@@ -141,6 +141,44 @@ TEST(ScanMatchingTest, GyroYawRateSeedsTheRotationBetweenScans) {
   EXPECT_EQ(mapper.stats().rejected_matches, 0);
 }
 
+// A scan of a featureless corridor (walls at y = ±1.5 m, 200 m long) from `pose`.
+mrpt::obs::CObservation2DRangeScan::Ptr CorridorScan(const CPose2D& pose) {
+  auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+  const size_t n = 361;
+  scan->aperture = static_cast<float>(M_PI);
+  scan->rightToLeft = true;
+  scan->maxRange = 30.0f;
+  scan->resizeScan(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double a = pose.phi() - M_PI / 2 + M_PI * static_cast<double>(i) / (n - 1), dy = std::sin(a);
+    const double t = std::abs(dy) < 1e-9 ? 1e9 : ((dy > 0 ? 1.5 : -1.5) - pose.y()) / dy;
+    const bool valid = t > 0 && t < 29.0;
+    scan->setScanRange(i, valid ? static_cast<float>(t) : 30.0f);
+    scan->setScanRangeValidity(i, valid);
+  }
+  return scan;
+}
+
+TEST(ScanMatchingTest, InACorridorOdometryDecidesTheMotionAlongTheWalls) {
+  // The scan cannot tell how far the car moved along the corridor; with fusion the
+  // odometry's 0.6 m decides, while the lateral offset and heading still come from
+  // the scan (odometry claims 0.2 m and 4° of drift there).
+  ScanMatchingOptions options;
+  options.fuse_odometry = true;
+  options.recovery_window_m = 0;
+  ScanMatchingMapper mapper(options, nullptr, "base_link");
+  const CPose2D a(0, 0.2, 0.0), b(0.6, 0.0, mrpt::DEG2RAD(2));
+  mapper.Add(Stamp{0}, OdometryAt(CPose2D()));
+  mapper.Add(Stamp{1}, CorridorScan(a));
+  mapper.Add(Stamp{2}, OdometryAt(CPose2D(0.6, 0.0, mrpt::DEG2RAD(6))));
+  mapper.Add(Stamp{3}, CorridorScan(b));
+  const Trajectory t = mapper.trajectory();
+  const CPose2D estimated = CPose2D(t[1].pose) - CPose2D(t[0].pose), truth = b - a;
+  EXPECT_NEAR(estimated.x(), truth.x(), 0.05);
+  EXPECT_NEAR(estimated.y(), truth.y(), 0.02);
+  EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), 2.0, 0.3);
+}
+
 TEST(ScanMatchingTest, SensorMountFromFramesOverridesTheRecordedOne) {
   FramesOptions frames_options;
   frames_options.static_transforms.push_back({"base_link", "LASER", {0.5, 0, 0}, {0, 0, 0}});

@@ -87,7 +87,7 @@ void Localizer::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation
       }
     }
   }
-  const CPose2D pose = internal::MatchWithRecovery(m.icp, m.map, points, guess, m.matching, stats_);
+  const CPose2D pose = internal::MatchWithRecovery(m.icp, m.map, points, guess, m.matching, stats_).pose;
   if (!trajectory_.empty()) m.motion.SetLastStep(pose - last);
   ++stats_.scans;
   trajectory_.push_back({stamp, mrpt::poses::CPose3D(pose)});

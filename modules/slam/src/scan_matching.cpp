@@ -72,9 +72,16 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   // The map frame starts at the first scan.
   const CPose2D predicted = m.motion.Predict(LastPose(), options_.use_odometry, options_.use_imu);
   const CPose2D guess = scans_.empty() ? CPose2D() : predicted;
-  const CPose2D pose = !keyframes_.empty() && !points.empty()
-                           ? internal::MatchWithRecovery(m.icp, m.submap, points, guess, options_, stats_)
-                           : guess;
+  CPose2D pose = guess;
+  if (!keyframes_.empty() && !points.empty()) {
+    const internal::MatchResult match = internal::MatchWithRecovery(m.icp, m.submap, points, guess, options_, stats_);
+    pose = match.pose;
+    // Where the scan leaves a direction unconstrained (a corridor), the odometry decides it.
+    if (options_.fuse_odometry && match.source == internal::MatchSource::kIcp && m.motion.predicted_from_odometry()) {
+      pose = internal::FuseWithPrior(pose, internal::MatchInformation(points, pose, options_.point_sigma_m), guess,
+                                     internal::PriorInformation(m.motion.predicted_step(), guess.phi(), options_));
+    }
+  }
   if (!scans_.empty()) m.motion.SetLastStep(pose - LastPose());
   ++stats_.scans;
 

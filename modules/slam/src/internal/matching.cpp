@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include <Eigen/Cholesky>
+#include <mrpt/math/wrap2pi.h>
+
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
@@ -26,8 +29,8 @@ CObservation2DRangeScan::Ptr PrepareScan(const CObservation2DRangeScan& scan, co
   return copy;
 }
 
-CPose2D MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, const CSimplePointsMap& points,
-                          const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats) {
+MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, const CSimplePointsMap& points,
+                              const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats) {
   auto within_bounds = [&](const CPose2D& pose, const CPose2D& from) {
     const CPose2D correction = pose - from;
     return correction.norm() <= options.max_correction_m &&
@@ -36,7 +39,7 @@ CPose2D MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, co
   const IcpResult match = icp.Align(reference, points, guess);
   stats.icp_iterations += match.iterations;
   const bool icp_bounded = within_bounds(match.pose, guess);
-  if (icp_bounded && match.goodness >= options.min_goodness) return match.pose;
+  if (icp_bounded && match.goodness >= options.min_goodness) return {match.pose, MatchSource::kIcp};
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
   if (options.recovery_window_m > 0) {
     const double res = options.recovery_resolution_m;
@@ -49,13 +52,52 @@ CPose2D MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, co
       if (refined.goodness >= options.min_goodness / 2 && within_bounds(refined.pose, coarse->pose) &&
           (!icp_weak_ok || matcher.Score(query, refined.pose) > matcher.Score(query, match.pose))) {
         ++stats.recovered_matches;
-        return refined.pose;
+        return {refined.pose, MatchSource::kRecovered};
       }
     }
   }
-  if (icp_weak_ok) return match.pose;
+  if (icp_weak_ok) return {match.pose, MatchSource::kIcp};
   ++stats.rejected_matches;
-  return guess;
+  return {guess, MatchSource::kGuess};
+}
+
+Eigen::Matrix3d MatchInformation(const CSimplePointsMap& points, const CPose2D& pose, double point_sigma_m) {
+  const auto& xs = points.getPointsBufferRef_x();
+  const auto& ys = points.getPointsBufferRef_y();
+  const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+  for (size_t i = 1; i + 1 < xs.size(); ++i) {
+    // Neighbours on the same surface only (within 0.3 m).
+    const double tx = xs[i + 1] - xs[i - 1], ty = ys[i + 1] - ys[i - 1], len = std::hypot(tx, ty);
+    if (len < 1e-6 || len > 0.3) continue;
+    const double nx = -ty / len, ny = tx / len;             // normal, scan frame
+    const double wx = c * nx - s * ny, wy = s * nx + c * ny;  // normal, map frame
+    // d(R p)/dθ = (−s x − c y, c x − s y)
+    const double dx = -s * xs[i] - c * ys[i], dy = c * xs[i] - s * ys[i];
+    const Eigen::Vector3d j(wx, wy, wx * dx + wy * dy);
+    h += j * j.transpose();
+  }
+  return h / (point_sigma_m * point_sigma_m);
+}
+
+CPose2D FuseWithPrior(const CPose2D& match, const Eigen::Matrix3d& match_information, const CPose2D& prior,
+                      const Eigen::Matrix3d& prior_information) {
+  const Eigen::Vector3d delta(prior.x() - match.x(), prior.y() - match.y(),
+                              mrpt::math::wrapToPi(prior.phi() - match.phi()));
+  const Eigen::Vector3d step = (match_information + prior_information).ldlt().solve(prior_information * delta);
+  if (!step.allFinite()) return match;
+  return CPose2D(match.x() + step.x(), match.y() + step.y(), mrpt::math::wrapToPi(match.phi() + step.z()));
+}
+
+Eigen::Matrix3d PriorInformation(const CPose2D& step, double heading, const ScanMatchingOptions& options) {
+  const double dist = step.norm();
+  const double sigma_t = options.prior_fraction * dist + options.prior_min_m;
+  const double sigma_r =
+      options.prior_fraction * (std::abs(step.phi()) + dist) + mrpt::DEG2RAD(options.prior_min_deg);
+  Eigen::Matrix3d info = Eigen::Vector3d(1 / (sigma_t * sigma_t), 1 / (sigma_t * sigma_t), 1 / (sigma_r * sigma_r))
+                             .asDiagonal();
+  (void)heading;  // isotropic in translation, so the heading does not matter
+  return info;
 }
 
 bool MotionPrior::Consume(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation, MappingStats& stats) {
@@ -85,10 +127,12 @@ CPose2D MotionPrior::Predict(const CPose2D& last, bool use_odometry, bool use_im
   odom_at_last_scan_ = odom_now_;
   // Without odometry (or when it reports no motion at all), keep the last velocity.
   const bool moved = have_odometry_ && (step.norm() > 0 || step.phi() != 0);
-  if (!(use_odometry && moved)) step = last_step_;
+  from_odometry_ = use_odometry && moved;
+  if (!from_odometry_) step = last_step_;
   if (use_imu && gyro_samples_ > 0) step = CPose2D(step.x(), step.y(), gyro_yaw_);
   gyro_yaw_ = 0;
   gyro_samples_ = 0;
+  predicted_step_ = step;
   return last + step;
 }
 

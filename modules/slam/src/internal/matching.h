@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/Core>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
@@ -23,14 +24,33 @@ mrpt::obs::CObservation2DRangeScan::Ptr PrepareScan(const mrpt::obs::CObservatio
                                                     const ScanMatchingOptions& options, const TransformTree* frames,
                                                     const std::string& base_frame);
 
+// How a match was settled.
+enum class MatchSource { kIcp, kRecovered, kGuess };
+struct MatchResult {
+  mrpt::poses::CPose2D pose;
+  MatchSource source = MatchSource::kGuess;
+};
+
 // ICP from the guess. A match pairing fewer than min_goodness of the points is
 // doubted: when recovery is on, the correlative matcher searches around the guess and
 // its refined pose competes with ICP's on the same likelihood score; otherwise (or
 // when nothing scores) ICP's pose stands if at least half min_goodness paired, else
 // the guess. Counts into `stats`.
-mrpt::poses::CPose2D MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimplePointsMap& reference,
-                                       const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
-                                       const ScanMatchingOptions& options, MappingStats& stats);
+MatchResult MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimplePointsMap& reference,
+                              const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
+                              const ScanMatchingOptions& options, MappingStats& stats);
+
+// The information of a scan alignment, point to line: with n_i the normal of the
+// surface at scan point p_i (from its beam neighbours) turned into the map frame,
+//   J_i = [n_iᵀ, n_iᵀ R'(θ) p_i],   H = Σ J_iᵀ J_i / σ².
+// Along a straight corridor H has no translational information along the walls.
+Eigen::Matrix3d MatchInformation(const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& pose,
+                                 double point_sigma_m);
+
+// The match fused with a prior of information Ω (map frame, x y θ), linearised at
+// the match:  x = x_m ⊞ (H + Ω)⁻¹ Ω (x_prior ⊟ x_m).
+mrpt::poses::CPose2D FuseWithPrior(const mrpt::poses::CPose2D& match, const Eigen::Matrix3d& match_information,
+                                   const mrpt::poses::CPose2D& prior, const Eigen::Matrix3d& prior_information);
 
 // Motion between scans: the wheel-odometry increment since the last scan when the
 // odometry moved, else the last matched step (constant velocity); when a gyro
@@ -44,6 +64,9 @@ class MotionPrior {
   // The guess for a new scan after `last`; starts the next interval.
   mrpt::poses::CPose2D Predict(const mrpt::poses::CPose2D& last, bool use_odometry, bool use_imu);
   void SetLastStep(const mrpt::poses::CPose2D& step) { last_step_ = step; }
+  // Whether the last prediction came from wheel odometry, and the step it predicted.
+  bool predicted_from_odometry() const { return from_odometry_; }
+  const mrpt::poses::CPose2D& predicted_step() const { return predicted_step_; }
 
  private:
   bool have_odometry_ = false;
@@ -51,6 +74,13 @@ class MotionPrior {
   std::optional<std::pair<Stamp, double>> last_gyro_;  // stamp, yaw rate
   double gyro_yaw_ = 0;                                 // integrated since the last scan
   int gyro_samples_ = 0;
+  bool from_odometry_ = false;
+  mrpt::poses::CPose2D predicted_step_;
 };
+
+// The information of a wheel-odometry step as a prior (map frame at `heading`):
+// σ_t = fraction·|Δ| + min_m along and across the heading, σ_θ = fraction·|Δθ| +
+// min_deg + fraction·|Δ| rad per metre.
+Eigen::Matrix3d PriorInformation(const mrpt::poses::CPose2D& step, double heading, const ScanMatchingOptions& options);
 
 }  // namespace specht::slam::internal

@@ -57,6 +57,11 @@ struct ScanMatchingOptions {
   double recovery_window_deg = 90.0;
   double recovery_resolution_m = 0.1;
   double recovery_min_score = 0.5;
+  bool fuse_odometry = false;
+  double point_sigma_m = 0.03;
+  double prior_fraction = 0.1;
+  double prior_min_m = 0.02;
+  double prior_min_deg = 1.0;
   IcpOptions icp;
 
   template <class V>
@@ -87,6 +92,14 @@ struct ScanMatchingOptions {
             Range::Of(0.02, 0.5).Log());
     v.Param("recovery_min_score", recovery_min_score, "accept a recovery match from this mean likelihood",
             Range::Of(0.1, 0.95));
+    v.Param("fuse_odometry", fuse_odometry,
+            "fuse each ICP match with the odometry step by their information (corridors: odometry decides "
+            "the direction the scan cannot)");
+    v.Param("point_sigma_m", point_sigma_m, "std. dev. of a scan point against its surface (match information)",
+            Range::Of(0.005, 0.5).Log());
+    v.Param("prior_fraction", prior_fraction, "odometry std. dev. as a fraction of the step", Range::Of(0.001, 1.0).Log());
+    v.Param("prior_min_m", prior_min_m, "odometry std. dev. floor, translation", Range::Of(0.001, 1.0).Log());
+    v.Param("prior_min_deg", prior_min_deg, "odometry std. dev. floor, rotation", Range::Of(0.01, 20.0).Log());
     v.Group("icp", icp);
   }
   std::vector<std::string> Relations() const;
