@@ -5,6 +5,7 @@
 #include "specht/slam/graph_slam.h"
 
 #include <cmath>
+#include <functional>
 
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -41,7 +42,10 @@ double RayCast(double x, double y, double angle) {
   return best;
 }
 
-mrpt::obs::CObservation2DRangeScan::Ptr ScanAt(const CPose2D& pose, Stamp stamp) {
+// A 180°, 361-beam scan whose beam at world heading `angle` measures range(angle)
+// (beyond 29 m: no return).
+mrpt::obs::CObservation2DRangeScan::Ptr Scan180(const CPose2D& pose, Stamp stamp,
+                                                const std::function<double(double)>& range) {
   auto scan = mrpt::obs::CObservation2DRangeScan::Create();
   const size_t n = 361;
   scan->aperture = static_cast<float>(M_PI);
@@ -49,13 +53,18 @@ mrpt::obs::CObservation2DRangeScan::Ptr ScanAt(const CPose2D& pose, Stamp stamp)
   scan->maxRange = 30.0f;
   scan->resizeScan(n);
   for (size_t i = 0; i < n; ++i) {
-    const double a = -M_PI / 2 + M_PI * static_cast<double>(i) / (n - 1);
-    scan->setScanRange(i, static_cast<float>(RayCast(pose.x(), pose.y(), pose.phi() + a)));
-    scan->setScanRangeValidity(i, true);
+    const double r = range(pose.phi() - M_PI / 2 + M_PI * static_cast<double>(i) / (n - 1));
+    const bool valid = r > 0 && r < 29.0;
+    scan->setScanRange(i, valid ? static_cast<float>(r) : 30.0f);
+    scan->setScanRangeValidity(i, valid);
   }
   scan->timestamp = ToMrpt(stamp);
   scan->sensorLabel = "LASER";
   return scan;
+}
+
+mrpt::obs::CObservation2DRangeScan::Ptr ScanAt(const CPose2D& pose, Stamp stamp) {
+  return Scan180(pose, stamp, [&](double a) { return RayCast(pose.x(), pose.y(), a); });
 }
 
 mrpt::obs::CObservationOdometry::Ptr OdometryAt(const CPose2D& pose) {
@@ -141,22 +150,12 @@ TEST(ScanMatchingTest, GyroYawRateSeedsTheRotationBetweenScans) {
   EXPECT_EQ(mapper.stats().rejected_matches, 0);
 }
 
-// A scan of a featureless corridor (walls at y = ±1.5 m, 200 m long) from `pose`.
+// A scan of a featureless corridor (walls at y = ±1.5 m) from `pose`.
 mrpt::obs::CObservation2DRangeScan::Ptr CorridorScan(const CPose2D& pose) {
-  auto scan = mrpt::obs::CObservation2DRangeScan::Create();
-  const size_t n = 361;
-  scan->aperture = static_cast<float>(M_PI);
-  scan->rightToLeft = true;
-  scan->maxRange = 30.0f;
-  scan->resizeScan(n);
-  for (size_t i = 0; i < n; ++i) {
-    const double a = pose.phi() - M_PI / 2 + M_PI * static_cast<double>(i) / (n - 1), dy = std::sin(a);
-    const double t = std::abs(dy) < 1e-9 ? 1e9 : ((dy > 0 ? 1.5 : -1.5) - pose.y()) / dy;
-    const bool valid = t > 0 && t < 29.0;
-    scan->setScanRange(i, valid ? static_cast<float>(t) : 30.0f);
-    scan->setScanRangeValidity(i, valid);
-  }
-  return scan;
+  return Scan180(pose, Stamp{0}, [&](double a) {
+    const double dy = std::sin(a);
+    return std::abs(dy) < 1e-9 ? -1.0 : ((dy > 0 ? 1.5 : -1.5) - pose.y()) / dy;
+  });
 }
 
 TEST(ScanMatchingTest, InACorridorOdometryDecidesTheMotionAlongTheWalls) {
