@@ -33,13 +33,6 @@ nlohmann::json MachineNotes() {
   return {{"cpu", cpu}, {"cores", std::thread::hardware_concurrency()}, {"build", build}};
 }
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
-
 void Emit(const nlohmann::json& result) { std::cout << result.dump() << std::endl; }
 
 }  // namespace specht::bench

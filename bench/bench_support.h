@@ -12,7 +12,6 @@ namespace specht::bench {
 double PeakRssMib();
 // CPU model, core count, build type: printed with every case.
 nlohmann::json MachineNotes();
-double Percentile(std::vector<double> values, double q);
 // Prints one JSON object on one line.
 void Emit(const nlohmann::json& result);
 

@@ -5,31 +5,20 @@
 // second, whole pipeline), peak memory, and, where the dataset carries a reference
 // (CARMEN corrected poses, MRPT <rawlog>.GT.txt), relation error and ATE.
 #include <chrono>
-#include <filesystem>
 #include <iostream>
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include "bench_support.h"
+#include "specht/core/statistics.h"
 #include "specht/eval/relation_error.h"
 #include "specht/eval/trajectory_error.h"
-#include "specht/io/carmen.h"
+#include "specht/io/reference.h"
 #include "specht/io/dataset.h"
-#include "specht/io/trajectory_io.h"
 #include "specht/slam/graph_slam.h"
 
 using Clock = std::chrono::steady_clock;
 using namespace specht;
-
-namespace {
-
-Trajectory Reference(const std::string& dataset, const io::DatasetSource& source) {
-  if (source.Format() == "carmen") return io::ReadCarmenReference(dataset);
-  if (std::filesystem::exists(dataset + ".GT.txt")) return io::ReadPose2DText(dataset + ".GT.txt");
-  return {};
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
@@ -65,8 +54,8 @@ int main(int argc, char** argv) {
                            {"scans", scan_ms.size()},
                            {"keyframes", slam.keyframes().size()},
                            {"loop_closures", slam.stats().loops_accepted},
-                           {"ms_per_scan_p50", bench::Percentile(scan_ms, 0.5)},
-                           {"ms_per_scan_p95", bench::Percentile(scan_ms, 0.95)},
+                           {"ms_per_scan_p50", Percentile(scan_ms, 0.5)},
+                           {"ms_per_scan_p95", Percentile(scan_ms, 0.95)},
                            {"ms_per_scan_mean", scan_ms.empty() ? 0.0 : sum / scan_ms.size()},
                            {"data_s", data_s},
                            {"wall_s", wall_s},
@@ -74,16 +63,14 @@ int main(int argc, char** argv) {
                            {"peak_rss_mib", bench::PeakRssMib()},
                            {"map_cells", grid.getSizeX() * grid.getSizeY()},
                            {"machine", bench::MachineNotes()}};
-  const Trajectory reference = Reference(dataset, *source);
+  const std::string reference_path = io::DefaultReferencePath(dataset, source->Format());
+  const Trajectory reference = reference_path.empty() ? Trajectory{} : io::ReadReference(reference_path);
   if (!reference.empty()) {
     eval::RelationOptions options;
     options.max_dt_s = 0.05;
     const auto rel = eval::ComputeRelationError(slam.trajectory(), reference, options);
     const auto ate = eval::AbsoluteTrajectoryError2D(slam.trajectory(), reference, 0.05);
-    result["relation_error"] = {{"count", rel.all.count},   {"mean_m", rel.all.mean_m},
-                                {"std_m", rel.all.std_m},   {"max_m", rel.all.max_m},
-                                {"mean_deg", rel.all.mean_deg}, {"std_deg", rel.all.std_deg},
-                                {"max_deg", rel.all.max_deg}};
+    result["relation_error"] = eval::ToJson(rel.all);
     result["ate_rmse_m"] = ate.rmse_m;
   }
   bench::Emit(result);

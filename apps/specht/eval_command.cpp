@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "commands.h"
-#include "reference.h"
+#include "specht/io/reference.h"
 #include "run_setup.h"
 #include "specht/eval/relation_error.h"
 #include "specht/eval/trajectory_error.h"
@@ -24,14 +24,9 @@ struct EvalSlamArgs {
   eval::RelationOptions relations;
 };
 
-nlohmann::json ToJson(const eval::RelationStats& s) {
-  return {{"count", s.count}, {"mean_m", s.mean_m}, {"std_m", s.std_m}, {"max_m", s.max_m},
-          {"mean_deg", s.mean_deg}, {"std_deg", s.std_deg}, {"max_deg", s.max_deg}};
-}
-
 int RunEvalSlam(const EvalSlamArgs& a) {
   const Trajectory estimate = io::ReadTum(a.estimate);
-  const Trajectory reference = ReadReference(a.reference);
+  const Trajectory reference = io::ReadReference(a.reference);
   const eval::RelationError rel = eval::ComputeRelationError(estimate, reference, a.relations);
   const eval::AteResult ate = eval::AbsoluteTrajectoryError2D(estimate, reference, a.relations.max_dt_s);
   io::MakeOutputDir(a.out_dir);
@@ -39,10 +34,8 @@ int RunEvalSlam(const EvalSlamArgs& a) {
   io::RunReport report("eval slam");
   auto& j = report.json();
   j["inputs"] = {{"estimate", a.estimate}, {"reference", a.reference}};
-  j["metrics"]["relation"] = {{"consecutive", ToJson(rel.consecutive)}, {"loop", ToJson(rel.loop)},
-                              {"all", ToJson(rel.all)}, {"paired_poses", rel.paired_poses}};
-  j["metrics"]["ate"] = {{"pairs", ate.pairs}, {"rmse_m", ate.rmse_m}, {"mean_m", ate.mean_m},
-                         {"max_m", ate.max_m}, {"rmse_deg", ate.rmse_deg}};
+  j["metrics"]["relation"] = eval::ToJson(rel);
+  j["metrics"]["ate"] = eval::ToJson(ate);
   const Trajectory aligned = eval::Transform(estimate, ate.alignment);
   io::WriteTrajectoryPng({{&reference, {40, 170, 60}, "reference"}, {&aligned, {30, 90, 220}, "estimate (aligned)"}},
                          a.out_dir + "/trajectories.png");

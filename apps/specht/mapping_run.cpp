@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <map>
 
-#include "reference.h"
 #include "specht/core/log.h"
 #include "specht/core/progress.h"
 #include "specht/core/transform_tree.h"
@@ -20,6 +19,7 @@
 #include "specht/io/map_io.h"
 #include "specht/io/replay.h"
 #include "specht/io/rawlog_writer.h"
+#include "specht/io/reference.h"
 #include "specht/io/report.h"
 #include "specht/io/trajectory_io.h"
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -84,24 +84,17 @@ DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, const Consu
   return r;
 }
 
-nlohmann::json ToJson(const eval::RelationStats& s) {
-  return {{"count", s.count}, {"mean_m", s.mean_m}, {"std_m", s.std_m}, {"max_m", s.max_m},
-          {"mean_deg", s.mean_deg}, {"std_deg", s.std_deg}, {"max_deg", s.max_deg}};
-}
-
 // Metrics against the reference, when there is one; returns the reference moved into
 // the map frame for the picture.
 Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& reference, nlohmann::json& metrics) {
   if (reference.empty() || trajectory.size() < 2) return {};
   try {
     const auto ate = eval::AbsoluteTrajectoryError2D(trajectory, reference, 0.05);
-    metrics["ate"] = {{"pairs", ate.pairs}, {"rmse_m", ate.rmse_m}, {"mean_m", ate.mean_m},
-                      {"max_m", ate.max_m}, {"rmse_deg", ate.rmse_deg}, {"final_m", ate.final_error_m}};
+    metrics["ate"] = eval::ToJson(ate);
     eval::RelationOptions rel_options;
     rel_options.max_dt_s = 0.05;
     const auto rel = eval::ComputeRelationError(trajectory, reference, rel_options);
-    metrics["relation"] = {{"consecutive", ToJson(rel.consecutive)}, {"loop", ToJson(rel.loop)},
-                           {"all", ToJson(rel.all)}};
+    metrics["relation"] = eval::ToJson(rel);
     spdlog::info("against the reference: ATE RMSE {:.3f} m; relation error {:.4f} ± {:.4f} m (max {:.3f}), "
                  "{:.3f} ± {:.3f} deg over {} relations",
                  ate.rmse_m, rel.all.mean_m, rel.all.std_m, rel.all.max_m, rel.all.mean_deg, rel.all.std_deg,
@@ -178,10 +171,9 @@ int RunMapping(MappingArgs a, const std::string& command) {
   const std::string dataset = a.dataset.empty() ? io::DefaultRawlog() : a.dataset;
   auto source = io::OpenDataset(dataset, replay_options.on_bad_record == "skip" ? io::OnBadRecord::kSkip
                                                                                 : io::OnBadRecord::kStop);
-  std::string gt_path = a.ground_truth;
-  if (gt_path.empty() && std::filesystem::exists(dataset + ".GT.txt")) gt_path = dataset + ".GT.txt";
-  if (gt_path.empty() && source->Format() == "carmen") gt_path = dataset;
-  const Trajectory reference = gt_path.empty() ? Trajectory{} : ReadReference(gt_path);
+  const std::string gt_path =
+      a.ground_truth.empty() ? io::DefaultReferencePath(dataset, source->Format()) : a.ground_truth;
+  const Trajectory reference = gt_path.empty() ? Trajectory{} : io::ReadReference(gt_path);
   std::vector<slam::Keyframe> saved;
   mrpt::maps::COccupancyGridMap2D saved_grid;
   if (!a.map_dir.empty()) std::tie(saved, saved_grid) = ReadMapArtefact(a.map_dir);

@@ -21,6 +21,7 @@
 #include "specht/core/error.h"
 #include "specht/core/log.h"
 #include "specht/core/progress.h"
+#include "specht/core/statistics.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
 #include "specht/io/rawlog_writer.h"
@@ -47,18 +48,6 @@ struct SimArgs {
 struct ClassStats {
   std::vector<double> speed, turn_rate;
 };
-
-double Mean(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return v.empty() ? 0 : s / v.size();
-}
-
-double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)))];
-}
 
 // Writes one rendered stereo frame and returns the rawlog observation referring to it.
 mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index, Stamp stamp,
@@ -180,10 +169,10 @@ int RunSim(const SimArgs& a) {
   for (const auto& [cls, s] : stats) {
     j["metrics"]["agents"][cls] = {{"samples", s.speed.size()},
                                    {"speed_mean_mps", Mean(s.speed)},
-                                   {"speed_p10_mps", Quantile(s.speed, 0.1)},
-                                   {"speed_p90_mps", Quantile(s.speed, 0.9)},
+                                   {"speed_p10_mps", Percentile(s.speed, 0.1)},
+                                   {"speed_p90_mps", Percentile(s.speed, 0.9)},
                                    {"turn_rate_mean_rad_s", Mean(s.turn_rate)},
-                                   {"turn_rate_p90_rad_s", Quantile(s.turn_rate, 0.9)}};
+                                   {"turn_rate_p90_rad_s", Percentile(s.turn_rate, 0.9)}};
   }
   j["metrics"]["ego_path_length_m"] = PathLength(truth);
   const double render_s = simulator.render_seconds();

@@ -6,15 +6,10 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <opencv2/imgproc.hpp>
 
+#include "specht/core/statistics.h"
+
 namespace specht::eval {
 namespace {
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
 
 constexpr float kOccupiedFree = 1.0f - 0.65f;  // cell value (p_free) below this is occupied
 

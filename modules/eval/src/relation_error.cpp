@@ -70,4 +70,14 @@ RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory&
   return RelationError{consecutive.Stats(), loop.Stats(), all.Stats(), n};
 }
 
+nlohmann::json ToJson(const RelationStats& s) {
+  return {{"count", s.count}, {"mean_m", s.mean_m}, {"std_m", s.std_m}, {"max_m", s.max_m},
+          {"mean_deg", s.mean_deg}, {"std_deg", s.std_deg}, {"max_deg", s.max_deg}};
+}
+
+nlohmann::json ToJson(const RelationError& e) {
+  return {{"consecutive", ToJson(e.consecutive)}, {"loop", ToJson(e.loop)}, {"all", ToJson(e.all)},
+          {"paired_poses", e.paired_poses}};
+}
+
 }  // namespace specht::eval

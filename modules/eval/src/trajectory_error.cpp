@@ -74,6 +74,11 @@ AteResult AbsoluteTrajectoryError2D(const Trajectory& estimate, const Trajectory
   return r;
 }
 
+nlohmann::json ToJson(const AteResult& a) {
+  return {{"pairs", a.pairs},     {"rmse_m", a.rmse_m},     {"mean_m", a.mean_m},
+          {"max_m", a.max_m},     {"rmse_deg", a.rmse_deg}, {"final_m", a.final_error_m}};
+}
+
 Trajectory Transform(const Trajectory& t, const mrpt::poses::CPose2D& alignment) {
   Trajectory out = t;
   const mrpt::poses::CPose3D a(alignment);

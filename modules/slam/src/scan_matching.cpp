@@ -79,7 +79,7 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
     // Where the scan leaves a direction unconstrained (a corridor), the odometry decides it.
     if (options_.fuse_odometry && match.source == internal::MatchSource::kIcp && m.motion.predicted_from_odometry()) {
       pose = internal::FuseWithPrior(pose, internal::MatchInformation(points, pose, options_.point_sigma_m), guess,
-                                     internal::PriorInformation(m.motion.predicted_step(), guess.phi(), options_));
+                                     internal::PriorInformation(m.motion.predicted_step(), options_));
     }
   }
   if (!scans_.empty()) m.motion.SetLastStep(pose - LastPose());

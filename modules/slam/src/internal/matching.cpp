@@ -89,15 +89,12 @@ CPose2D FuseWithPrior(const CPose2D& match, const Eigen::Matrix3d& match_informa
   return CPose2D(match.x() + step.x(), match.y() + step.y(), mrpt::math::wrapToPi(match.phi() + step.z()));
 }
 
-Eigen::Matrix3d PriorInformation(const CPose2D& step, double heading, const ScanMatchingOptions& options) {
+Eigen::Matrix3d PriorInformation(const CPose2D& step, const ScanMatchingOptions& options) {
   const double dist = step.norm();
   const double sigma_t = options.prior_fraction * dist + options.prior_min_m;
   const double sigma_r =
       options.prior_fraction * (std::abs(step.phi()) + dist) + mrpt::DEG2RAD(options.prior_min_deg);
-  Eigen::Matrix3d info = Eigen::Vector3d(1 / (sigma_t * sigma_t), 1 / (sigma_t * sigma_t), 1 / (sigma_r * sigma_r))
-                             .asDiagonal();
-  (void)heading;  // isotropic in translation, so the heading does not matter
-  return info;
+  return Eigen::Vector3d(1 / (sigma_t * sigma_t), 1 / (sigma_t * sigma_t), 1 / (sigma_r * sigma_r)).asDiagonal();
 }
 
 bool MotionPrior::Consume(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation, MappingStats& stats) {

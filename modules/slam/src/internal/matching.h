@@ -78,9 +78,9 @@ class MotionPrior {
   mrpt::poses::CPose2D predicted_step_;
 };
 
-// The information of a wheel-odometry step as a prior (map frame at `heading`):
-// σ_t = fraction·|Δ| + min_m along and across the heading, σ_θ = fraction·|Δθ| +
-// min_deg + fraction·|Δ| rad per metre.
-Eigen::Matrix3d PriorInformation(const mrpt::poses::CPose2D& step, double heading, const ScanMatchingOptions& options);
+// The information of a wheel-odometry step as a prior: σ_t = fraction·|Δ| + min_m in
+// every direction (isotropic, so it needs no rotation into the map frame),
+// σ_θ = fraction·(|Δθ| + |Δ|) + min_deg.
+Eigen::Matrix3d PriorInformation(const mrpt::poses::CPose2D& step, const ScanMatchingOptions& options);
 
 }  // namespace specht::slam::internal

@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "specht/core/trajectory.h"
 
 namespace specht::eval {
@@ -37,5 +39,10 @@ struct RelationOptions {
 // Throws InputError when fewer than 2 poses pair up.
 RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory& reference,
                                    const RelationOptions& options = {});
+
+// For reports: {count, mean_m, std_m, max_m, mean_deg, std_deg, max_deg}, and
+// {consecutive, loop, all, paired_poses}.
+nlohmann::json ToJson(const RelationStats& stats);
+nlohmann::json ToJson(const RelationError& error);
 
 }  // namespace specht::eval

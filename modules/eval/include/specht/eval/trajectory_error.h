@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <mrpt/poses/CPose2D.h>
+#include <nlohmann/json.hpp>
 
 #include "specht/core/trajectory.h"
 
@@ -32,6 +33,9 @@ std::vector<std::pair<size_t, size_t>> AssociateByTime(const Trajectory& estimat
 
 // Throws InputError when fewer than 2 poses pair up.
 AteResult AbsoluteTrajectoryError2D(const Trajectory& estimate, const Trajectory& reference, double max_dt_s);
+
+// For reports: {pairs, rmse_m, mean_m, max_m, rmse_deg, final_m}.
+nlohmann::json ToJson(const AteResult& ate);
 
 // The estimate moved into the reference frame by `alignment` (for plots).
 Trajectory Transform(const Trajectory& t, const mrpt::poses::CPose2D& alignment);

@@ -1,5 +1,6 @@
-#include "reference.h"
+#include "specht/io/reference.h"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -7,12 +8,12 @@
 #include "specht/io/carmen.h"
 #include "specht/io/trajectory_io.h"
 
-namespace specht::app {
+namespace specht::io {
 
 Trajectory ReadReference(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open reference trajectory");
-  if (io::LooksLikeCarmen(path)) return io::ReadCarmenReference(path);
+  if (LooksLikeCarmen(path)) return ReadCarmenReference(path);
   std::string line;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
@@ -20,9 +21,15 @@ Trajectory ReadReference(const std::string& path) {
     std::string token;
     int columns = 0;
     while (s >> token) ++columns;
-    return columns == 8 ? io::ReadTum(path) : io::ReadPose2DText(path);
+    return columns == 8 ? ReadTum(path) : ReadPose2DText(path);
   }
   throw InputError(path + ": reference trajectory is empty");
 }
 
-}  // namespace specht::app
+std::string DefaultReferencePath(const std::string& dataset, const std::string& format) {
+  if (format == "carmen") return dataset;
+  if (std::filesystem::exists(dataset + ".GT.txt")) return dataset + ".GT.txt";
+  return "";
+}
+
+}  // namespace specht::io
