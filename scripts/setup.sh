@@ -11,6 +11,7 @@ PACKAGES=(
   mrpt-common        # the built-in default rawlog and MRPT's demo datasets
   mrpt-apps          # rawlog-edit, icp-slam, graphslam-engine (comparisons in bench/)
   libceres-dev       # pose-graph optimisation
+  liboctomap-dev     # 3D occupancy (OctoMap .bt) from stereo points
   libopencv-dev      # images, PNG output, drawing
   libeigen3-dev
   zlib1g-dev         # reading gzip CARMEN logs

@@ -12,5 +12,6 @@ void AddEvalCommand(CLI::App& app, int& exit_code);
 void AddSlamCommand(CLI::App& app, int& exit_code);
 void AddConvertCommand(CLI::App& app, int& exit_code);
 void AddSimCommand(CLI::App& app, int& exit_code);
+void AddStereoCommand(CLI::App& app, int& exit_code);
 
 }  // namespace specht::app

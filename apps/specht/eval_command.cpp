@@ -1,13 +1,24 @@
 // `specht eval slam --estimate traj.tum --reference REF`: relation error (Kümmerle et
 // al. 2009) and ATE of an estimated trajectory against a reference, with a plot.
 // REF is a CARMEN log (its corrected laser poses), a TUM file or a "t x y theta" file.
+//
+// `specht eval stereo --estimate disp.png --truth gt.png [--fill-holes] [--exclude
+// hints.png]`: D1, bad-2, end-point error and density (eval/disparity_error.h) on all
+// ground-truth pixels and on the estimated ones, with coloured disparity and error
+// pictures. Disparity PNGs: KITTI uint16, or 8-bit Middlebury (× --truth-scale).
 #include <cstdio>
 #include <iostream>
 
+#include <opencv2/core.hpp>
+
 #include "commands.h"
+#include "specht/core/error.h"
 #include "specht/io/reference.h"
 #include "run_setup.h"
+#include "specht/eval/disparity_error.h"
 #include "specht/eval/relation_error.h"
+#include "specht/stereo/images.h"
+#include "specht/stereo/sgm.h"
 #include "specht/eval/trajectory_error.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
@@ -52,6 +63,46 @@ int RunEvalSlam(const EvalSlamArgs& a) {
   return 0;
 }
 
+struct EvalStereoArgs {
+  std::string estimate, truth, exclude;
+  double truth_scale = 1.0;
+  bool fill_holes = false;
+  std::string out_dir = "specht-out/eval-stereo";
+};
+
+int RunEvalStereo(const EvalStereoArgs& a) {
+  cv::Mat estimate = stereo::ReadDisparityPng(a.estimate);
+  const cv::Mat truth = stereo::ReadDisparityPng(a.truth, a.truth_scale);
+  if (estimate.size() != truth.size())
+    throw InputError(a.estimate + ": " + std::to_string(estimate.cols) + "×" + std::to_string(estimate.rows) +
+                     " differs from the ground truth's " + std::to_string(truth.cols) + "×" + std::to_string(truth.rows));
+  cv::Mat mask;
+  if (!a.exclude.empty()) {
+    const cv::Mat excluded = stereo::ReadDisparityPng(a.exclude);
+    if (excluded.size() != truth.size()) throw InputError(a.exclude + ": size differs from the ground truth");
+    mask = excluded <= 0;
+  }
+  if (a.fill_holes) stereo::FillHolesRowwise(estimate);
+  const eval::DisparityErrors e = eval::CompareDisparity(estimate, truth, mask);
+  io::MakeOutputDir(a.out_dir);
+  io::RunReport report("eval stereo");
+  report.json()["inputs"] = {{"estimate", a.estimate}, {"truth", a.truth}, {"fill_holes", a.fill_holes},
+                             {"excluded", a.exclude}};
+  report.json()["metrics"] = eval::ToJson(e);
+  double max_disparity = 0;
+  cv::minMaxLoc(truth, nullptr, &max_disparity);
+  stereo::WritePng(eval::DisparityErrorImage(estimate, truth), a.out_dir + "/error.png");
+  stereo::WritePng(stereo::ColorizeDisparity(estimate, max_disparity), a.out_dir + "/estimate_color.png");
+  stereo::WritePng(stereo::ColorizeDisparity(truth, max_disparity), a.out_dir + "/truth_color.png");
+  for (const char* f : {"error.png", "estimate_color.png", "truth_color.png"}) report.AddOutput(f);
+  report.Write(a.out_dir);
+  std::printf("pixels with ground truth %zu, estimated %zu (density %.1f %%)\n", e.gt_pixels, e.est_pixels,
+              100 * e.density_gt);
+  std::printf("all:       D1 %.2f %%  bad-2 %.2f %%\n", 100 * e.d1_all, 100 * e.bad2_all);
+  std::printf("estimated: D1 %.2f %%  bad-2 %.2f %%  EPE %.3f px\n", 100 * e.d1_est, 100 * e.bad2_est, e.epe_est);
+  return 0;
+}
+
 }  // namespace
 
 void AddEvalCommand(CLI::App& app, int& exit_code) {
@@ -69,6 +120,17 @@ void AddEvalCommand(CLI::App& app, int& exit_code) {
   slam->add_option("--max-dt", args->relations.max_dt_s, "pair poses whose stamps differ by at most this (s)")
       ->capture_default_str();
   slam->callback([args, &exit_code] { exit_code = RunEvalSlam(*args); });
+
+  auto stereo_args = std::make_shared<EvalStereoArgs>();
+  CLI::App* st = eval->add_subcommand("stereo", "D1, bad-2, end-point error and density of a disparity map");
+  st->add_option("--estimate", stereo_args->estimate, "estimated disparity (KITTI uint16 PNG)")->required();
+  st->add_option("--truth", stereo_args->truth, "ground truth (KITTI uint16, or 8-bit Middlebury)")->required();
+  st->add_option("--truth-scale", stereo_args->truth_scale, "8-bit ground truth: disparity per grey level")
+      ->capture_default_str();
+  st->add_flag("--fill-holes", stereo_args->fill_holes, "fill missing estimates row-wise first (KITTI's rule)");
+  st->add_option("--exclude", stereo_args->exclude, "do not score pixels set in this disparity PNG (e.g. the hints)");
+  st->add_option("-o,--out", stereo_args->out_dir, "output directory")->capture_default_str();
+  st->callback([stereo_args, &exit_code] { exit_code = RunEvalStereo(*stereo_args); });
 }
 
 }  // namespace specht::app

@@ -6,6 +6,8 @@
 #include "specht/slam/localizer.h"
 #include "specht/slam/pose_graph_optimizer.h"
 #include "specht/slam/scan_matching.h"
+#include "specht/stereo/point_cloud.h"
+#include "specht/stereo/sgm.h"
 
 namespace specht::app {
 
@@ -20,6 +22,8 @@ const params::Registry& AllOptions() {
     r.Add<slam::GridOptions>("grid", "occupancy grid built from keyframes");
     r.Add<slam::PoseGraphOptions>("pose_graph", "pose-graph back end (Ceres)");
     r.Add<slam::LocalizationOptions>("localization", "localization on a saved map (--map)");
+    r.Add<stereo::SgmOptions>("stereo", "stereo matching: semi-global matcher, guidance, OpenCV baseline");
+    r.Add<stereo::CloudOptions>("stereo_cloud", "stereo depth to points and OctoMap");
     return r;
   }();
   return registry;
@@ -30,6 +34,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"core.yaml", {"frames"}},
       {"io.yaml", {"replay"}},
       {"slam.yaml", {"slam", "scan_matching", "loop_closure", "pose_graph", "grid", "localization"}},
+      {"stereo.yaml", {"stereo", "stereo_cloud"}},
   };
   return files;
 }
