@@ -22,5 +22,8 @@ fi
 if [[ -d "$data/slam/g2o" ]]; then
   run "$build/bench/pose_graph_bench" "$data"/slam/g2o/{intel,CSAIL,manhattan,city10000}.g2o
 fi
+if [[ -d "$data/stereo" ]]; then
+  run "$build/bench/stereo_bench" "$data"
+fi
 run "$build/bench/sim_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 echo "bench: results in $out" >&2

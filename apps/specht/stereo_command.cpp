@@ -4,6 +4,7 @@
 //   disparity.png        KITTI uint16 (value / 256 = px, 0 = no estimate)
 //   disparity_color.png  the disparity on a fixed colour scale (black = none)
 //   hints.png            the sparse hints used (KITTI uint16), when guided
+//   comparison.png       half-size preview: left image, unguided and guided disparity
 //   depth.png            uint16 millimetres (0 = none), depth_color.png  (with --calib)
 //   points.ply           coloured points, camera frame or --frame (with --calib)
 //   octomap.bt           OctoMap of the points from the camera origin (with --calib)
@@ -129,7 +130,17 @@ int RunStereo(const StereoArgs& a) {
   const MatchRun run = Match(left, right, sgm, guidance ? &*guidance : nullptr);
   j["metrics"]["match"] = Summary(run);
   if (guidance) {
-    j["metrics"]["unguided"] = Summary(Match(left, right, sgm, nullptr));
+    const MatchRun unguided = Match(left, right, sgm, nullptr);
+    j["metrics"]["unguided"] = Summary(unguided);
+    // Half-size preview: the left image, the unguided and the guided disparity.
+    cv::Mat left_bgr, preview;
+    cv::cvtColor(left, left_bgr, cv::COLOR_GRAY2BGR);
+    cv::vconcat(std::vector<cv::Mat>{left_bgr, stereo::ColorizeDisparity(unguided.disparity, sgm.num_disparities),
+                                     stereo::ColorizeDisparity(run.disparity, sgm.num_disparities)},
+                preview);
+    cv::resize(preview, preview, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    stereo::WritePng(preview, out + "/comparison.png");
+    report.AddOutput("comparison.png");
     j["metrics"]["guide_density"] = cv::countNonZero(guidance->disparity > 0) / static_cast<double>(left.total());
     stereo::WriteDisparityKitti(guidance->disparity, out + "/hints.png");
     report.AddOutput("hints.png");

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include <mrpt/maps/CColouredPointsMap.h>
+#include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
 #include "specht/io/atomic_file.h"
@@ -105,7 +106,24 @@ cv::Mat ProjectLidarToDisparity(const std::vector<cv::Vec4f>& points, const Ster
     float& cell = disparity.at<float>(v, u);
     if (d > cell) cell = d;  // nearest point wins
   }
-  return disparity;
+  return WithoutOccludedHints(disparity);
+}
+
+// The LiDAR sits above and behind the camera, so it also sees surfaces the camera
+// cannot: behind the edge of a nearer object, both project to the same image area.
+// A hint is dropped when a nearer hint (by more than 1 px and 5 %) lies within
+// ±kRadius pixels: the far point is then most likely hidden from the camera.
+cv::Mat WithoutOccludedHints(const cv::Mat& sparse) {
+  constexpr int kRadius = 3;
+  cv::Mat nearest;
+  cv::dilate(sparse, nearest, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRadius + 1, 2 * kRadius + 1)));
+  cv::Mat kept = sparse.clone();
+  for (int v = 0; v < sparse.rows; ++v)
+    for (int u = 0; u < sparse.cols; ++u) {
+      const float d = sparse.at<float>(v, u), near = nearest.at<float>(v, u);
+      if (d > 0 && near - d > std::max(1.0f, 0.05f * d)) kept.at<float>(v, u) = 0;
+    }
+  return kept;
 }
 
 }  // namespace specht::stereo

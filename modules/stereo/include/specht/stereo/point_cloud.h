@@ -64,8 +64,12 @@ void WriteOctree(const octomap::OcTree& tree, const std::string& path);  // .bt
 // A KITTI Velodyne scan (float32 x, y, z, reflectance per point).
 std::vector<cv::Vec4f> ReadVelodyne(const std::string& path);
 // LiDAR points projected into the rectified left image as sparse disparity (CV_32F,
-// 0 = none; the nearest point wins a pixel). Needs velo_to_cam and projection_left.
+// 0 = none; the nearest point wins a pixel; points hidden from the camera removed by
+// WithoutOccludedHints). Needs velo_to_cam and projection_left.
 cv::Mat ProjectLidarToDisparity(const std::vector<cv::Vec4f>& points, const StereoCalibration& calibration,
                                 cv::Size size);
+// Drops each hint that has a clearly nearer hint within 3 px (seen by the LiDAR,
+// occluded for the camera).
+cv::Mat WithoutOccludedHints(const cv::Mat& sparse);
 
 }  // namespace specht::stereo
