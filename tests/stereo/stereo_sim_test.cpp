@@ -80,6 +80,25 @@ TEST(ScenePriorTest, StaticStructureImprovesAndAgentsAreKept) {
   EXPECT_GT(agents_forced, agents_guided + 0.05) << "the failure case should show without the consistency check";
 }
 
+// The ground-plane prior (camera height and pitch) is the rendered ground's disparity.
+TEST(ScenePriorTest, GroundPlanePriorMatchesTheRenderedGround) {
+  const SceneWithAgents scene = RenderCrossing(2.0);
+  const sim::Scenario s = sim::LoadScenario(testing::SourceDir() + "/datasets/scenarios/urban-crossing.yaml");
+  GroundPlane plane{scene.camera.focal_px, scene.camera.cy_px, scene.camera.baseline_m, s.stereo->z_m,
+                    s.stereo->pitch_rad};
+  const cv::Mat prior = GroundPlaneDisparity(plane, scene.frame.left.size(), 256);
+  // The bottom rows see mostly ground (objects standing there differ, of course).
+  const int rows = scene.frame.left.rows;
+  long pixels = 0, agree = 0;
+  for (int v = rows - 40; v < rows; ++v)
+    for (int u = 0; u < scene.frame.left.cols; ++u) {
+      ++pixels;
+      agree += std::abs(prior.at<float>(v, u) - scene.static_world.disparity.at<float>(v, u)) < 0.05f;
+    }
+  std::printf("ground-plane prior vs rendered ground, bottom 40 rows: %.1f %% within 0.05 px\n", 100.0 * agree / pixels);
+  EXPECT_GT(agree, 0.8 * pixels);
+}
+
 using VoxelKey = std::tuple<int, int, int>;
 VoxelKey KeyOf(const octomap::OcTree& tree, double x, double y, double z) {
   const octomap::OcTreeKey k = tree.coordToKey(x, y, z);
