@@ -24,6 +24,7 @@ if [[ -d "$data/slam/g2o" ]]; then
 fi
 if [[ -d "$data/stereo" ]]; then
   run "$build/bench/stereo_bench" "$data"
+  run "$build/bench/detect_bench" "$data"
 fi
 run "$build/bench/sim_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 echo "bench: results in $out" >&2

@@ -131,6 +131,30 @@ YAML::Node Codec<std::vector<double>>::Encode(const std::vector<double>& v) {
   return n;
 }
 
+bool Codec<std::vector<std::string>>::Decode(const YAML::Node& n, std::vector<std::string>& out, std::string* why) {
+  if (!n.IsSequence()) {
+    *why = "expected a list of strings, got " + Describe(n);
+    return false;
+  }
+  out.clear();
+  for (size_t i = 0; i < n.size(); ++i) {
+    std::string v;
+    if (!Codec<std::string>::Decode(n[i], v, why)) {
+      *why = "element " + std::to_string(i) + ": " + *why;
+      return false;
+    }
+    out.push_back(v);
+  }
+  return true;
+}
+
+YAML::Node Codec<std::vector<std::string>>::Encode(const std::vector<std::string>& v) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  for (const auto& x : v) n.push_back(x);
+  n.SetStyle(YAML::EmitterStyle::Flow);
+  return n;
+}
+
 // --- tree ----------------------------------------------------------------------------
 
 void ParamTree::MergeNode(const YAML::Node& node, const std::string& prefix, const std::string& file) {

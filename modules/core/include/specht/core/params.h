@@ -103,6 +103,13 @@ struct Codec<std::vector<double>> {
   static YAML::Node Encode(const std::vector<double>& v);
 };
 
+template <>
+struct Codec<std::vector<std::string>> {
+  static const char* Name() { return "string list"; }
+  static bool Decode(const YAML::Node& n, std::vector<std::string>& out, std::string* why);
+  static YAML::Node Encode(const std::vector<std::string>& v);
+};
+
 // One value of a merged parameter file, and where it came from.
 struct Leaf {
   YAML::Node value;
