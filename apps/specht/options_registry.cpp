@@ -2,6 +2,8 @@
 
 #include "specht/core/transform_tree.h"
 #include "specht/io/replay.h"
+#include "specht/detect/detector.h"
+#include "specht/detect/fusion.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/localizer.h"
 #include "specht/slam/pose_graph_optimizer.h"
@@ -24,6 +26,8 @@ const params::Registry& AllOptions() {
     r.Add<slam::LocalizationOptions>("localization", "localization on a saved map (--map)");
     r.Add<stereo::SgmOptions>("stereo", "stereo matching: semi-global matcher, guidance, OpenCV baseline");
     r.Add<stereo::CloudOptions>("stereo_cloud", "stereo depth to points and OctoMap");
+    r.Add<detect::DetectorOptions>("detect", "CNN detector (cv::dnn): model, input, thresholds, class map");
+    r.Add<detect::FusionOptions>("fusion", "box depth from stereo disparity, 3D position and covariance");
     return r;
   }();
   return registry;
@@ -35,6 +39,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"io.yaml", {"replay"}},
       {"slam.yaml", {"slam", "scan_matching", "loop_closure", "pose_graph", "grid", "localization"}},
       {"stereo.yaml", {"stereo", "stereo_cloud"}},
+      {"detect.yaml", {"detect", "fusion"}},
   };
   return files;
 }
