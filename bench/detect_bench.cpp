@@ -25,17 +25,6 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-specht::detect::DetectorOptions Model(const std::string& name) {
-  specht::detect::DetectorOptions o;
-  if (name == "fastestdet") {
-    o.format = "fastestdet_onnx";
-    o.model = "models/FastestDet.onnx";
-    o.config = "";
-    o.input_width = o.input_height = 352;
-  }
-  return o;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -53,7 +42,7 @@ int main(int argc, char** argv) {
   }
   const specht::stereo::RectifiedCamera camera{left[0].size(), 721.5377, 609.5593, 172.854, 0.5327};
   for (const char* model : {"yolo-fastest", "fastestdet"}) {
-    specht::detect::Detector detector(Model(model), data);
+    specht::detect::Detector detector(specht::detect::ShippedModel(model), data);
     std::vector<double> detect_ms;
     long detections = 0;
     for (int run = 0; run < 10; ++run)

@@ -38,17 +38,6 @@ const std::vector<HandBoxes>& Expected() {
   return expected;
 }
 
-DetectorOptions Model(const std::string& name) {
-  DetectorOptions o;
-  if (name == "fastestdet") {
-    o.format = "fastestdet_onnx";
-    o.model = "models/FastestDet.onnx";
-    o.config = "";
-    o.input_width = o.input_height = 352;
-  }
-  return o;
-}
-
 std::string ModelsDir() {
   const std::string dir = testing::DataDir() + "/models";
   return !testing::DataDir().empty() && std::filesystem::is_directory(dir) ? dir : "";
@@ -58,7 +47,7 @@ std::string ModelsDir() {
 TEST(DetectorTest, BothModelsFindTheHandBoxedCars) {
   SPECHT_REQUIRE_FILE(ModelsDir());
   for (const char* model : {"yolo-fastest", "fastestdet"}) {
-    Detector detector(Model(model), testing::DataDir());
+    Detector detector(ShippedModel(model), testing::DataDir());
     int found = 0, total = 0;
     for (const auto& frame : Expected()) {
       const cv::Mat image = cv::imread(testing::DataDir() + "/stereo/" + frame.image);
@@ -84,7 +73,7 @@ TEST(DetectorTest, BothModelsFindTheHandBoxedCars) {
 // relative error ≤ 5 % for the default method (both are printed).
 TEST(FusionTest, BoxDistanceAgreesWithGroundTruth) {
   SPECHT_REQUIRE_FILE(ModelsDir());
-  Detector detector(Model("yolo-fastest"), testing::DataDir());
+  Detector detector(ShippedModel("yolo-fastest"), testing::DataDir());
   const stereo::RectifiedCamera camera{cv::Size(1242, 375), 721.5377, 609.5593, 172.854, 0.5327};  // KITTI 2015 P2/P3
   FusionOptions reference_options;  // nearest mode
   reference_options.mode_min_share = 0.15;
@@ -133,20 +122,20 @@ TEST(DetectorTest, BadInputIsReportedClearly) {
     }
     return std::string("no error");
   };
-  DetectorOptions missing = Model("yolo-fastest");
+  DetectorOptions missing = ShippedModel("yolo-fastest");
   missing.model = "models/nothing.weights";
   EXPECT_THAT(error_of(missing), HasSubstr("nothing.weights: model not found"));
   // The ONNX model given to the darknet decoder's configuration and vice versa.
-  DetectorOptions swapped = Model("fastestdet");
+  DetectorOptions swapped = ShippedModel("fastestdet");
   swapped.labels = testing::TempDir() + "/three.names";
   testing::WriteFile(swapped.labels, "a\nb\nc\n");
   EXPECT_THAT(error_of(swapped), HasSubstr("does not fit the fastestdet_onnx decoder with 3 labels"));
-  DetectorOptions not_a_model = Model("fastestdet");
+  DetectorOptions not_a_model = ShippedModel("fastestdet");
   not_a_model.model = "models/coco.names";
   EXPECT_THAT(error_of(not_a_model), HasSubstr("cannot load"));
-  EXPECT_THAT(error_of(Model("yolo-fastest"), cv::Mat(64, 64, CV_16UC1)), HasSubstr("8-bit"));
-  EXPECT_THAT(error_of(Model("yolo-fastest"), cv::Mat()), HasSubstr("empty"));
-  DetectorOptions bad_map = Model("yolo-fastest");
+  EXPECT_THAT(error_of(ShippedModel("yolo-fastest"), cv::Mat(64, 64, CV_16UC1)), HasSubstr("8-bit"));
+  EXPECT_THAT(error_of(ShippedModel("yolo-fastest"), cv::Mat()), HasSubstr("empty"));
+  DetectorOptions bad_map = ShippedModel("yolo-fastest");
   bad_map.class_map = {"car=automobile"};
   EXPECT_THAT(error_of(bad_map), HasSubstr("not a driving class"));
 }

@@ -81,6 +81,17 @@ std::map<std::string, double> DetectorOptions::ClassThresholds() const {
   return map;
 }
 
+DetectorOptions ShippedModel(const std::string& name) {
+  DetectorOptions o;
+  if (name == "yolo-fastest") return o;
+  if (name != "fastestdet") throw InputError("no shipped model '" + name + "' (yolo-fastest, fastestdet)");
+  o.format = "fastestdet_onnx";
+  o.model = "models/FastestDet.onnx";
+  o.config = "";
+  o.input_width = o.input_height = 352;
+  return o;
+}
+
 struct Detector::Net {
   cv::dnn::Net net;
   std::vector<std::string> outputs;

@@ -73,6 +73,10 @@ struct DetectorOptions {
   std::map<std::string, double> ClassThresholds() const;
 };
 
+// The options for a model shipped in the data directory's models/: "yolo-fastest"
+// (the defaults) or "fastestdet". InputError for another name.
+DetectorOptions ShippedModel(const std::string& name);
+
 struct Detection {
   cv::Rect2d box;        // image pixels
   std::string cls;       // driving class
