@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it: install packages, build release and run every
 # test (fast, e2e and slow labels), then build with AddressSanitizer + UBSan and run
-# all but the slow tests again. Evaluation data is read from ../shared/data when it
+# all but the slow tests again, then the concurrent parts (world_test, stereo_threads_test) under
+# ThreadSanitizer. Evaluation data is read from ../shared/data when it
 # exists (override with SPECHT_DATA_DIR); tests that need it skip without it.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -22,4 +23,8 @@ if [[ "${SPECHT_SKIP_SANITIZERS:-0}" != "1" ]]; then
   cmake --preset asan "${data_args[@]}" > /dev/null
   cmake --build --preset asan
   ctest --preset asan
+  echo "== ThreadSanitizer build and tests (the concurrent parts)"
+  cmake --preset tsan "${data_args[@]}" > /dev/null
+  cmake --build --preset tsan
+  ctest --preset tsan
 fi

@@ -10,6 +10,7 @@
 #include "specht/slam/scan_matching.h"
 #include "specht/stereo/point_cloud.h"
 #include "specht/stereo/sgm.h"
+#include "specht/world/world_model.h"
 
 namespace specht::app {
 
@@ -28,6 +29,7 @@ const params::Registry& AllOptions() {
     r.Add<stereo::CloudOptions>("stereo_cloud", "stereo depth to points and OctoMap");
     r.Add<detect::DetectorOptions>("detect", "CNN detector (cv::dnn): model, input, thresholds, class map");
     r.Add<detect::FusionOptions>("fusion", "box depth from stereo disparity, 3D position and covariance");
+    r.Add<world::WorldModelOptions>("world", "the shared world model: obstacle lifetime, footprint, cost layer");
     return r;
   }();
   return registry;
@@ -40,6 +42,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"slam.yaml", {"slam", "scan_matching", "loop_closure", "pose_graph", "grid", "localization"}},
       {"stereo.yaml", {"stereo", "stereo_cloud"}},
       {"detect.yaml", {"detect", "fusion"}},
+      {"world.yaml", {"world"}},
   };
   return files;
 }
