@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 
+#include "specht/core/error.h"
 #include "specht/core/log.h"
 #include "specht/core/progress.h"
 #include "specht/core/transform_tree.h"
@@ -13,6 +14,7 @@
 #include "specht/eval/relation_error.h"
 #include "specht/eval/trajectory_error.h"
 #include "specht/io/carmen.h"
+#include "specht/io/atomic_file.h"
 #include "specht/io/data_dir.h"
 #include "specht/io/dataset.h"
 #include "specht/io/g2o.h"
@@ -23,8 +25,11 @@
 #include "specht/io/report.h"
 #include "specht/io/trajectory_io.h"
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationStereoImages.h>
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/localizer.h"
+#include "specht/world/stereo_perception.h"
+#include "specht/world/world_model.h"
 
 namespace specht::app {
 namespace {
@@ -157,6 +162,68 @@ void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& defa
   cmd.add_option("--to", args.to_s, "stop S seconds into the data (replay.to_s)");
 }
 
+// The perception stage: stereo observations → obstacles in the world model, placed
+// at the current pose estimate. Built at the first stereo observation; under
+// perception "auto" a detector that cannot load (no models) turns the stage off with
+// a warning, under "on" it is an error.
+class PerceptionStage {
+ public:
+  PerceptionStage(const params::Params& params, const std::string& data_dir)
+      : params_(params), data_dir_(data_dir), mode_(params.Get<io::ReplayOptions>("replay").perception),
+        world_(params.Get<world::WorldModelOptions>("world")) {}
+
+  void Add(Stamp t, const mrpt::obs::CObservation::Ptr& o, const std::function<mrpt::poses::CPose3D()>& pose) {
+    auto stereo = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(o);
+    if (!stereo || mode_ == "off") return;
+    if (!perception_ && !Start()) return;
+    const auto obstacles = perception_->Process(*stereo, pose(), t);
+    world_.AddObstacles(obstacles, t);
+    for (const auto& ob : obstacles) seen_[ob.cls].push_back({ob.stamp, mrpt::poses::CPose3D(ob.x_m, ob.y_m, 0, 0, 0, 0)});
+  }
+
+  void Report(nlohmann::json& j) const {
+    if (!perception_) return;
+    const auto& s = perception_->stats();
+    j["perception"] = {{"frames", s.frames},
+                       {"detections", s.detections},
+                       {"obstacles", s.obstacles},
+                       {"ms_per_frame",
+                        {{"stereo", s.stereo_ms / s.frames}, {"detect", s.detect_ms / s.frames},
+                         {"fusion", s.fusion_ms / s.frames}}}};
+  }
+  // Obstacles seen, per class, as map markers.
+  const std::map<std::string, Trajectory>& seen() const { return seen_; }
+  const world::WorldModel& world() const { return world_; }
+  void SetStaticMap(const mrpt::maps::COccupancyGridMap2D& grid, Stamp t) {
+    if (perception_) world_.SetStaticMap(grid, t);
+  }
+  bool active() const { return perception_ != nullptr; }
+
+ private:
+  bool Start() {
+    try {
+      perception_ = std::make_unique<world::StereoPerception>(
+          params_.Get<stereo::SgmOptions>("stereo"), params_.Get<detect::DetectorOptions>("detect"),
+          params_.Get<detect::FusionOptions>("fusion"), data_dir_);
+    } catch (const InputError& e) {
+      if (mode_ == "on") throw;
+      spdlog::warn("perception off: {}", e.what());
+      mode_ = "off";
+      return false;
+    }
+    return true;
+  }
+
+  const params::Params& params_;
+  std::string data_dir_;
+  std::string mode_;
+  world::WorldModel world_;
+  std::unique_ptr<world::StereoPerception> perception_;
+  std::map<std::string, Trajectory> seen_;
+};
+
+mrpt::poses::CPose3D LatestPose(const Trajectory& t) { return t.empty() ? mrpt::poses::CPose3D() : t.back().pose; }
+
 int RunMapping(MappingArgs a, const std::string& command) {
   CommonArgs& common = a.common;
   if (a.rate) common.overrides.push_back("replay.rate=" + Real(*a.rate));
@@ -167,7 +234,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
   const params::Params params = LoadParams(common);
   const auto& frames_options = params.Get<FramesOptions>("frames");
   const auto& replay_options = params.Get<io::ReplayOptions>("replay");
-  io::ResolveDataDir(common.data_dir);
+  const std::string data_dir = io::ResolveDataDir(common.data_dir).value_or("");
   const std::string dataset = a.dataset.empty() ? io::DefaultRawlog() : a.dataset;
   auto source = io::OpenDataset(dataset, replay_options.on_bad_record == "skip" ? io::OnBadRecord::kSkip
                                                                                 : io::OnBadRecord::kStop);
@@ -190,6 +257,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
                  {"map", a.map_dir}, {"params_files", common.param_files}, {"overrides", common.overrides}};
   int exit_code = 0;
   const std::string out = common.out_dir;
+  PerceptionStage perception(params, data_dir);
 
   Trajectory trajectory;
   mrpt::maps::COccupancyGridMap2D grid;
@@ -202,6 +270,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
     run = Drive(*source, clock,
                 [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
                   localizer.Add(t, o);
+                  perception.Add(t, o, [&] { return LatestPose(localizer.trajectory()); });
                   return std::make_pair(localizer.stats().scans, std::string());
                 },
                 timer, report, common.quiet, exit_code);
@@ -216,6 +285,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
     run = Drive(*source, clock,
                 [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
                   slam.Add(t, o);
+                  perception.Add(t, o, [&] { return LatestPose(slam.trajectory()); });
                   return std::make_pair(slam.front_end_stats().scans,
                                         "loops " + std::to_string(slam.stats().loops_accepted));
                 },
@@ -265,8 +335,20 @@ int RunMapping(MappingArgs a, const std::string& command) {
     std::vector<io::PathOverlay> paths;
     if (!reference_in_map.empty()) paths.push_back({&reference_in_map, {40, 170, 60}, "reference"});
     paths.push_back({&trajectory, {30, 90, 220}, "estimate"});
+    static const std::map<std::string, std::array<unsigned char, 3>> kClassColours = {
+        {"pedestrian", {220, 30, 30}}, {"cyclist", {230, 180, 0}}, {"car", {240, 120, 0}}};
+    for (const auto& [cls, where] : perception.seen()) {
+      const auto colour = kClassColours.count(cls) ? kClassColours.at(cls) : std::array<unsigned char, 3>{120, 0, 160};
+      paths.push_back({&where, colour, cls + " (" + std::to_string(where.size()) + ")", true});
+    }
     io::WriteMapPng(grid, paths, out + "/map.png");
+    if (perception.active()) {
+      perception.SetStaticMap(grid, run.last ? *run.last : Stamp{});
+      io::WriteTextAtomically(out + "/world.json", perception.world().snapshot()->ToJson().dump(1) + "\n");
+      report.AddOutput("world.json");
+    }
   }
+  perception.Report(j);
   for (const char* f : {"map.png", "trajectory.tum", "params.yaml"}) report.AddOutput(f);
   j["timing"]["stages"] = timer.ToJson();
   j["timing"]["wall_s"] = run.wall_s;

@@ -170,9 +170,13 @@ void WriteMapPng(const COccupancyGridMap2D& grid, const std::vector<PathOverlay>
     std::vector<cv::Point> pts;
     for (const auto& p : *overlay.trajectory) pts.push_back(to_px(p.pose.x(), p.pose.y()));
     if (pts.empty()) continue;
-    cv::polylines(img, pts, false, color, thickness, cv::LINE_AA);
-    cv::circle(img, pts.front(), 4 + thickness, color, 2, cv::LINE_AA);
-    cv::rectangle(img, pts.back() - cv::Point(5, 5), pts.back() + cv::Point(5, 5), color, cv::FILLED);
+    if (overlay.markers) {
+      for (const auto& pt : pts) cv::circle(img, pt, 3 + thickness, color, cv::FILLED, cv::LINE_AA);
+    } else {
+      cv::polylines(img, pts, false, color, thickness, cv::LINE_AA);
+      cv::circle(img, pts.front(), 4 + thickness, color, 2, cv::LINE_AA);
+      cv::rectangle(img, pts.back() - cv::Point(5, 5), pts.back() + cv::Point(5, 5), color, cv::FILLED);
+    }
     if (!overlay.label.empty()) {
       cv::line(img, {10, legend_y - 5}, {40, legend_y - 5}, color, 3);
       cv::putText(img, overlay.label, {48, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1,

@@ -1,10 +1,12 @@
 // Reads MRPT rawlogs object by object, so that a corrupt or truncated file is
 // reported at the record where it breaks (MRPT's own CRawlog helpers treat any
 // error as the end of the file, which would silently cut a replay short).
-#include <deque>
 #include <algorithm>
+#include <deque>
+#include <filesystem>
 #include <fstream>
 
+#include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -169,6 +171,9 @@ class RawlogSource final : public DatasetSource {
 }  // namespace
 
 std::unique_ptr<DatasetSource> OpenRawlog(const std::string& path) {
+  // Images stored beside the rawlog (MRPT's convention: <name>_Images/) load from there.
+  const std::filesystem::path p(path);
+  mrpt::img::CImage::setImagesPathBase((p.parent_path() / (p.stem().string() + "_Images")).string());
   return std::make_unique<RawlogSource>(path);
 }
 

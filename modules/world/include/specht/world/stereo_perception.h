@@ -1,0 +1,48 @@
+// specht/world/stereo_perception.h: the perception stage of a replay. For each
+// stereo observation: our SGM disparity, the CNN detector on the left image, box
+// depth fusion, and the obstacles moved into the map frame:
+//   map_from_camera = map_from_base (the SLAM pose at the observation) ⊕ cameraPose
+// (the observation's mount, optical frame: x right, y down, z forward). Images stored
+// outside the rawlog are read from MRPT's images directory (<rawlog>_Images).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include "specht/detect/detector.h"
+#include "specht/detect/fusion.h"
+#include "specht/stereo/sgm.h"
+#include "specht/world/world_model.h"
+
+namespace specht::world {
+
+struct PerceptionStats {
+  long frames = 0, detections = 0, obstacles = 0;
+  double stereo_ms = 0, detect_ms = 0, fusion_ms = 0;
+};
+
+class StereoPerception {
+ public:
+  StereoPerception(const stereo::SgmOptions& sgm, const detect::DetectorOptions& detector,
+                   const detect::FusionOptions& fusion, const std::string& data_dir);
+  ~StereoPerception();
+
+  // The obstacles (map frame) seen in one stereo observation taken at `map_from_base`.
+  std::vector<Obstacle> Process(const mrpt::obs::CObservationStereoImages& obs, const mrpt::poses::CPose3D& map_from_base,
+                                Stamp stamp);
+  const PerceptionStats& stats() const { return stats_; }
+
+ private:
+  stereo::SgmOptions sgm_options_;
+  detect::Detector detector_;
+  detect::FusionOptions fusion_;
+  std::unique_ptr<stereo::SemiGlobalMatcher> matcher_;
+  PerceptionStats stats_;
+  long next_id_ = 0;
+};
+
+}  // namespace specht::world

@@ -1,0 +1,64 @@
+#include "specht/world/stereo_perception.h"
+
+#include <chrono>
+
+#include <opencv2/imgproc.hpp>
+
+#include "specht/core/error.h"
+
+namespace specht::world {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+cv::Mat Gray(const mrpt::img::CImage& image, const char* which) {
+  const cv::Mat m = image.asCvMatRef();
+  if (m.empty()) throw InputError(std::string("stereo observation: the ") + which + " image cannot be loaded");
+  if (m.channels() == 1) return m;
+  cv::Mat gray;
+  cv::cvtColor(m, gray, cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
+}  // namespace
+
+StereoPerception::StereoPerception(const stereo::SgmOptions& sgm, const detect::DetectorOptions& detector,
+                                   const detect::FusionOptions& fusion, const std::string& data_dir)
+    : sgm_options_(sgm), detector_(detector, data_dir), fusion_(fusion),
+      matcher_(std::make_unique<stereo::SemiGlobalMatcher>(sgm)) {}
+
+StereoPerception::~StereoPerception() = default;
+
+std::vector<Obstacle> StereoPerception::Process(const mrpt::obs::CObservationStereoImages& obs,
+                                                const mrpt::poses::CPose3D& map_from_base, Stamp stamp) {
+  if (!obs.hasImageRight) throw InputError("stereo observation '" + obs.sensorLabel + "' has no right image");
+  const cv::Mat left = Gray(obs.imageLeft, "left"), right = Gray(obs.imageRight, "right");
+  stereo::RectifiedCamera camera;
+  camera.size = left.size();
+  camera.focal_px = obs.leftCamera.fx();
+  camera.cx_px = obs.leftCamera.cx();
+  camera.cy_px = obs.leftCamera.cy();
+  camera.baseline_m = mrpt::poses::CPose3D(obs.rightCameraPose).x();
+
+  auto t0 = Clock::now();
+  const cv::Mat disparity = matcher_->Compute(left, right);
+  stats_.stereo_ms += MsSince(t0);
+  t0 = Clock::now();
+  const auto detections = detector_.Detect(obs.imageLeft.asCvMatRef());
+  stats_.detect_ms += MsSince(t0);
+  t0 = Clock::now();
+  const mrpt::poses::CPose3D map_from_camera = map_from_base + mrpt::poses::CPose3D(obs.cameraPose);
+  std::vector<Obstacle> obstacles;
+  for (const auto& d : detections) {
+    if (const auto o = detect::Fuse(d, disparity, camera, fusion_))
+      obstacles.push_back(ToMapObstacle(*o, map_from_camera, stamp, next_id_++));
+  }
+  stats_.fusion_ms += MsSince(t0);
+  ++stats_.frames;
+  stats_.detections += static_cast<long>(detections.size());
+  stats_.obstacles += static_cast<long>(obstacles.size());
+  return obstacles;
+}
+
+}  // namespace specht::world
