@@ -68,6 +68,30 @@ TEST(DetectorTest, BothModelsFindTheHandBoxedCars) {
   }
 }
 
+// Letterboxing (aspect kept, padded) maps boxes back to the image correctly: the
+// nearest car is found at its place (smaller, farther cars suffer from the 0.28 scale).
+TEST(DetectorTest, LetterboxedInputFindsTheNearCars) {
+  SPECHT_REQUIRE_FILE(ModelsDir());
+  DetectorOptions options = ShippedModel("fastestdet");
+  options.letterbox = true;  // 352 × 352 with bands above and below
+  Detector detector(options, testing::DataDir());
+  const auto& frame = Expected()[2];  // the KITTI object frame
+  const auto detections = detector.Detect(cv::imread(testing::DataDir() + "/stereo/" + frame.image));
+  double best = 0;
+  for (const auto& d : detections)
+    if (d.cls == "car") best = std::max(best, IoU(d.box, frame.cars[0]));
+  EXPECT_GE(best, 0.8);
+  // FastestDet's graph is fixed to 352 × 352: another input size is reported, not thrown raw.
+  options.input_width = 640;
+  try {
+    Detector wrong(options, testing::DataDir());
+    wrong.Detect(cv::Mat(100, 100, CV_8UC3, cv::Scalar::all(0)));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cannot run at 640×352"));
+  }
+}
+
 // Acceptance 2: for each car or pedestrian detected on the KITTI 2015 frames within
 // 30 m, the fused distance against the reference distance: the object's disparity in
 // the ground truth, taken as the nearest mode of the ground-truth disparities inside

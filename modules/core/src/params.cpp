@@ -155,6 +155,21 @@ YAML::Node Codec<std::vector<std::string>>::Encode(const std::vector<std::string
   return n;
 }
 
+std::vector<std::pair<std::string, std::string>> SplitAssignments(const std::vector<std::string>& entries,
+                                                                  const std::string& key,
+                                                                  std::vector<std::string>* problems) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& e : entries) {
+    const auto eq = e.rfind('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == e.size()) {
+      if (problems != nullptr) problems->push_back(key + ": '" + e + "' is not of the form name=value");
+      continue;
+    }
+    out.emplace_back(e.substr(0, eq), e.substr(eq + 1));
+  }
+  return out;
+}
+
 // --- tree ----------------------------------------------------------------------------
 
 void ParamTree::MergeNode(const YAML::Node& node, const std::string& prefix, const std::string& file) {

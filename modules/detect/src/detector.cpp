@@ -14,21 +14,6 @@
 namespace specht::detect {
 namespace {
 
-// "key=value" entries of a list parameter.
-std::vector<std::pair<std::string, std::string>> SplitEntries(const std::vector<std::string>& entries,
-                                                              const std::string& key, std::vector<std::string>* problems) {
-  std::vector<std::pair<std::string, std::string>> out;
-  for (const auto& e : entries) {
-    const auto eq = e.rfind('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == e.size()) {
-      if (problems) problems->push_back(key + ": '" + e + "' is not of the form name=value");
-      continue;
-    }
-    out.emplace_back(e.substr(0, eq), e.substr(eq + 1));
-  }
-  return out;
-}
-
 bool IsDrivingClass(const std::string& c) {
   const auto& all = DrivingClasses();
   return std::find(all.begin(), all.end(), c) != all.end();
@@ -55,9 +40,9 @@ struct Candidate {
 
 std::vector<std::string> DetectorOptions::Relations() const {
   std::vector<std::string> problems;
-  for (const auto& [label, cls] : SplitEntries(class_map, "class_map", &problems))
+  for (const auto& [label, cls] : params::SplitAssignments(class_map, "class_map", &problems))
     if (!IsDrivingClass(cls)) problems.push_back("class_map: '" + cls + "' (for '" + label + "') is not a driving class");
-  for (const auto& [cls, value] : SplitEntries(class_thresholds, "class_thresholds", &problems)) {
+  for (const auto& [cls, value] : params::SplitAssignments(class_thresholds, "class_thresholds", &problems)) {
     if (!IsDrivingClass(cls)) problems.push_back("class_thresholds: '" + cls + "' is not a driving class");
     char* end = nullptr;
     const double t = std::strtod(value.c_str(), &end);
@@ -70,13 +55,13 @@ std::vector<std::string> DetectorOptions::Relations() const {
 
 std::map<std::string, std::string> DetectorOptions::ClassMap() const {
   std::map<std::string, std::string> map;
-  for (const auto& [label, cls] : SplitEntries(class_map, "class_map", nullptr)) map[label] = cls;
+  for (const auto& [label, cls] : params::SplitAssignments(class_map, "class_map", nullptr)) map[label] = cls;
   return map;
 }
 
 std::map<std::string, double> DetectorOptions::ClassThresholds() const {
   std::map<std::string, double> map;
-  for (const auto& [cls, value] : SplitEntries(class_thresholds, "class_thresholds", nullptr))
+  for (const auto& [cls, value] : params::SplitAssignments(class_thresholds, "class_thresholds", nullptr))
     map[cls] = std::strtod(value.c_str(), nullptr);
   return map;
 }
@@ -159,7 +144,13 @@ std::vector<Detection> Detector::Detect(const cv::Mat& image) {
   cv::setNumThreads(options_.threads);
   net_->net.setInput(blob);
   std::vector<cv::Mat> outputs;
-  net_->net.forward(outputs, net_->outputs);
+  try {
+    net_->net.forward(outputs, net_->outputs);
+  } catch (const cv::Exception& e) {
+    cv::setNumThreads(previous_threads);
+    throw InputError(net_->model_path + ": cannot run at " + std::to_string(input.width) + "×" +
+                     std::to_string(input.height) + " (detect.input_width/input_height): " + e.err);
+  }
   cv::setNumThreads(previous_threads);
 
   const int classes = static_cast<int>(labels_.size());

@@ -11,19 +11,18 @@
 namespace specht::world {
 namespace {
 
-// "class=value" entries; problems reported by Relations().
+// "class=metres" entries; problems reported by Relations().
 std::vector<std::pair<std::string, double>> Margins(const std::vector<std::string>& entries,
                                                     std::vector<std::string>* problems) {
   std::vector<std::pair<std::string, double>> out;
-  for (const auto& e : entries) {
-    const auto eq = e.rfind('=');
+  for (const auto& [cls, text] : params::SplitAssignments(entries, "class_margins", problems)) {
     char* end = nullptr;
-    const double value = eq == std::string::npos ? 0 : std::strtod(e.c_str() + eq + 1, &end);
-    if (eq == std::string::npos || eq == 0 || end == nullptr || *end != '\0' || !(value >= 0)) {
-      if (problems) problems->push_back("class_margins: '" + e + "' is not of the form class=metres (≥ 0)");
+    const double metres = std::strtod(text.c_str(), &end);
+    if (*end != '\0' || !(metres >= 0)) {
+      if (problems != nullptr) problems->push_back("class_margins: '" + text + "' for '" + cls + "' is not a distance ≥ 0");
       continue;
     }
-    out.emplace_back(e.substr(0, eq), value);
+    out.emplace_back(cls, metres);
   }
   return out;
 }

@@ -142,6 +142,13 @@ class ParamTree {
 
 std::string JoinKey(const std::string& prefix, const std::string& key);
 
+// The "name=value" entries of a string-list parameter (class maps, per-class
+// settings), split at the last '='. A malformed entry is described in *problems
+// (when given, naming `key`) and skipped.
+std::vector<std::pair<std::string, std::string>> SplitAssignments(const std::vector<std::string>& entries,
+                                                                  const std::string& key,
+                                                                  std::vector<std::string>* problems);
+
 // Checks a decoded value against its range; empty string when fine.
 std::string CheckRange(double value, const Range& range, bool integer);
 
