@@ -22,6 +22,7 @@
 #include "specht/detect/fusion.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/data_dir.h"
+#include "specht/io/map_io.h"
 #include "specht/io/report.h"
 #include "specht/stereo/calibration.h"
 #include "specht/stereo/images.h"
@@ -137,7 +138,7 @@ int RunDetect(const DetectArgs& a) {
       all.push_back(j);
     }
     io::WriteTextAtomically(out + "/labels/" + name + ".txt", labels);
-    stereo::WritePng(Annotate(image, detections, obstacles), out + "/annotated/" + name + ".png");
+    io::WritePng(Annotate(image, detections, obstacles), out + "/annotated/" + name + ".png");
     progress.Update(static_cast<double>(i + 1), static_cast<double>(i + 1) / a.images.size());
   }
   io::WriteTextAtomically(out + "/detections.json", all.dump(1) + "\n");

@@ -91,9 +91,9 @@ int RunEvalStereo(const EvalStereoArgs& a) {
   report.json()["metrics"] = eval::ToJson(e);
   double max_disparity = 0;
   cv::minMaxLoc(truth, nullptr, &max_disparity);
-  stereo::WritePng(eval::DisparityErrorImage(estimate, truth), a.out_dir + "/error.png");
-  stereo::WritePng(stereo::ColorizeDisparity(estimate, max_disparity), a.out_dir + "/estimate_color.png");
-  stereo::WritePng(stereo::ColorizeDisparity(truth, max_disparity), a.out_dir + "/truth_color.png");
+  io::WritePng(eval::DisparityErrorImage(estimate, truth), a.out_dir + "/error.png");
+  io::WritePng(stereo::ColorizeDisparity(estimate, max_disparity), a.out_dir + "/estimate_color.png");
+  io::WritePng(stereo::ColorizeDisparity(truth, max_disparity), a.out_dir + "/truth_color.png");
   for (const char* f : {"error.png", "estimate_color.png", "truth_color.png"}) report.AddOutput(f);
   report.Write(a.out_dir);
   std::printf("pixels with ground truth %zu, estimated %zu (density %.1f %%)\n", e.gt_pixels, e.est_pixels,

@@ -32,7 +32,6 @@
 #include <filesystem>
 
 #include <mrpt/obs/CObservationStereoImages.h>
-#include <opencv2/imgcodecs.hpp>
 
 namespace specht::app {
 namespace {
@@ -54,16 +53,11 @@ mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index,
                                               const sim::StereoFrame& f, const sim::StereoSpec& spec) {
   char name[16];
   std::snprintf(name, sizeof(name), "%06d", index);
-  auto png = [](const std::string& path, const cv::Mat& image) {
-    io::WriteAtomically(path, [&](const std::string& tmp) {
-      if (!cv::imwrite(tmp, image)) throw RuntimeError(path + ": cannot write PNG");
-    });
-  };
-  png(out + "/sim_Images/left_" + name + ".png", f.left);
-  png(out + "/sim_Images/right_" + name + ".png", f.right);
+  io::WritePng(f.left, out + "/sim_Images/left_" + name + ".png");
+  io::WritePng(f.right, out + "/sim_Images/right_" + name + ".png");
   cv::Mat kitti(f.disparity.size(), CV_16U);
   f.disparity.convertTo(kitti, CV_16U, 256.0);
-  png(out + "/stereo/disparity/" + std::string(name) + ".png", kitti);
+  io::WritePng(kitti, out + "/stereo/disparity/" + std::string(name) + ".png");
   std::string labels;
   for (const auto& line : f.kitti_labels) labels += line + "\n";
   io::WriteTextAtomically(out + "/stereo/labels/" + std::string(name) + ".txt", labels);

@@ -21,6 +21,7 @@
 #include "run_setup.h"
 #include "specht/core/error.h"
 #include "specht/core/transform_tree.h"
+#include "specht/io/map_io.h"
 #include "specht/io/report.h"
 #include "specht/stereo/calibration.h"
 #include "specht/stereo/guidance.h"
@@ -47,16 +48,17 @@ struct MatchRun {
   std::string isa;
 };
 
-MatchRun Match(const cv::Mat& left, const cv::Mat& right, const stereo::SgmOptions& o, const stereo::Guidance* g) {
+// `matcher` is ours (kept between the guided and unguided runs) or null for OpenCV's.
+MatchRun Match(const cv::Mat& left, const cv::Mat& right, const stereo::SgmOptions& o,
+               stereo::SemiGlobalMatcher* matcher, const stereo::Guidance* g) {
   MatchRun run;
   io::StageTimer timer;
   {
     auto t = timer.Time("match");
-    if (o.matcher == "specht") {
-      stereo::SemiGlobalMatcher matcher(o);
-      run.disparity = matcher.Compute(left, right, g);
-      run.stats = matcher.last_stats();
-      run.isa = matcher.instruction_set();
+    if (matcher != nullptr) {
+      run.disparity = matcher->Compute(left, right, g);
+      run.stats = matcher->last_stats();
+      run.isa = matcher->instruction_set();
     } else {
       run.disparity = stereo::ComputeDisparity(left, right, o, g);
       run.isa = "opencv";
@@ -127,10 +129,12 @@ int RunStereo(const StereoArgs& a) {
   io::RunReport report("stereo");
   auto& j = report.json();
   j["inputs"] = {{"left", a.left}, {"right", a.right}, {"size", std::to_string(left.cols) + "x" + std::to_string(left.rows)}};
-  const MatchRun run = Match(left, right, sgm, guidance ? &*guidance : nullptr);
+  std::unique_ptr<stereo::SemiGlobalMatcher> matcher;
+  if (sgm.matcher == "specht") matcher = std::make_unique<stereo::SemiGlobalMatcher>(sgm);
+  const MatchRun run = Match(left, right, sgm, matcher.get(), guidance ? &*guidance : nullptr);
   j["metrics"]["match"] = Summary(run);
   if (guidance) {
-    const MatchRun unguided = Match(left, right, sgm, nullptr);
+    const MatchRun unguided = Match(left, right, sgm, matcher.get(), nullptr);
     j["metrics"]["unguided"] = Summary(unguided);
     // Half-size preview: the left image, the unguided and the guided disparity.
     cv::Mat left_bgr, preview;
@@ -139,14 +143,14 @@ int RunStereo(const StereoArgs& a) {
                                      stereo::ColorizeDisparity(run.disparity, sgm.num_disparities)},
                 preview);
     cv::resize(preview, preview, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-    stereo::WritePng(preview, out + "/comparison.png");
+    io::WritePng(preview, out + "/comparison.png");
     report.AddOutput("comparison.png");
     j["metrics"]["guide_density"] = cv::countNonZero(guidance->disparity > 0) / static_cast<double>(left.total());
     stereo::WriteDisparityKitti(guidance->disparity, out + "/hints.png");
     report.AddOutput("hints.png");
   }
   stereo::WriteDisparityKitti(run.disparity, out + "/disparity.png");
-  stereo::WritePng(stereo::ColorizeDisparity(run.disparity, sgm.num_disparities), out + "/disparity_color.png");
+  io::WritePng(stereo::ColorizeDisparity(run.disparity, sgm.num_disparities), out + "/disparity_color.png");
   report.AddOutput("disparity.png");
   report.AddOutput("disparity_color.png");
 
@@ -154,8 +158,8 @@ int RunStereo(const StereoArgs& a) {
     const cv::Mat depth = stereo::DepthFromDisparity(run.disparity, *camera);
     cv::Mat depth_mm;
     depth.convertTo(depth_mm, CV_16U, 1000.0);
-    stereo::WritePng(depth_mm, out + "/depth.png");
-    stereo::WritePng(stereo::ColorizeDepth(depth, cloud_options.max_depth_m), out + "/depth_color.png");
+    io::WritePng(depth_mm, out + "/depth.png");
+    io::WritePng(stereo::ColorizeDepth(depth, cloud_options.max_depth_m), out + "/depth_color.png");
     std::vector<stereo::ColouredPoint> points =
         stereo::DisparityToPoints(run.disparity, *camera, left_colour.size() == left.size() ? left_colour : left,
                                   cloud_options);

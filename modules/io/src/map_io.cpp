@@ -195,8 +195,12 @@ void WriteMapPng(const COccupancyGridMap2D& grid, const std::vector<PathOverlay>
   cv::rectangle(img, bar0 - cv::Point(0, 6), bar0 + cv::Point(bar_px, 0), cv::Scalar(0, 0, 0), cv::FILLED);
   cv::putText(img, std::to_string(static_cast<int>(bar_m)) + " m", bar0 + cv::Point(bar_px + 8, 0),
               cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  WritePng(img, path);
+}
+
+void WritePng(const cv::Mat& image, const std::string& path) {
   WriteAtomically(path, [&](const std::string& tmp) {
-    if (!cv::imwrite(tmp, img)) throw RuntimeError(path + ": cannot write PNG");
+    if (!cv::imwrite(tmp, image)) throw RuntimeError(path + ": cannot write PNG");
   });
 }
 

@@ -6,7 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
-#include "specht/io/atomic_file.h"
+#include "specht/io/map_io.h"
 
 namespace specht::stereo {
 namespace {
@@ -56,7 +56,7 @@ void WriteDisparityKitti(const cv::Mat& disparity, const std::string& path) {
   cv::Mat encoded;
   disparity.convertTo(encoded, CV_16U, 256.0);  // saturates; 0 stays "no estimate"
   encoded.setTo(0, disparity <= 0);
-  WritePng(encoded, path);
+  io::WritePng(encoded, path);
 }
 
 cv::Mat ColorizeDisparity(const cv::Mat& disparity, double max_disparity) {
@@ -64,11 +64,5 @@ cv::Mat ColorizeDisparity(const cv::Mat& disparity, double max_disparity) {
 }
 
 cv::Mat ColorizeDepth(const cv::Mat& depth_m, double max_depth_m) { return Colorize(depth_m, 0, max_depth_m, true); }
-
-void WritePng(const cv::Mat& image, const std::string& path) {
-  io::WriteAtomically(path, [&](const std::string& tmp) {
-    if (!cv::imwrite(tmp, image)) throw RuntimeError(path + ": cannot write PNG");
-  });
-}
 
 }  // namespace specht::stereo

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
+#include <opencv2/core.hpp>
 
 #include "specht/core/trajectory.h"
 
@@ -26,6 +27,9 @@ mrpt::maps::COccupancyGridMap2D ReadRosMap(const std::string& yaml_path);
 
 void WriteMrptGridmap(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& path);
 mrpt::maps::COccupancyGridMap2D ReadMrptGridmap(const std::string& path);
+
+// Any image as PNG, written atomically (RuntimeError naming the path on failure).
+void WritePng(const cv::Mat& image, const std::string& path);
 
 struct PathOverlay {
   const Trajectory* trajectory = nullptr;

@@ -1,6 +1,7 @@
 // specht/stereo/images.h: stereo images and disparity maps in the formats users have.
 //   KITTI disparity PNG: uint16, value / 256 = disparity in pixels, 0 = no estimate.
 //   Middlebury 2001–2006 GT PNG: uint8, value = disparity (× scale), 0 = invalid.
+// PNGs are written with io::WritePng (atomically).
 // Every reader throws InputError naming the file and the reason.
 #pragma once
 
@@ -23,6 +24,5 @@ void WriteDisparityKitti(const cv::Mat& disparity, const std::string& path);
 // depth in metres 0..max_depth_m (near = warm).
 cv::Mat ColorizeDisparity(const cv::Mat& disparity, double max_disparity);
 cv::Mat ColorizeDepth(const cv::Mat& depth_m, double max_depth_m);
-void WritePng(const cv::Mat& image, const std::string& path);
 
 }  // namespace specht::stereo
