@@ -83,14 +83,27 @@ TEST(WorldModelTest, StaticMapIsInflatedByTheFootprint) {
     ASSERT_TRUE(g.Cell(x, 1.0, c, r));
     const double d = std::abs(g.Centre(c, r).x - g.Centre(grid.x2idx(0.0), r).x);
     const uint8_t v = g.cost.at<uint8_t>(r, c);
-    if (d == 0) EXPECT_EQ(v, CostGrid::kLethal) << x;
-    else if (d <= options.footprint_radius_m) EXPECT_EQ(v, CostGrid::kInscribed) << x;
-    else if (d > options.footprint_radius_m + options.static_margin_m) EXPECT_EQ(v, CostGrid::kFree) << x;
+    if (d == 0) {
+      EXPECT_EQ(v, CostGrid::kLethal) << x;
+    } else if (d <= options.footprint_radius_m) {
+      EXPECT_EQ(v, CostGrid::kInscribed) << x;
+    } else if (d > options.footprint_radius_m + options.static_margin_m) {
+      EXPECT_EQ(v, CostGrid::kFree) << x;
+    }
   }
   int c, r;
   g.Cell(4.0, 4.0, c, r);
   EXPECT_EQ(g.cost.at<uint8_t>(r, c), CostGrid::kUnknown);
   EXPECT_EQ(world.snapshot()->ToJson()["cost"]["cells"][0], grid.getSizeX());
+  // Later writes keep the static layer (computed once per static map).
+  world.AddObstacles({At(3.0, -3.0, "car", 0.1)}, At(0.1));
+  const CostGrid& after = *world.snapshot()->cost;
+  EXPECT_EQ(after.cost.at<uint8_t>(r, c), CostGrid::kUnknown);
+  int wall_c, wall_r;
+  ASSERT_TRUE(after.Cell(0.0, 1.0, wall_c, wall_r));
+  EXPECT_EQ(after.cost.at<uint8_t>(wall_r, wall_c), CostGrid::kLethal);
+  ASSERT_TRUE(after.Cell(3.0, -3.0, wall_c, wall_r));
+  EXPECT_EQ(after.cost.at<uint8_t>(wall_r, wall_c), CostGrid::kLethal);
 }
 
 // Writers keep an invariant in every update (obstacle ids are 0..n−1 of one batch

@@ -127,6 +127,8 @@ Obstacle ToMapObstacle(const detect::Obstacle3D& o, const mrpt::poses::CPose3D& 
 WorldModel::WorldModel(const WorldModelOptions& options) : options_(options) {
   const auto problems = options.Relations();
   if (!problems.empty()) throw InputError("world: " + problems.front());
+  for (const auto& [cls, margin] : Margins(options.class_margins, nullptr)) margins_[cls] = margin;
+  other_margin_ = options.MarginFor("other");
   auto empty = std::make_shared<Snapshot>();
   empty->cost = BuildCost(*empty);
   std::atomic_store(&current_, std::shared_ptr<const Snapshot>(std::move(empty)));
@@ -153,7 +155,11 @@ void WorldModel::Publish(Stamp now, Edit&& edit) {
 
 void WorldModel::SetStaticMap(const mrpt::maps::COccupancyGridMap2D& grid, Stamp stamp) {
   auto map = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(grid);
-  Publish(stamp, [&](Snapshot& s) { s.static_map = map; });
+  auto layer = std::make_shared<const StaticLayer>(InflateStatic(grid));
+  Publish(stamp, [&](Snapshot& s) {
+    s.static_map = map;
+    static_layer_ = layer;  // under the writer lock, read by BuildCost below
+  });
 }
 
 void WorldModel::AddObstacles(const std::vector<Obstacle>& obstacles, Stamp now) {
@@ -172,37 +178,45 @@ void WorldModel::Advance(Stamp now) {
   Publish(now, [](Snapshot&) {});
 }
 
+// The static layer's inflated costs, and its unknown cells; computed once per static
+// map (every later write only stamps obstacles on a copy).
+WorldModel::StaticLayer WorldModel::InflateStatic(const mrpt::maps::COccupancyGridMap2D& m) const {
+  StaticLayer layer;
+  CostGrid& grid = layer.grid;
+  grid.origin_x_m = m.getXMin();
+  grid.origin_y_m = m.getYMin();
+  grid.resolution_m = m.getResolution();
+  grid.cost = cv::Mat(static_cast<int>(m.getSizeY()), static_cast<int>(m.getSizeX()), CV_8UC1, cv::Scalar(0));
+  layer.unknown = cv::Mat(grid.cost.size(), CV_8UC1, cv::Scalar(0));
+  cv::Mat free_space(grid.cost.size(), CV_8UC1, cv::Scalar(255));  // 0 where occupied
+  for (int r = 0; r < grid.cost.rows; ++r)
+    for (int c = 0; c < grid.cost.cols; ++c) {
+      const float p = m.getCell(c, r);
+      if (p > options_.occupied_probability) free_space.at<uint8_t>(r, c) = 0;
+      else if (p >= options_.free_probability) layer.unknown.at<uint8_t>(r, c) = 1;
+    }
+  // Distance (m) of every cell to the nearest occupied cell.
+  cv::Mat distance;
+  cv::distanceTransform(free_space, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const double footprint = options_.footprint_radius_m, margin = options_.static_margin_m;
+  for (int r = 0; r < grid.cost.rows; ++r)
+    for (int c = 0; c < grid.cost.cols; ++c) {
+      // distanceTransform measures between cell centres: 0 on occupied cells.
+      const double d = distance.at<float>(r, c) * grid.resolution_m;
+      uint8_t& cell = grid.cost.at<uint8_t>(r, c);
+      if (d <= 0) cell = CostGrid::kLethal;
+      else if (d <= footprint) cell = CostGrid::kInscribed;
+      else if (d <= footprint + margin)
+        cell = static_cast<uint8_t>(std::max(1.0, 252.0 * std::exp(-options_.cost_decay_per_m * (d - footprint))));
+    }
+  return layer;
+}
+
 std::shared_ptr<const CostGrid> WorldModel::BuildCost(const Snapshot& s) const {
   auto grid = std::make_shared<CostGrid>();
-  cv::Mat unknown;
-  if (s.static_map) {
-    const auto& m = *s.static_map;
-    grid->origin_x_m = m.getXMin();
-    grid->origin_y_m = m.getYMin();
-    grid->resolution_m = m.getResolution();
-    grid->cost = cv::Mat(static_cast<int>(m.getSizeY()), static_cast<int>(m.getSizeX()), CV_8UC1, cv::Scalar(0));
-    unknown = cv::Mat(grid->cost.size(), CV_8UC1, cv::Scalar(0));
-    cv::Mat free_space(grid->cost.size(), CV_8UC1, cv::Scalar(255));  // 0 where occupied
-    for (int r = 0; r < grid->cost.rows; ++r)
-      for (int c = 0; c < grid->cost.cols; ++c) {
-        const float p = m.getCell(c, r);
-        if (p > options_.occupied_probability) free_space.at<uint8_t>(r, c) = 0;
-        else if (p >= options_.free_probability) unknown.at<uint8_t>(r, c) = 1;
-      }
-    // Distance (m) of every cell to the nearest occupied cell.
-    cv::Mat distance;
-    cv::distanceTransform(free_space, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-    const double footprint = options_.footprint_radius_m, margin = options_.static_margin_m;
-    for (int r = 0; r < grid->cost.rows; ++r)
-      for (int c = 0; c < grid->cost.cols; ++c) {
-        // distanceTransform measures between cell centres: 0 on occupied cells.
-        const double d = distance.at<float>(r, c) * grid->resolution_m;
-        uint8_t& cell = grid->cost.at<uint8_t>(r, c);
-        if (d <= 0) cell = CostGrid::kLethal;
-        else if (d <= footprint) cell = CostGrid::kInscribed;
-        else if (d <= footprint + margin)
-          cell = static_cast<uint8_t>(std::max(1.0, 252.0 * std::exp(-options_.cost_decay_per_m * (d - footprint))));
-      }
+  if (static_layer_) {
+    *grid = static_layer_->grid;
+    grid->cost = static_layer_->grid.cost.clone();
   } else {
     double cx = 0, cy = 0;
     for (const auto& o : s.obstacles) cx += o.x_m / s.obstacles.size(), cy += o.y_m / s.obstacles.size();
@@ -212,10 +226,13 @@ std::shared_ptr<const CostGrid> WorldModel::BuildCost(const Snapshot& s) const {
     grid->origin_y_m = std::floor(cy / grid->resolution_m) * grid->resolution_m - cells / 2 * grid->resolution_m;
     grid->cost = cv::Mat(cells, cells, CV_8UC1, cv::Scalar(0));
   }
-  for (const auto& o : s.obstacles)
-    StampCircle(grid->cost, *grid, o.x_m, o.y_m, o.radius_m, options_.footprint_radius_m, options_.MarginFor(o.cls),
-                options_.cost_decay_per_m);
-  if (!unknown.empty()) grid->cost.setTo(CostGrid::kUnknown, unknown & (grid->cost < CostGrid::kInscribed));
+  for (const auto& o : s.obstacles) {
+    const auto margin = margins_.find(o.cls);
+    StampCircle(grid->cost, *grid, o.x_m, o.y_m, o.radius_m, options_.footprint_radius_m,
+                margin != margins_.end() ? margin->second : other_margin_, options_.cost_decay_per_m);
+  }
+  if (static_layer_)
+    grid->cost.setTo(CostGrid::kUnknown, static_layer_->unknown & (grid->cost < CostGrid::kInscribed));
   return grid;
 }
 

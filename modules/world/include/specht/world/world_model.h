@@ -19,6 +19,7 @@
 // load and keep it as long as they like. A reader never sees half an update.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -135,9 +136,17 @@ class WorldModel {
  private:
   template <class Edit>
   void Publish(Stamp now, Edit&& edit);
+  struct StaticLayer {
+    CostGrid grid;    // the static map inflated
+    cv::Mat unknown;  // CV_8U, 1 on unknown static cells
+  };
+  StaticLayer InflateStatic(const mrpt::maps::COccupancyGridMap2D& grid) const;
   std::shared_ptr<const CostGrid> BuildCost(const Snapshot& s) const;
 
   WorldModelOptions options_;
+  std::map<std::string, double> margins_;  // class_margins, parsed once
+  double other_margin_ = 0;
+  std::shared_ptr<const StaticLayer> static_layer_;  // written under writer_
   std::mutex writer_;
   std::shared_ptr<const Snapshot> current_;  // read and replaced with std::atomic_load/store
 };
