@@ -14,5 +14,6 @@ void AddConvertCommand(CLI::App& app, int& exit_code);
 void AddSimCommand(CLI::App& app, int& exit_code);
 void AddStereoCommand(CLI::App& app, int& exit_code);
 void AddDetectCommand(CLI::App& app, int& exit_code);
+void AddTrackCommand(CLI::App& app, int& exit_code);
 
 }  // namespace specht::app

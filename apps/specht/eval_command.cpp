@@ -2,6 +2,8 @@
 // al. 2009) and ATE of an estimated trajectory against a reference, with a plot.
 // REF is a CARMEN log (its corrected laser poses), a TUM file or a "t x y theta" file.
 //
+// `specht eval track --truth truth.csv --tracks tracks.csv`: CLEAR MOT (eval/mot.h).
+//
 // `specht eval stereo --estimate disp.png --truth gt.png [--fill-holes] [--exclude
 // hints.png]`: D1, bad-2, end-point error and density (eval/disparity_error.h) on all
 // ground-truth pixels and on the estimated ones, with coloured disparity and error
@@ -16,6 +18,8 @@
 #include "specht/io/reference.h"
 #include "run_setup.h"
 #include "specht/eval/disparity_error.h"
+#include "specht/eval/mot.h"
+#include "specht/io/object_tracks.h"
 #include "specht/eval/relation_error.h"
 #include "specht/stereo/images.h"
 #include "specht/stereo/sgm.h"
@@ -103,6 +107,29 @@ int RunEvalStereo(const EvalStereoArgs& a) {
   return 0;
 }
 
+struct EvalTrackArgs {
+  std::string truth, tracks;
+  double match_threshold_m = 1.0;
+  std::string out_dir = "specht-out/eval-track";
+};
+
+int RunEvalTrack(const EvalTrackArgs& a) {
+  const auto truth = io::ReadObjectTracks(a.truth);
+  const auto tracks = io::ReadObjectTracks(a.tracks);
+  const eval::MotResult mot = eval::EvaluateMot(truth, tracks, a.match_threshold_m);
+  io::MakeOutputDir(a.out_dir);
+  io::RunReport report("eval track");
+  report.json()["inputs"] = {{"truth", a.truth}, {"tracks", a.tracks}, {"match_threshold_m", a.match_threshold_m}};
+  report.json()["metrics"] = mot.ToJson();
+  report.Write(a.out_dir);
+  std::printf("MOTA %.4f  MOTP %.3f m  ID switches %ld (%.2f per 100 track-s)  FP %ld  FN %ld  GT %ld\n", mot.mota,
+              mot.motp_m, mot.id_switches, mot.id_switches_per_100s, mot.false_positives, mot.false_negatives,
+              mot.truth_objects);
+  std::printf("truth ids %d: mostly tracked %d, mostly lost %d, fragmentations %ld; hypothesis ids %d\n",
+              mot.truth_ids, mot.mostly_tracked, mot.mostly_lost, mot.fragmentations, mot.hypothesis_ids);
+  return 0;
+}
+
 }  // namespace
 
 void AddEvalCommand(CLI::App& app, int& exit_code) {
@@ -131,6 +158,15 @@ void AddEvalCommand(CLI::App& app, int& exit_code) {
   st->add_option("--exclude", stereo_args->exclude, "do not score pixels set in this disparity PNG (e.g. the hints)");
   st->add_option("-o,--out", stereo_args->out_dir, "output directory")->capture_default_str();
   st->callback([stereo_args, &exit_code] { exit_code = RunEvalStereo(*stereo_args); });
+
+  auto track_args = std::make_shared<EvalTrackArgs>();
+  CLI::App* tr = eval->add_subcommand("track", "CLEAR MOT (MOTA, MOTP, ID switches) of tracks against ground truth");
+  tr->add_option("--truth", track_args->truth, "ground truth CSV (id,t_s,x_m,y_m)")->required();
+  tr->add_option("--tracks", track_args->tracks, "tracker output CSV (id,t_s,x_m,y_m)")->required();
+  tr->add_option("--match-threshold", track_args->match_threshold_m, "a match is at most this far (m)")
+      ->capture_default_str();
+  tr->add_option("-o,--out", track_args->out_dir, "output directory")->capture_default_str();
+  tr->callback([track_args, &exit_code] { exit_code = RunEvalTrack(*track_args); });
 }
 
 }  // namespace specht::app

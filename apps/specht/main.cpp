@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   specht::app::AddSimCommand(app, exit_code);
   specht::app::AddStereoCommand(app, exit_code);
   specht::app::AddDetectCommand(app, exit_code);
+  specht::app::AddTrackCommand(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -10,6 +10,8 @@
 #include "specht/slam/scan_matching.h"
 #include "specht/stereo/point_cloud.h"
 #include "specht/stereo/sgm.h"
+#include "specht/track/synthetic_detections.h"
+#include "specht/track/tracker.h"
 #include "specht/world/world_model.h"
 
 namespace specht::app {
@@ -30,6 +32,8 @@ const params::Registry& AllOptions() {
     r.Add<detect::DetectorOptions>("detect", "CNN detector (cv::dnn): model, input, thresholds, class map");
     r.Add<detect::FusionOptions>("fusion", "box depth from stereo disparity, 3D position and covariance");
     r.Add<world::WorldModelOptions>("world", "the shared world model: obstacle lifetime, footprint, cost layer");
+    r.Add<track::TrackerOptions>("track", "multi-object tracker: motion models, gating, lifecycle");
+    r.Add<track::SyntheticDetectionOptions>("synthetic_detections", "simulated detections for tracking on synthetic scenes");
     return r;
   }();
   return registry;
@@ -43,6 +47,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"stereo.yaml", {"stereo", "stereo_cloud"}},
       {"detect.yaml", {"detect", "fusion"}},
       {"world.yaml", {"world"}},
+      {"track.yaml", {"track", "synthetic_detections"}},
   };
   return files;
 }

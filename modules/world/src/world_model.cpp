@@ -94,9 +94,18 @@ nlohmann::json Snapshot::ToJson() const {
                               {"xyz_m", {o.x_m, o.y_m, o.z_m}}, {"radius_m", o.radius_m}, {"score", o.score},
                               {"covariance_xy", {o.covariance_xy(0, 0), o.covariance_xy(0, 1), o.covariance_xy(1, 1)}}});
   j["tracks"] = nlohmann::json::array();
-  for (const auto& t : tracks)
-    j["tracks"].push_back({{"id", t.id}, {"class", t.cls}, {"stamp_s", t.stamp.Seconds()},
-                           {"xy_m", {t.x_m, t.y_m}}, {"v_mps", {t.vx_mps, t.vy_mps}}});
+  for (const auto& t : tracks) {
+    nlohmann::json track = {{"id", t.id},         {"class", t.cls},
+                            {"stamp_s", t.stamp.Seconds()}, {"xy_m", {t.x_m, t.y_m}},
+                            {"v_mps", {t.vx_mps, t.vy_mps}}, {"state", t.state},
+                            {"motion_model", t.motion_model}, {"history_points", t.history.size()}};
+    track["prediction"] = nlohmann::json::array();
+    for (const auto& p : t.prediction)
+      track["prediction"].push_back({{"dt_s", p.dt_s}, {"xy_m", {p.x_m, p.y_m}},
+                                     {"covariance_xy", {p.covariance(0, 0), p.covariance(0, 1), p.covariance(1, 1)}}});
+    if (!t.class_probabilities.empty()) track["class_probabilities"] = t.class_probabilities;
+    j["tracks"].push_back(track);
+  }
   if (octree) j["octree"] = {{"resolution_m", octree->getResolution()}, {"leaves", octree->getNumLeafNodes()}};
   if (cost) {
     j["cost"] = {{"cells", {cost->cost.cols, cost->cost.rows}},

@@ -1,0 +1,240 @@
+#include "specht/track/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+#include "internal/motion_filter.h"
+#include "specht/core/assignment.h"
+#include "specht/core/error.h"
+
+namespace specht::track {
+
+using internal::Mat2;
+using internal::Mat4;
+using internal::MotionFilter;
+using internal::Vec2;
+using internal::Vec4;
+
+namespace {
+
+std::map<std::string, double> ParseNoise(const std::vector<std::string>& entries, std::vector<std::string>* problems) {
+  std::map<std::string, double> out;
+  for (const auto& [cls, value] : params::SplitAssignments(entries, "acceleration_noise", problems)) {
+    char* end = nullptr;
+    const double sigma = std::strtod(value.c_str(), &end);
+    if (end == value.c_str() || *end != '\0' || !(sigma > 0) || !std::isfinite(sigma)) {
+      if (problems) problems->push_back("acceleration_noise: \"" + cls + "=" + value +
+                                               "\": σ must be a positive number");
+      continue;
+    }
+    out[cls] = sigma;
+  }
+  return out;
+}
+
+// χ²(2) quantile: for two degrees of freedom the CDF is 1 − exp(−d²/2).
+double ChiSquare2Quantile(double p) { return -2.0 * std::log(1.0 - p); }
+
+Mat2 ToEigen(const cv::Matx22d& m) {
+  Mat2 out;
+  out << m(0, 0), m(0, 1), m(1, 0), m(1, 1);
+  return out;
+}
+
+cv::Matx22d ToCv(const Mat2& m) { return {m(0, 0), m(0, 1), m(1, 0), m(1, 1)}; }
+
+}  // namespace
+
+std::vector<std::string> TrackerOptions::Relations() const {
+  std::vector<std::string> problems;
+  const auto noise = ParseNoise(acceleration_noise, &problems);
+  if (problems.empty() && !noise.count("other"))
+    problems.push_back("acceleration_noise: needs an \"other=σ\" entry for classes not listed");
+  if (confirm_hits > confirm_window) problems.push_back("confirm_hits must not exceed confirm_window");
+  return problems;
+}
+
+double TrackerOptions::AccelerationNoiseFor(const std::string& cls) const {
+  const auto noise = ParseNoise(acceleration_noise, nullptr);
+  const auto it = noise.find(cls);
+  return it != noise.end() ? it->second : noise.at("other");
+}
+
+bool TrackerOptions::UsesTurnModel(const std::string& cls) const {
+  if (motion_model != "auto") return motion_model == "ct";
+  return cls == "car" || cls == "cyclist" || cls == "truck" || cls == "bus";
+}
+
+struct Tracker::Entry {
+  long id = 0;
+  TrackState state = TrackState::kTentative;
+  std::unique_ptr<MotionFilter> filter;
+  std::map<std::string, double> votes;
+  std::string cls;
+  Stamp last_seen;
+  int cycles = 0, hits = 0;
+  std::deque<world::TrackPoint> history;
+
+  void Vote(const world::Obstacle& d) {
+    votes[d.cls] += std::max(d.score, 1e-3);
+    cls = std::max_element(votes.begin(), votes.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+  }
+};
+
+Tracker::Tracker(const TrackerOptions& options) : options_(options) {
+  const auto problems = options.Relations();
+  if (!problems.empty()) throw InputError("track: " + problems.front());
+  acceleration_noise_ = ParseNoise(options.acceleration_noise, nullptr);
+  gate_d2_ = ChiSquare2Quantile(options.gate_probability);
+}
+Tracker::~Tracker() = default;
+Tracker::Tracker(Tracker&&) noexcept = default;
+Tracker& Tracker::operator=(Tracker&&) noexcept = default;
+
+CycleStats Tracker::Update(const std::vector<world::Obstacle>& detections_in, Stamp now) {
+  if (started_ && now < last_)
+    throw InputError("track: detections at " + std::to_string(now.Seconds()) + " s are older than the last cycle (" +
+                     std::to_string(last_.Seconds()) + " s)");
+  const double dt = started_ ? SecondsBetween(last_, now) : 0.0;
+  started_ = true;
+  last_ = now;
+  CycleStats stats;
+
+  std::vector<const world::Obstacle*> detections;
+  for (const auto& d : detections_in) {
+    const bool finite = std::isfinite(d.x_m) && std::isfinite(d.y_m) && std::isfinite(d.covariance_xy(0, 0)) &&
+                        std::isfinite(d.covariance_xy(1, 1)) && std::isfinite(d.covariance_xy(0, 1));
+    if (finite) detections.push_back(&d);
+    else ++skipped_;
+  }
+  stats.detections = static_cast<int>(detections.size());
+  const double floor2 = options_.min_measurement_sigma_m * options_.min_measurement_sigma_m;
+  auto measurement_cov = [&](const world::Obstacle& d) {
+    Mat2 r = ToEigen(d.covariance_xy);
+    r = (r + r.transpose()) / 2;
+    r += Mat2::Identity() * floor2;
+    return r;
+  };
+
+  // 1. Predict.
+  for (auto& t : tracks_) {
+    if (dt > 0) t->filter->Predict(dt, acceleration_noise_.count(t->cls) ? acceleration_noise_.at(t->cls)
+                                                                         : acceleration_noise_.at("other"),
+                                   options_.turn_noise_rad_s2);
+    ++t->cycles;
+  }
+
+  // 2–3. Gate and assign on the negative log likelihood.
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> cost(tracks_.size(), std::vector<double>(detections.size(), inf));
+  for (size_t i = 0; i < tracks_.size(); ++i) {
+    const Vec2 p = tracks_[i]->filter->Position();
+    const Mat2 pp = tracks_[i]->filter->PositionCovariance();
+    for (size_t k = 0; k < detections.size(); ++k) {
+      const Vec2 nu = Vec2(detections[k]->x_m, detections[k]->y_m) - p;
+      const Mat2 s = pp + measurement_cov(*detections[k]);
+      const double d2 = nu.dot(s.ldlt().solve(nu));
+      if (!(d2 <= gate_d2_)) continue;
+      cost[i][k] = d2 + std::log(s.determinant());
+      ++stats.gated_pairs;
+    }
+  }
+  const Assignment assignment = SolveAssignment(cost);
+
+  // 4. Update, lifecycle.
+  // A detection inside a confirmed track's gate that went to no track is not a new
+  // object: it is the same object seen twice, or clutter beside it.
+  std::vector<char> used(detections.size(), 0);
+  for (size_t i = 0; i < tracks_.size(); ++i)
+    if (tracks_[i]->state != TrackState::kTentative)
+      for (size_t k = 0; k < detections.size(); ++k) used[k] |= std::isfinite(cost[i][k]);
+  for (size_t i = 0; i < tracks_.size(); ++i) {
+    Entry& t = *tracks_[i];
+    const int k = assignment.column_of_row[i];
+    if (k >= 0) {
+      used[k] = 1;  // (also marks it taken)
+      ++stats.assigned;
+      const auto& d = *detections[k];
+      t.filter->Update(Vec2(d.x_m, d.y_m), measurement_cov(d));
+      t.Vote(d);
+      t.last_seen = now;
+      ++t.hits;
+      if (t.state == TrackState::kCoasting) t.state = TrackState::kConfirmed;
+      if (t.state == TrackState::kTentative && t.hits >= options_.confirm_hits) {
+        t.state = TrackState::kConfirmed;
+        ++stats.confirmed;
+        if (options_.UsesTurnModel(t.cls)) t.filter = internal::MakeConstantTurn(*t.filter, options_.initial_turn_rate_sigma_rad_s);
+      }
+    } else if (t.state == TrackState::kConfirmed) {
+      t.state = TrackState::kCoasting;
+    }
+    const Vec2 p = t.filter->Position();
+    t.history.push_back({now, p.x(), p.y()});
+    while (static_cast<int>(t.history.size()) > options_.history_length) t.history.pop_front();
+  }
+  const auto erased = std::remove_if(tracks_.begin(), tracks_.end(), [&](const std::unique_ptr<Entry>& t) {
+    if (t->state == TrackState::kTentative) return t->cycles >= options_.confirm_window || t->last_seen != now;
+    return SecondsBetween(t->last_seen, now) > options_.coast_timeout_s;
+  });
+  stats.deleted = static_cast<int>(tracks_.end() - erased);
+  tracks_.erase(erased, tracks_.end());
+
+  for (size_t k = 0; k < detections.size(); ++k) {
+    if (used[k]) continue;
+    const auto& d = *detections[k];
+    auto t = std::make_unique<Entry>();
+    t->id = next_id_++;
+    t->filter = internal::MakeConstantVelocity(Vec2(d.x_m, d.y_m), measurement_cov(d), options_.initial_speed_sigma_mps);
+    t->Vote(d);
+    t->last_seen = now;
+    t->hits = 1;
+    t->history.push_back({now, d.x_m, d.y_m});
+    if (options_.confirm_hits <= 1) t->state = TrackState::kConfirmed;
+    tracks_.push_back(std::move(t));
+    ++stats.born;
+  }
+  return stats;
+}
+
+std::vector<world::Track> Tracker::Tracks() const {
+  std::vector<world::Track> out;
+  for (const auto& t : tracks_) {
+    if (t->state == TrackState::kTentative) continue;
+    if (t->state == TrackState::kCoasting && SecondsBetween(t->last_seen, last_) > options_.report_coasting_s) continue;
+    world::Track w;
+    w.id = t->id;
+    w.cls = t->cls;
+    w.stamp = last_;
+    Vec4 x;
+    Mat4 p;
+    t->filter->Cartesian(x, p);
+    w.x_m = x(0), w.y_m = x(1), w.vx_mps = x(2), w.vy_mps = x(3);
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) w.covariance(r, c) = p(r, c);
+    w.state = t->state == TrackState::kConfirmed ? "confirmed" : "coasting";
+    w.motion_model = t->filter->name();
+    w.history.assign(t->history.begin(), t->history.end());
+    if (options_.prediction_horizon_s > 0) {
+      auto f = t->filter->Clone();
+      const double sigma_a = acceleration_noise_.count(t->cls) ? acceleration_noise_.at(t->cls)
+                                                               : acceleration_noise_.at("other");
+      for (double ahead = options_.prediction_step_s; ahead <= options_.prediction_horizon_s + 1e-9;
+           ahead += options_.prediction_step_s) {
+        f->Predict(options_.prediction_step_s, sigma_a, options_.turn_noise_rad_s2);
+        const Vec2 q = f->Position();
+        w.prediction.push_back({ahead, q.x(), q.y(), ToCv(f->PositionCovariance())});
+      }
+    }
+    out.push_back(std::move(w));
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
+  return out;
+}
+
+int Tracker::tentative_count() const {
+  return static_cast<int>(std::count_if(tracks_.begin(), tracks_.end(),
+                                        [](const auto& t) { return t->state == TrackState::kTentative; }));
+}
+
+}  // namespace specht::track
