@@ -166,7 +166,9 @@ TEST(TrackerTest, CrossingTargetsKeepTheirIds) {
 }
 
 TEST(TrackerTest, ClassIsTheVoteAndSetsTheModel) {
-  track::Tracker tracker({});
+  track::TrackerOptions o;
+  o.motion_model = "auto";  // ct for vehicles
+  track::Tracker tracker(o);
   for (int k = 0; k < 10; ++k) tracker.Update({Det(0.5 * k, 0, k == 4 ? "pedestrian" : "car")}, At(0.1 * k));
   ASSERT_EQ(tracker.Tracks().size(), 1u);
   EXPECT_EQ(tracker.Tracks()[0].cls, "car");
