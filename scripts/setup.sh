@@ -12,6 +12,7 @@ PACKAGES=(
   mrpt-apps          # rawlog-edit, icp-slam, graphslam-engine (comparisons in bench/)
   libceres-dev       # pose-graph optimisation
   liboctomap-dev     # 3D occupancy (OctoMap .bt) from stereo points
+  libtorch-dev       # trajectory classifier (1D ResNet, CPU)
   libopencv-dev      # images, PNG output, drawing
   libeigen3-dev
   zlib1g-dev         # reading gzip CARMEN logs

@@ -1,0 +1,31 @@
+// specht/classify/metrics.h: classification scores and the confusion matrix.
+//   precision_c = TP_c / (TP_c + FP_c),  recall_c = TP_c / (TP_c + FN_c)
+//   F1_c = 2 P R / (P + R)  (0 when undefined)
+//   macro F1 = mean over classes present in the truth; weighted F1 = Σ support_c F1_c / N
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace specht::classify {
+
+struct Scores {
+  std::vector<std::vector<long>> confusion;  // [truth][predicted]
+  std::vector<double> f1, precision, recall;
+  std::vector<long> support;
+  double macro_f1 = 0, weighted_f1 = 0, accuracy = 0;
+
+  nlohmann::json ToJson(const std::vector<std::string>& classes) const;
+};
+
+// Labels outside [0, classes) are ignored.
+Scores Score(const std::vector<int>& truth, const std::vector<int>& predicted, int classes);
+
+// The confusion matrix as a picture (rows: truth, columns: predicted; each row
+// normalised to its support, counts written in the cells), like the paper's Fig. 6.
+void WriteConfusionPng(const Scores& s, const std::vector<std::string>& classes, const std::string& title,
+                       const std::string& path);
+
+}  // namespace specht::classify

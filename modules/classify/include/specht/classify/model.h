@@ -1,0 +1,127 @@
+// specht/classify/model.h: the trajectory classifier, a 1D residual network
+// (Fawaz et al. 2019, as the vessel paper uses it) on libtorch (CPU).
+//
+// A residual block: three 1D convolutions (kernels 8, 5, 3, "same" padding), each
+// followed by batch norm and ReLU (the last ReLU after the sum), with a shortcut
+// (1×1 convolution + batch norm when the width changes):
+//   y = ReLU(BN(conv3(ReLU(BN(conv2(ReLU(BN(conv1(x))))))) + shortcut(x))
+// Variants (section "classify_model", variant):
+//   tiny     2 blocks of 32 filters             (~27 k parameters)
+//   shallow  3 blocks of 64, 128, 128 filters   (the paper's best; ~0.5 M)
+//   deep     9 blocks: 3 × 64, 6 × 128
+//   mlp      the paper's baseline: two hidden layers of 64 on the flattened window
+// then global average pooling over time and a linear layer to the classes.
+//
+// Training: Adam; the learning rate halves after plateau_patience epochs without a
+// lower validation loss; training stops after early_stop_patience such epochs and
+// the best epoch's weights are kept. Optional Gaussian input noise and inverse-
+// frequency class weights. Seeded: the same data, options and seed give the same
+// model on the same machine and thread count.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "specht/core/params.h"
+
+namespace specht::classify {
+
+// Section "classify_model".
+struct ModelOptions {
+  std::string variant = "shallow";
+  bool batch_norm = true;
+  int epochs = 100;
+  int batch_size = 64;
+  double learning_rate = 1e-3;
+  int plateau_patience = 10;
+  int early_stop_patience = 15;
+  double input_noise = 0.0;
+  bool class_weights = false;
+  int seed = 1;
+  int threads = 2;
+  double validation_fraction = 0.2;
+
+  template <class V>
+  void Visit(V& v) {
+    using params::Range;
+    v.Choice("variant", variant, {"tiny", "shallow", "deep", "mlp"}, "network (see classify/model.h)");
+    v.Param("batch_norm", batch_norm, "batch normalisation after each convolution");
+    v.Param("epochs", epochs, "maximum training epochs", Range::Of(1, 10000));
+    v.Param("batch_size", batch_size, "windows per optimiser step", Range::Of(1, 4096).Log());
+    v.Param("learning_rate", learning_rate, "Adam's initial learning rate", Range::Of(1e-6, 1.0).Log());
+    v.Param("plateau_patience", plateau_patience, "halve the rate after this many epochs without improvement",
+            Range::Of(1, 1000));
+    v.Param("early_stop_patience", early_stop_patience, "stop after this many epochs without improvement",
+            Range::Of(1, 1000));
+    v.Param("input_noise", input_noise, "σ of Gaussian noise added to training inputs (paper: 0.01)",
+            Range::Of(0.0, 1.0));
+    v.Param("class_weights", class_weights, "weight the loss by inverse class frequency");
+    v.Param("seed", seed, "random seed (weights, shuffling, noise, validation split)", Range::Of(0, 1 << 30).Fixed());
+    v.Param("threads", threads, "CPU threads for libtorch", Range::Of(1, 256).Fixed());
+    v.Param("validation_fraction", validation_fraction, "objects held out for validation (by object id)",
+            Range::Of(0.0, 0.9));
+  }
+};
+
+// Windows as a tensor: x is size × features × length, row-major.
+struct Dataset {
+  int features = 0, length = 0;
+  std::vector<float> x;
+  std::vector<int> y;                   // class index (−1 unknown)
+  std::vector<std::string> object_ids;  // one per window
+  size_t size() const { return y.size(); }
+  // The windows whose index is in `rows`.
+  Dataset Subset(const std::vector<size_t>& rows) const;
+};
+
+struct EpochReport {
+  int epoch = 0;
+  double train_loss = 0, validation_loss = 0, validation_macro_f1 = 0, learning_rate = 0;
+  double seconds = 0;
+};
+
+class Classifier {
+ public:
+  Classifier(const ModelOptions& options, int features, int length, std::vector<std::string> classes);
+  ~Classifier();
+  Classifier(Classifier&&) noexcept;
+  Classifier& operator=(Classifier&&) noexcept;
+
+  // Trains on `train`, selecting the epoch by `validation` (which may be empty:
+  // then the training loss decides). `on_epoch` is called after every epoch.
+  std::vector<EpochReport> Train(const Dataset& train, const Dataset& validation,
+                                 const std::function<void(const EpochReport&)>& on_epoch = nullptr);
+  // Class probabilities, size × classes, row-major (batched, no gradients).
+  std::vector<float> Predict(const Dataset& data, int batch_size = 256) const;
+  std::vector<int> PredictClasses(const Dataset& data) const;
+
+  // <path>.pt (weights, libtorch archive) and <path>.json (architecture, classes,
+  // `extra` such as the preprocessing). Load checks that both agree and throws
+  // InputError naming the file otherwise.
+  void Save(const std::string& path, const nlohmann::json& extra = {}) const;
+  static Classifier Load(const std::string& path, nlohmann::json* extra = nullptr);
+
+  const std::vector<std::string>& classes() const { return classes_; }
+  int features() const { return features_; }
+  int length() const { return length_; }
+  long parameter_count() const;
+  const ModelOptions& options() const { return options_; }
+
+ private:
+  struct Net;
+  ModelOptions options_;
+  int features_, length_;
+  std::vector<std::string> classes_;
+  std::shared_ptr<Net> net_;
+};
+
+// Splits window indices by object identity: an object's windows all go to one side.
+// Deterministic: by a hash of the id and the seed.
+void SplitByObject(const std::vector<std::string>& object_ids, double held_out_fraction, int seed,
+                   std::vector<size_t>& kept, std::vector<size_t>& held_out);
+
+}  // namespace specht::classify

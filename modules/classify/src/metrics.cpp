@@ -1,0 +1,85 @@
+#include "specht/classify/metrics.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <opencv2/imgproc.hpp>
+
+#include "specht/io/map_io.h"
+
+namespace specht::classify {
+
+Scores Score(const std::vector<int>& truth, const std::vector<int>& predicted, int k) {
+  Scores s;
+  s.confusion.assign(k, std::vector<long>(k, 0));
+  long n = 0, correct = 0;
+  for (size_t i = 0; i < truth.size() && i < predicted.size(); ++i) {
+    if (truth[i] < 0 || truth[i] >= k || predicted[i] < 0 || predicted[i] >= k) continue;
+    ++s.confusion[truth[i]][predicted[i]];
+    ++n;
+    correct += truth[i] == predicted[i];
+  }
+  s.f1.assign(k, 0), s.precision.assign(k, 0), s.recall.assign(k, 0), s.support.assign(k, 0);
+  int present = 0;
+  for (int c = 0; c < k; ++c) {
+    long tp = s.confusion[c][c], fp = 0, fn = 0;
+    for (int o = 0; o < k; ++o)
+      if (o != c) fp += s.confusion[o][c], fn += s.confusion[c][o];
+    s.support[c] = tp + fn;
+    s.precision[c] = tp + fp ? static_cast<double>(tp) / (tp + fp) : 0.0;
+    s.recall[c] = tp + fn ? static_cast<double>(tp) / (tp + fn) : 0.0;
+    const double pr = s.precision[c] + s.recall[c];
+    s.f1[c] = pr > 0 ? 2 * s.precision[c] * s.recall[c] / pr : 0.0;
+    if (s.support[c] > 0) {
+      ++present;
+      s.macro_f1 += s.f1[c];
+      s.weighted_f1 += s.f1[c] * s.support[c];
+    }
+  }
+  s.macro_f1 = present ? s.macro_f1 / present : 0.0;
+  s.weighted_f1 = n ? s.weighted_f1 / n : 0.0;
+  s.accuracy = n ? static_cast<double>(correct) / n : 0.0;
+  return s;
+}
+
+nlohmann::json Scores::ToJson(const std::vector<std::string>& classes) const {
+  nlohmann::json j = {{"macro_f1", macro_f1}, {"weighted_f1", weighted_f1}, {"accuracy", accuracy},
+                      {"confusion", confusion}, {"classes", classes}};
+  for (size_t c = 0; c < classes.size() && c < f1.size(); ++c)
+    j["per_class"][classes[c]] = {{"f1", f1[c]}, {"precision", precision[c]}, {"recall", recall[c]},
+                                  {"support", support[c]}};
+  return j;
+}
+
+void WriteConfusionPng(const Scores& s, const std::vector<std::string>& classes, const std::string& title,
+                       const std::string& path) {
+  const int k = static_cast<int>(classes.size()), cell = 90, left = 150, top = 70;
+  cv::Mat img(top + k * cell + 60, left + k * cell + 20, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::putText(img, title, {10, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  for (int r = 0; r < k; ++r) {
+    const double support = std::max<long>(1, s.support[r]);
+    for (int c = 0; c < k; ++c) {
+      const double f = s.confusion[r][c] / support;
+      const int shade = static_cast<int>(255 - 200 * f);
+      const cv::Rect box(left + c * cell, top + r * cell, cell, cell);
+      cv::rectangle(img, box, cv::Scalar(255, shade, shade), cv::FILLED);
+      cv::rectangle(img, box, cv::Scalar(120, 120, 120), 1);
+      char text[48];
+      std::snprintf(text, sizeof(text), "%.2f", f);
+      const cv::Scalar ink = f > 0.6 ? cv::Scalar(255, 255, 255) : cv::Scalar(0, 0, 0);
+      cv::putText(img, text, {box.x + 18, box.y + 40}, cv::FONT_HERSHEY_SIMPLEX, 0.6, ink, 1, cv::LINE_AA);
+      std::snprintf(text, sizeof(text), "(%ld)", s.confusion[r][c]);
+      cv::putText(img, text, {box.x + 18, box.y + 62}, cv::FONT_HERSHEY_SIMPLEX, 0.42, ink, 1, cv::LINE_AA);
+    }
+    cv::putText(img, classes[r], {8, top + r * cell + cell / 2 + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+  for (int c = 0; c < k; ++c)
+    cv::putText(img, classes[c].substr(0, 11), {left + c * cell + 4, top - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(img, "rows: truth, columns: predicted (fraction of the row, count)", {10, top + k * cell + 35},
+              cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+  io::WritePng(img, path);
+}
+
+}  // namespace specht::classify

@@ -1,0 +1,304 @@
+#include "specht/classify/model.h"
+
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <functional>
+
+#include "specht/classify/metrics.h"
+#include "specht/core/error.h"
+#include "specht/io/atomic_file.h"
+
+namespace specht::classify {
+namespace nn = torch::nn;
+
+namespace {
+
+struct ResBlockImpl : nn::Module {
+  nn::Conv1d c1{nullptr}, c2{nullptr}, c3{nullptr}, shortcut{nullptr};
+  nn::BatchNorm1d b1{nullptr}, b2{nullptr}, b3{nullptr}, bs{nullptr};
+  bool bn;
+  ResBlockImpl(int in, int out, bool batch_norm) : bn(batch_norm) {
+    auto conv = [&](const char* name, int i, int k) {
+      return register_module(name, nn::Conv1d(nn::Conv1dOptions(i, out, k).padding(torch::kSame)));
+    };
+    c1 = conv("c1", in, 8), c2 = conv("c2", out, 5), c3 = conv("c3", out, 3);
+    if (in != out) shortcut = register_module("shortcut", nn::Conv1d(nn::Conv1dOptions(in, out, 1)));
+    if (bn) {
+      b1 = register_module("b1", nn::BatchNorm1d(out));
+      b2 = register_module("b2", nn::BatchNorm1d(out));
+      b3 = register_module("b3", nn::BatchNorm1d(out));
+      bs = register_module("bs", nn::BatchNorm1d(out));
+    }
+  }
+  torch::Tensor Norm(nn::BatchNorm1d& b, const torch::Tensor& x) { return bn ? b(x) : x; }
+  torch::Tensor forward(const torch::Tensor& x) {
+    auto y = torch::relu(Norm(b1, c1(x)));
+    y = torch::relu(Norm(b2, c2(y)));
+    y = Norm(b3, c3(y));
+    const auto s = shortcut ? shortcut(x) : x;
+    return torch::relu(y + Norm(bs, s));
+  }
+};
+TORCH_MODULE(ResBlock);
+
+std::vector<int> Filters(const std::string& variant) {
+  if (variant == "tiny") return {32, 32};
+  if (variant == "shallow") return {64, 128, 128};
+  if (variant == "deep") return {64, 64, 64, 128, 128, 128, 128, 128, 128};
+  return {};
+}
+
+}  // namespace
+
+struct Classifier::Net : nn::Module {
+  std::vector<ResBlock> blocks;
+  nn::Linear head{nullptr}, h1{nullptr}, h2{nullptr};
+  Net(const ModelOptions& o, int features, int length, int classes) {
+    int width = features;
+    for (int f : Filters(o.variant)) {
+      blocks.push_back(register_module("block" + std::to_string(blocks.size()), ResBlock(width, f, o.batch_norm)));
+      width = f;
+    }
+    if (blocks.empty()) {  // mlp
+      h1 = register_module("h1", nn::Linear(features * length, 64));
+      h2 = register_module("h2", nn::Linear(64, 64));
+      width = 64;
+    }
+    head = register_module("head", nn::Linear(width, classes));
+  }
+  torch::Tensor forward(torch::Tensor x) {
+    if (blocks.empty()) {
+      x = torch::relu(h1(x.flatten(1)));
+      return head(torch::relu(h2(x)));
+    }
+    for (auto& b : blocks) x = b(x);
+    return head(x.mean(2));  // global average pooling over time
+  }
+};
+
+Dataset Dataset::Subset(const std::vector<size_t>& rows) const {
+  Dataset d;
+  d.features = features, d.length = length;
+  const size_t stride = static_cast<size_t>(features) * length;
+  d.x.reserve(rows.size() * stride);
+  for (size_t r : rows) {
+    d.x.insert(d.x.end(), x.begin() + r * stride, x.begin() + (r + 1) * stride);
+    d.y.push_back(y[r]);
+    d.object_ids.push_back(object_ids[r]);
+  }
+  return d;
+}
+
+void SplitByObject(const std::vector<std::string>& ids, double fraction, int seed, std::vector<size_t>& kept,
+                   std::vector<size_t>& held_out) {
+  kept.clear(), held_out.clear();
+  for (size_t i = 0; i < ids.size(); ++i) {
+    // FNV-1a of seed and id: stable across runs and platforms (std::hash is not).
+    uint64_t h = 1469598103934665603ULL ^ static_cast<uint64_t>(seed);
+    for (unsigned char c : ids[i]) h = (h ^ c) * 1099511628211ULL;
+    ((h % 1000003) / 1000003.0 < fraction ? held_out : kept).push_back(i);
+  }
+}
+
+Classifier::Classifier(const ModelOptions& options, int features, int length, std::vector<std::string> classes)
+    : options_(options), features_(features), length_(length), classes_(std::move(classes)) {
+  if (features < 1 || length < 1 || classes_.size() < 2)
+    throw InputError("classify: a model needs features, a window length and at least two classes");
+  torch::set_num_threads(options.threads);
+  torch::manual_seed(options.seed);
+  net_ = std::make_shared<Net>(options, features, length, static_cast<int>(classes_.size()));
+}
+Classifier::~Classifier() = default;
+Classifier::Classifier(Classifier&&) noexcept = default;
+Classifier& Classifier::operator=(Classifier&&) noexcept = default;
+
+long Classifier::parameter_count() const {
+  long n = 0;
+  for (const auto& p : net_->parameters()) n += p.numel();
+  return n;
+}
+
+namespace {
+
+torch::Tensor Inputs(const Dataset& d, const std::vector<int64_t>& rows) {
+  const int64_t stride = static_cast<int64_t>(d.features) * d.length;
+  auto t = torch::empty({static_cast<int64_t>(rows.size()), d.features, d.length});
+  float* out = t.data_ptr<float>();
+  for (size_t i = 0; i < rows.size(); ++i) std::copy_n(d.x.data() + rows[i] * stride, stride, out + i * stride);
+  return t;
+}
+
+void CheckShape(const Dataset& d, int features, int length, const char* what) {
+  if (d.features != features || d.length != length)
+    throw InputError(std::string("classify: ") + what + " has windows of " + std::to_string(d.features) + " × " +
+                     std::to_string(d.length) + ", the model takes " + std::to_string(features) + " × " +
+                     std::to_string(length));
+  if (d.x.size() != d.size() * static_cast<size_t>(features) * length)
+    throw InputError(std::string("classify: ") + what + ": data and labels disagree in size");
+}
+
+}  // namespace
+
+std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& validation,
+                                           const std::function<void(const EpochReport&)>& on_epoch) {
+  CheckShape(train, features_, length_, "the training set");
+  if (validation.size()) CheckShape(validation, features_, length_, "the validation set");
+  if (train.size() == 0) throw InputError("classify: the training set is empty");
+  const int k = static_cast<int>(classes_.size());
+  for (int y : train.y)
+    if (y < 0 || y >= k) throw InputError("classify: a training label is outside the model's classes");
+  torch::set_num_threads(options_.threads);
+  torch::manual_seed(options_.seed);
+
+  std::vector<double> weights(k, 1.0);
+  if (options_.class_weights) {
+    std::vector<double> counts(k, 0);
+    for (int y : train.y) counts[y] += 1;
+    for (int c = 0; c < k; ++c) weights[c] = counts[c] > 0 ? train.size() / (k * counts[c]) : 0.0;
+  }
+  const auto weight = torch::tensor(std::vector<float>(weights.begin(), weights.end()));
+  torch::optim::Adam optimiser(net_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
+  double lr = options_.learning_rate;
+
+  std::vector<EpochReport> reports;
+  double best = std::numeric_limits<double>::infinity();
+  int since_best = 0, since_lr = 0;
+  std::stringstream best_state;
+  torch::save(net_, best_state);
+  const auto labels_all = torch::tensor(std::vector<int64_t>(train.y.begin(), train.y.end()));
+  for (int epoch = 1; epoch <= options_.epochs; ++epoch) {
+    const auto t0 = std::chrono::steady_clock::now();
+    net_->train();
+    const auto order = torch::randperm(static_cast<int64_t>(train.size()), torch::kLong);
+    const int64_t* idx = order.data_ptr<int64_t>();
+    double loss_sum = 0;
+    for (size_t start = 0; start < train.size(); start += options_.batch_size) {
+      const size_t end = std::min(train.size(), start + options_.batch_size);
+      if (end - start < 2 && options_.batch_norm && start > 0) break;  // batch norm needs two windows
+      std::vector<int64_t> rows(idx + start, idx + end);
+      auto x = Inputs(train, rows);
+      if (options_.input_noise > 0) x = x + options_.input_noise * torch::randn_like(x);
+      const auto target = labels_all.index_select(0, torch::tensor(rows));
+      optimiser.zero_grad();
+      const auto loss = torch::nn::functional::cross_entropy(
+          net_->forward(x), target, torch::nn::functional::CrossEntropyFuncOptions().weight(weight));
+      loss.backward();
+      optimiser.step();
+      loss_sum += loss.item<double>() * static_cast<double>(end - start);
+    }
+    EpochReport r;
+    r.epoch = epoch;
+    r.train_loss = loss_sum / train.size();
+    r.learning_rate = lr;
+    double score = r.train_loss;
+    if (validation.size()) {
+      const std::vector<float> p = Predict(validation);
+      double nll = 0;
+      std::vector<int> predicted(validation.size());
+      for (size_t i = 0; i < validation.size(); ++i) {
+        const float* row = p.data() + i * k;
+        predicted[i] = static_cast<int>(std::max_element(row, row + k) - row);
+        nll -= std::log(std::max(1e-12f, row[std::clamp(validation.y[i], 0, k - 1)]));
+      }
+      r.validation_loss = nll / validation.size();
+      r.validation_macro_f1 = Score(validation.y, predicted, k).macro_f1;
+      score = r.validation_loss;
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    reports.push_back(r);
+    if (on_epoch) on_epoch(r);
+    if (score < best - 1e-6) {
+      best = score, since_best = 0, since_lr = 0;
+      best_state.str("");
+      torch::save(net_, best_state);
+    } else {
+      ++since_best, ++since_lr;
+      if (since_lr >= options_.plateau_patience) {
+        lr /= 2, since_lr = 0;
+        for (auto& g : optimiser.param_groups()) static_cast<torch::optim::AdamOptions&>(g.options()).lr(lr);
+      }
+      if (since_best >= options_.early_stop_patience) break;
+    }
+  }
+  best_state.seekg(0);
+  torch::load(net_, best_state);
+  return reports;
+}
+
+std::vector<float> Classifier::Predict(const Dataset& data, int batch_size) const {
+  CheckShape(data, features_, length_, "the input");
+  torch::set_num_threads(options_.threads);
+  torch::NoGradGuard no_grad;
+  net_->eval();
+  const int k = static_cast<int>(classes_.size());
+  std::vector<float> out(data.size() * k);
+  for (size_t start = 0; start < data.size(); start += batch_size) {
+    const size_t end = std::min(data.size(), start + batch_size);
+    std::vector<int64_t> rows(end - start);
+    for (size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<int64_t>(start + i);
+    const auto p = torch::softmax(net_->forward(Inputs(data, rows)), 1).contiguous();
+    std::copy_n(p.data_ptr<float>(), p.numel(), out.data() + start * k);
+  }
+  return out;
+}
+
+std::vector<int> Classifier::PredictClasses(const Dataset& data) const {
+  const std::vector<float> p = Predict(data);
+  const int k = static_cast<int>(classes_.size());
+  std::vector<int> out(data.size());
+  for (size_t i = 0; i < data.size(); ++i)
+    out[i] = static_cast<int>(std::max_element(p.begin() + i * k, p.begin() + (i + 1) * k) - (p.begin() + i * k));
+  return out;
+}
+
+void Classifier::Save(const std::string& path, const nlohmann::json& extra) const {
+  std::stringstream weights;
+  torch::save(net_, weights);
+  io::WriteTextAtomically(path + ".pt", weights.str());
+  nlohmann::json meta = {{"format", "specht-classifier-1"},
+                         {"variant", options_.variant},
+                         {"batch_norm", options_.batch_norm},
+                         {"features", features_},
+                         {"length", length_},
+                         {"classes", classes_},
+                         {"parameters", parameter_count()},
+                         {"extra", extra}};
+  io::WriteTextAtomically(path + ".json", meta.dump(2) + "\n");
+}
+
+Classifier Classifier::Load(const std::string& path, nlohmann::json* extra) {
+  std::ifstream f(path + ".json");
+  if (!f) throw InputError(path + ".json: cannot open (a model is <name>.json + <name>.pt)");
+  nlohmann::json meta;
+  try {
+    f >> meta;
+  } catch (const std::exception& e) {
+    throw InputError(path + ".json: not JSON: " + e.what());
+  }
+  if (meta.value("format", "") != "specht-classifier-1") throw InputError(path + ".json: not a specht classifier");
+  ModelOptions o;
+  try {
+    o.variant = meta.at("variant").get<std::string>();
+    o.batch_norm = meta.at("batch_norm").get<bool>();
+    Classifier c(o, meta.at("features").get<int>(), meta.at("length").get<int>(),
+                 meta.at("classes").get<std::vector<std::string>>());
+    if (Filters(o.variant).empty() && o.variant != "mlp") throw InputError(path + ".json: unknown variant " + o.variant);
+    std::ifstream w(path + ".pt", std::ios::binary);
+    if (!w) throw InputError(path + ".pt: cannot open");
+    torch::load(c.net_, w);
+    if (extra) *extra = meta.value("extra", nlohmann::json{});
+    return c;
+  } catch (const InputError&) {
+    throw;
+  } catch (const c10::Error& e) {
+    throw InputError(path + ".pt: weights do not fit the architecture in " + path + ".json (" +
+                     std::string(e.what_without_backtrace()).substr(0, 200) + ")");
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ".json: " + e.what());
+  }
+}
+
+}  // namespace specht::classify

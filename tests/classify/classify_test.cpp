@@ -1,0 +1,258 @@
+// Trajectory preprocessing against hand-made trajectories with known answers (issue
+// acceptance 3), scores, and the 1D ResNet: it learns a separable toy problem, saves
+// and reloads to identical predictions, trains reproducibly, refuses mismatched
+// models and inputs.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "specht/classify/baseline.h"
+#include "specht/classify/map_features.h"
+#include "specht/classify/metrics.h"
+#include "specht/classify/model.h"
+#include "specht/classify/preprocess.h"
+#include "specht/core/error.h"
+#include "test_support.h"
+
+namespace specht::classify {
+namespace {
+
+Trajectory Line(const std::string& id, int n, double dt, double vx, double vy, double t0 = 0) {
+  Trajectory t{id, "car", {}};
+  for (int i = 0; i < n; ++i) t.points.push_back({t0 + i * dt, vx * i * dt, vy * i * dt});
+  return t;
+}
+
+TEST(PreprocessTest, SplitsAtTimeGapsAndJumps) {
+  PreprocessOptions o;
+  o.max_gap_s = 1.0;
+  o.max_jump_sq = 4.0;  // 2 m
+  Trajectory t = Line("a", 10, 0.1, 1, 0);
+  t.points[5].t_s += 5;  // a 5 s gap before sample 5 …
+  for (size_t i = 6; i < t.points.size(); ++i) t.points[i].t_s += 5;
+  t.points[8].x += 3;  // … and a 3 m jump before sample 8 (and back after it)
+  const auto pieces = Split(t, o);
+  ASSERT_EQ(pieces.size(), 4u);
+  EXPECT_EQ(pieces[0].points.size(), 5u);
+  EXPECT_EQ(pieces[1].points.size(), 3u);
+  EXPECT_EQ(pieces[2].points.size(), 1u);
+  EXPECT_EQ(pieces[3].points.size(), 1u);
+}
+
+TEST(PreprocessTest, ChunksWithTheEightyPercentRule) {
+  PreprocessOptions o;
+  o.length = 10;
+  o.min_fill = 0.8;
+  auto w = Chunk(Line("a", 28, 0.1, 1, 0), o);  // 10 + 10 + 8 (kept: 8 ≥ 8)
+  ASSERT_EQ(w.size(), 3u);
+  EXPECT_EQ(w[2].valid, 8);
+  EXPECT_DOUBLE_EQ(w[1].t0_s, 1.0);
+  w = Chunk(Line("a", 27, 0.1, 1, 0), o);  // leftover 7 < 8: dropped
+  EXPECT_EQ(w.size(), 2u);
+  // The padded window: zeros after the valid points in every feature.
+  o.features = {"x", "speed"};
+  const auto f = Features(Chunk(Line("a", 28, 0.1, 1, 0), o)[2], o, {});
+  ASSERT_EQ(f.size(), 20u);
+  EXPECT_GT(f[7], 0.9f);  // x at the last valid point: 1 after local min-max
+  EXPECT_EQ(f[8], 0.0f);
+  EXPECT_EQ(f[9], 0.0f);
+  EXPECT_EQ(f[19], 0.0f);
+}
+
+TEST(PreprocessTest, StationaryFilterUsesMeanStepLength) {
+  // 5 points 1 m apart: Σ|ΔP| = 4, n = 5 → α = 0.8.
+  EXPECT_DOUBLE_EQ(MeanStepLength(Line("a", 5, 1, 1, 0).points), 0.8);
+  PreprocessOptions o;
+  o.length = 5;
+  o.stationary_threshold = 0.5;
+  std::map<std::string, std::map<std::string, long>> counts;
+  auto parked = Line("p", 5, 1, 0.01, 0);
+  parked.label = "parked";
+  const auto w = MakeWindows({Line("a", 5, 1, 1, 0), parked}, o, &counts);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].object_id, "a");
+  EXPECT_EQ(counts["chunked"]["parked"], 1);
+  EXPECT_EQ(counts["moving"].count("parked"), 0u);
+}
+
+TEST(PreprocessTest, PositionTransforms) {
+  std::vector<TrajectoryPoint> p = {{0, 10, 20}, {1, 11, 21}, {2, 12, 22}};
+  RelativeToFirst(p);
+  EXPECT_DOUBLE_EQ(p[0].x, 0);
+  EXPECT_DOUBLE_EQ(p[2].x, 2);
+  EXPECT_DOUBLE_EQ(p[2].y, 2);
+  RotateToZero(p);  // the last point onto +x: (2√2, 0)
+  EXPECT_NEAR(p[2].x, 2 * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(p[2].y, 0, 1e-12);
+  EXPECT_NEAR(p[1].x, std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(p[1].y, 0, 1e-12);
+  std::vector<TrajectoryPoint> loop = {{0, 0, 0}, {1, 1, 1}, {2, 0, 0}};  // round trip: unchanged
+  RotateToZero(loop);
+  EXPECT_DOUBLE_EQ(loop[1].x, 1);
+}
+
+TEST(PreprocessTest, NormalisationLocalGlobalAndFixedBounds) {
+  PreprocessOptions o;
+  o.length = 5;
+  o.features = {"x", "y", "dt", "speed", "course", "dist_static"};
+  o.max_gap_s = 2.0;
+  o.max_speed = 4.0;
+  o.static_cap = 10;
+  const auto w = Chunk(Line("a", 5, 0.5, 2, 0), o)[0];  // x 0..4, speed 2 m/s, dt 0.5, course 0
+  MapFeatures map;
+  map.distance_to_static = [](double x, double) { return 5.0 + x; };
+  auto f = Features(w, o, map);
+  EXPECT_FLOAT_EQ(f[0 * 5 + 4], 1.0f);   // local: x max → 1
+  EXPECT_FLOAT_EQ(f[0 * 5 + 2], 0.5f);
+  EXPECT_FLOAT_EQ(f[1 * 5 + 3], 0.0f);   // y constant → 0
+  EXPECT_FLOAT_EQ(f[2 * 5 + 1], 0.25f);  // dt 0.5 / 2
+  EXPECT_FLOAT_EQ(f[3 * 5 + 2], 0.5f);   // speed 2 / 4
+  EXPECT_FLOAT_EQ(f[4 * 5 + 2], 0.0f);   // course 0
+  EXPECT_FLOAT_EQ(f[5 * 5 + 0], 0.5f);   // distance 5 / 10
+  EXPECT_FLOAT_EQ(f[5 * 5 + 4], 0.9f);   // 9 / 10
+  o.normalisation = "global";
+  const PositionBounds b{0, 8, -1, 1};
+  f = Features(w, o, map, b);
+  EXPECT_FLOAT_EQ(f[4], 0.5f);       // 4 in [0, 8]
+  EXPECT_FLOAT_EQ(f[5 + 4], 0.5f);   // 0 in [−1, 1]
+  const auto fitted = FitPositionBounds({w}, o);
+  EXPECT_DOUBLE_EQ(fitted.max_x, 4);
+}
+
+TEST(PreprocessTest, BadTrajectories) {
+  PreprocessOptions o;
+  Trajectory t = Line("obj-7", 5, 0.1, 1, 0);
+  t.points[3].x = std::nan("");
+  try {
+    Split(t, o);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("obj-7: sample 3"), std::string::npos);
+  }
+  t = Line("obj-8", 5, 0.1, 1, 0);
+  t.points[2].t_s = -1;
+  EXPECT_THROW(Split(t, o), InputError);
+  EXPECT_TRUE(MakeWindows({Trajectory{"empty", "car", {}}}, o).empty());
+  o.features = {"x", "colour"};
+  EXPECT_EQ(o.Relations().size(), 1u);
+}
+
+TEST(MapFeaturesTest, DistanceTransformOfGrid) {
+  cv::Mat occupied = cv::Mat::zeros(100, 100, CV_8U);
+  occupied.col(0).setTo(1);  // a wall along x = 0 (cells of 0.1 m from origin −0.05)
+  const auto f = GridMapFeatures(occupied, -0.05, 0, 0.1, {{5, 5}});
+  EXPECT_NEAR(f.distance_to_static(3.0, 5.0), 3.0, 0.11);
+  EXPECT_NEAR(f.distance_to_poi(5, 8), 3.0, 1e-12);
+}
+
+TEST(MetricsTest, F1ByHand) {
+  // truth   0 0 0 1 1 2
+  // predict 0 0 1 1 1 0
+  const auto s = Score({0, 0, 0, 1, 1, 2}, {0, 0, 1, 1, 1, 0}, 3);
+  EXPECT_NEAR(s.f1[0], 2 * (2.0 / 3) * (2.0 / 3) / (4.0 / 3), 1e-12);  // P 2/3, R 2/3
+  EXPECT_NEAR(s.f1[1], 0.8, 1e-12);                                    // P 2/3, R 1
+  EXPECT_NEAR(s.f1[2], 0.0, 1e-12);
+  EXPECT_NEAR(s.macro_f1, (2.0 / 3 + 0.8) / 3, 1e-12);
+  EXPECT_NEAR(s.weighted_f1, (3 * 2.0 / 3 + 2 * 0.8) / 6, 1e-12);
+  EXPECT_EQ(s.confusion[2][0], 1);
+}
+
+// Two classes that differ only in how they move (straight vs. weaving), with the
+// same speed range: learnable from the sequence, not from one point.
+Dataset ToyDataset(int per_class, int seed, std::vector<std::string>* ids = nullptr) {
+  PreprocessOptions o;
+  o.length = 32;
+  o.features = {"x", "y", "speed", "turn_rate"};
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> speed(1, 3), phase(0, 6.28);
+  Dataset d;
+  d.features = 4, d.length = 32;
+  for (int i = 0; i < 2 * per_class; ++i) {
+    const int cls = i % 2;
+    const double v = speed(rng), ph = phase(rng);
+    Trajectory t{"obj" + std::to_string(seed) + "_" + std::to_string(i), "", {}};
+    double x = 0, y = 0, h = ph;
+    for (int k = 0; k < 32; ++k) {
+      h += cls ? 0.5 * std::sin(k * 0.8) : 0.0;
+      x += v * 0.1 * std::cos(h), y += v * 0.1 * std::sin(h);
+      t.points.push_back({0.1 * k, x, y});
+    }
+    const auto w = Chunk(t, o);
+    const auto f = Features(w[0], o, {});
+    d.x.insert(d.x.end(), f.begin(), f.end());
+    d.y.push_back(cls);
+    d.object_ids.push_back(t.object_id);
+  }
+  return d;
+}
+
+ModelOptions Small() {
+  ModelOptions o;
+  o.variant = "tiny";
+  o.epochs = 8;
+  o.batch_size = 32;
+  o.learning_rate = 3e-3;
+  o.threads = 1;
+  return o;
+}
+
+TEST(ModelTest, LearnsAToyProblemAndReloadsIdentically) {
+  const Dataset train = ToyDataset(100, 1), test = ToyDataset(50, 2);
+  Classifier c(Small(), 4, 32, {"straight", "weaving"});
+  EXPECT_GT(c.parameter_count(), 10000);
+  const auto reports = c.Train(train, test);
+  ASSERT_FALSE(reports.empty());
+  const Scores s = Score(test.y, c.PredictClasses(test), 2);
+  EXPECT_GT(s.macro_f1, 0.95);
+  const std::string dir = testing::TempDir("model");
+  c.Save(dir + "/m", {{"note", "toy"}});
+  nlohmann::json extra;
+  const Classifier back = Classifier::Load(dir + "/m", &extra);
+  EXPECT_EQ(extra["note"], "toy");
+  EXPECT_EQ(back.Predict(test), c.Predict(test));  // bit-identical
+}
+
+TEST(ModelTest, SameSeedSameModel) {
+  const Dataset train = ToyDataset(40, 3);
+  auto o = Small();
+  o.epochs = 2;
+  Classifier a(o, 4, 32, {"s", "w"}), b(o, 4, 32, {"s", "w"});
+  a.Train(train, {});
+  b.Train(train, {});
+  EXPECT_EQ(a.Predict(train), b.Predict(train));
+}
+
+TEST(ModelTest, RefusesMismatchedModelsAndInputs) {
+  const std::string dir = testing::TempDir("model_bad");
+  Classifier c(Small(), 4, 32, {"s", "w"});
+  c.Save(dir + "/m");
+  const Dataset wrong = ToyDataset(2, 1);
+  Dataset five = wrong;
+  five.features = 5;
+  EXPECT_THROW(c.Predict(five), InputError);
+  // The weights of a tiny model under a json that says shallow.
+  std::string meta = testing::ReadFile(dir + "/m.json");
+  meta.replace(meta.find("\"tiny\""), 6, "\"shallow\"");
+  testing::WriteFile(dir + "/m.json", meta);
+  EXPECT_THROW(Classifier::Load(dir + "/m"), InputError);
+  testing::WriteFile(dir + "/m.json", "{not json");
+  EXPECT_THROW(Classifier::Load(dir + "/m"), InputError);
+  EXPECT_THROW(Classifier::Load(dir + "/missing"), InputError);
+  EXPECT_THROW(Classifier(Small(), 4, 32, {"only"}), InputError);
+}
+
+TEST(SplitTest, DisjointByObject) {
+  std::vector<std::string> ids;
+  for (int i = 0; i < 200; ++i) ids.push_back("obj" + std::to_string(i / 4));  // 4 windows per object
+  std::vector<size_t> kept, held;
+  SplitByObject(ids, 0.25, 1, kept, held);
+  std::set<std::string> a, b;
+  for (size_t i : kept) a.insert(ids[i]);
+  for (size_t i : held) b.insert(ids[i]);
+  for (const auto& id : b) EXPECT_EQ(a.count(id), 0u);
+  EXPECT_NEAR(static_cast<double>(held.size()) / ids.size(), 0.25, 0.12);
+}
+
+}  // namespace
+}  // namespace specht::classify
