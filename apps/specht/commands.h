@@ -15,5 +15,6 @@ void AddSimCommand(CLI::App& app, int& exit_code);
 void AddStereoCommand(CLI::App& app, int& exit_code);
 void AddDetectCommand(CLI::App& app, int& exit_code);
 void AddTrackCommand(CLI::App& app, int& exit_code);
+void AddClassifyCommand(CLI::App& app, int& exit_code);
 
 }  // namespace specht::app

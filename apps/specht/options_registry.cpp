@@ -10,6 +10,8 @@
 #include "specht/slam/scan_matching.h"
 #include "specht/stereo/point_cloud.h"
 #include "specht/stereo/sgm.h"
+#include "specht/classify/model.h"
+#include "specht/classify/preprocess.h"
 #include "specht/track/synthetic_detections.h"
 #include "specht/track/tracker.h"
 #include "specht/world/world_model.h"
@@ -34,6 +36,8 @@ const params::Registry& AllOptions() {
     r.Add<world::WorldModelOptions>("world", "the shared world model: obstacle lifetime, footprint, cost layer");
     r.Add<track::TrackerOptions>("track", "multi-object tracker: motion models, gating, lifecycle");
     r.Add<track::SyntheticDetectionOptions>("synthetic_detections", "simulated detections for tracking on synthetic scenes");
+    r.Add<classify::PreprocessOptions>("classify", "trajectory preprocessing: segmentation, windows, features");
+    r.Add<classify::ModelOptions>("classify_model", "trajectory classifier: 1D ResNet variant and training");
     return r;
   }();
   return registry;
@@ -48,6 +52,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"detect.yaml", {"detect", "fusion"}},
       {"world.yaml", {"world"}},
       {"track.yaml", {"track", "synthetic_detections"}},
+      {"classify.yaml", {"classify", "classify_model"}},
   };
   return files;
 }

@@ -91,4 +91,17 @@ std::vector<int> ForestBaseline::Predict(const std::vector<float>& x) const {
   return out;
 }
 
+void ForestBaseline::Save(const std::string& path) const { forest_->save(path); }
+
+ForestBaseline ForestBaseline::Load(const std::string& path) {
+  ForestBaseline f;
+  try {
+    f.forest_ = cv::ml::RTrees::load(path);
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": not an OpenCV RTrees model (" + e.msg + ")");
+  }
+  if (!f.forest_ || !f.forest_->isTrained()) throw InputError(path + ": not a trained OpenCV RTrees model");
+  return f;
+}
+
 }  // namespace specht::classify

@@ -29,6 +29,9 @@ class ForestBaseline {
   // x: size × HandcraftedFeatureCount(), row-major.
   void Train(const std::vector<float>& x, const std::vector<int>& y);
   std::vector<int> Predict(const std::vector<float>& x) const;
+  // OpenCV's own YAML model file.
+  void Save(const std::string& path) const;
+  static ForestBaseline Load(const std::string& path);  // InputError when unreadable
 
  private:
   int trees_, max_depth_, seed_;

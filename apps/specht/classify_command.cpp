@@ -1,0 +1,235 @@
+// `specht classify prepare|train|eval`: the trajectory classifier (classify module).
+//   prepare <tracks.csv>... [--scenario S.yaml]... -o DIR
+//       object tracks (io/object_tracks.h; label = truth_class, else class) →
+//       windows (section "classify"), with map features from the scenario whose name
+//       is the second part of the track id ("s3/urban-crossing/t7": its true static
+//       grid and parking bays as points of interest); writes dataset_io.h's files
+//       and the class counts after each step.
+//   train <dataset> -o DIR    the 1D ResNet (section "classify_model") with a held-out
+//       validation split by object, and the random-forest baseline on the same split;
+//       progress per epoch; writes model.pt/.json, forest.yml, training.csv.
+//   eval <model dir> <dataset> -o DIR   macro/weighted/per-class F1 of both, confusion
+//       matrices as PNG, inference rate.
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "commands.h"
+#include "run_setup.h"
+#include "specht/classify/baseline.h"
+#include "specht/classify/dataset_io.h"
+#include "specht/classify/map_features.h"
+#include "specht/classify/metrics.h"
+#include "specht/classify/model.h"
+#include "specht/core/error.h"
+#include "specht/core/progress.h"
+#include "specht/io/atomic_file.h"
+#include "specht/io/object_tracks.h"
+#include "specht/io/report.h"
+#include "specht/sim/world.h"
+
+namespace specht::app {
+namespace {
+
+struct ClassifyArgs {
+  CommonArgs common;
+  std::vector<std::string> inputs, scenarios;
+  std::string model_dir, dataset;
+};
+
+std::map<std::string, classify::MapFeatures> ScenarioMaps(const std::vector<std::string>& paths) {
+  std::map<std::string, classify::MapFeatures> maps;
+  for (const auto& path : paths) {
+    const sim::Scenario s = sim::LoadScenario(path);
+    const auto grid = sim::World(s).TrueGrid(0.1);
+    cv::Mat occupied(grid.getSizeY(), grid.getSizeX(), CV_8U);
+    for (unsigned r = 0; r < grid.getSizeY(); ++r)
+      for (unsigned c = 0; c < grid.getSizeX(); ++c) occupied.at<uint8_t>(r, c) = grid.getCell(c, r) < 0.5f;
+    std::vector<cv::Point2d> pois;
+    for (const auto& bay : s.bays) pois.push_back({bay.pose.x, bay.pose.y});
+    maps[s.name] = classify::GridMapFeatures(occupied, grid.getXMin(), grid.getYMin(), grid.getResolution(), pois);
+  }
+  return maps;
+}
+
+std::string ScenarioOf(const std::string& id) {
+  const size_t a = id.find('/'), b = a == std::string::npos ? a : id.find('/', a + 1);
+  return b == std::string::npos ? "" : id.substr(a + 1, b - a - 1);
+}
+
+int RunPrepare(const ClassifyArgs& a) {
+  const params::Params params = LoadParams(a.common);
+  const auto& o = params.Get<classify::PreprocessOptions>("classify");
+  const auto maps = ScenarioMaps(a.scenarios);
+  std::map<std::string, classify::Trajectory> by_id;
+  for (const auto& path : a.inputs)
+    for (const auto& s : io::ReadObjectTracks(path)) {
+      auto& t = by_id[s.id];
+      t.object_id = s.id;
+      t.label = s.truth_cls.empty() ? s.cls : s.truth_cls;
+      t.points.push_back({s.t_s, s.x_m, s.y_m});
+    }
+  std::vector<classify::Trajectory> trajectories;
+  for (auto& [id, t] : by_id) {
+    if (t.label.empty() || t.label == "none") continue;
+    std::stable_sort(t.points.begin(), t.points.end(), [](auto& p, auto& q) { return p.t_s < q.t_s; });
+    trajectories.push_back(std::move(t));
+  }
+  PrepareOutputDir(a.common, params);
+  std::map<std::string, std::map<std::string, long>> counts;
+  const auto windows = classify::MakeWindows(trajectories, o, &counts);
+  if (windows.empty()) throw InputError("classify prepare: no window survived preprocessing");
+  const classify::PositionBounds bounds = classify::FitPositionBounds(windows, o);
+  std::set<std::string> class_set;
+  for (const auto& w : windows) class_set.insert(w.label);
+  classify::PreparedDataset d;
+  d.classes.assign(class_set.begin(), class_set.end());
+  d.windows.features = static_cast<int>(o.features.size());
+  d.windows.length = o.length;
+  const classify::MapFeatures none;
+  for (const auto& w : windows) {
+    const auto m = maps.find(ScenarioOf(w.object_id));
+    const classify::MapFeatures& map = m == maps.end() ? none : m->second;
+    const auto f = classify::Features(w, o, map, bounds);
+    d.windows.x.insert(d.windows.x.end(), f.begin(), f.end());
+    const auto h = classify::HandcraftedFeatures(w, map);
+    d.handcrafted.insert(d.handcrafted.end(), h.begin(), h.end());
+    d.windows.y.push_back(static_cast<int>(std::find(d.classes.begin(), d.classes.end(), w.label) - d.classes.begin()));
+    d.windows.object_ids.push_back(w.object_id);
+    d.labels.push_back(w.label);
+  }
+  d.info = {{"features", o.features}, {"length", o.length}, {"counts", counts}, {"transform", o.transform},
+            {"normalisation", o.normalisation},
+            {"position_bounds", {bounds.min_x, bounds.max_x, bounds.min_y, bounds.max_y}},
+            {"with_map", !maps.empty()}};
+  classify::WritePrepared(d, a.common.out_dir);
+  std::printf("classify prepare: %zu trajectories → %zu windows of %d × %d\n", trajectories.size(), windows.size(),
+              d.windows.features, o.length);
+  for (const auto& [step, per_class] : counts) {
+    std::printf("  %-8s", step.c_str());
+    for (const auto& [cls, n] : per_class) std::printf("  %s %ld", cls.c_str(), n);
+    std::printf("\n");
+  }
+  return 0;
+}
+
+int RunTrain(const ClassifyArgs& a) {
+  const params::Params params = LoadParams(a.common);
+  const auto& o = params.Get<classify::ModelOptions>("classify_model");
+  const classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
+  std::vector<size_t> train_rows, val_rows;
+  classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
+  const classify::Dataset train = d.windows.Subset(train_rows), val = d.windows.Subset(val_rows);
+  PrepareOutputDir(a.common, params);
+  const std::string& out = a.common.out_dir;
+
+  classify::Classifier model(o, d.windows.features, d.windows.length, d.classes);
+  ProgressLine progress("classify train", "epochs", !a.common.quiet, 0.0);
+  std::string log = "epoch,train_loss,validation_loss,validation_macro_f1,learning_rate,seconds\n";
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto reports = model.Train(train, val, [&](const classify::EpochReport& r) {
+    char line[160], note[120];
+    std::snprintf(line, sizeof(line), "%d,%.5f,%.5f,%.4f,%.2e,%.2f\n", r.epoch, r.train_loss, r.validation_loss,
+                  r.validation_macro_f1, r.learning_rate, r.seconds);
+    log += line;
+    std::snprintf(note, sizeof(note), "loss %.4f val loss %.4f val F1 %.3f", r.train_loss, r.validation_loss,
+                  r.validation_macro_f1);
+    progress.Update(r.epoch, static_cast<double>(r.epoch) / o.epochs, note);
+  });
+  const double train_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.Finish();
+  model.Save(out + "/model", d.info);
+  io::WriteTextAtomically(out + "/training.csv", log);
+
+  auto rows_of = [&](const std::vector<size_t>& rows) {
+    std::vector<float> x;
+    const int f = classify::HandcraftedFeatureCount();
+    for (size_t r : rows) x.insert(x.end(), d.handcrafted.begin() + r * f, d.handcrafted.begin() + (r + 1) * f);
+    return x;
+  };
+  classify::ForestBaseline forest(200, 12, o.seed);
+  forest.Train(rows_of(train_rows), train.y);
+  forest.Save(out + "/forest.yml");
+
+  const int k = static_cast<int>(d.classes.size());
+  const auto resnet = classify::Score(val.y, model.PredictClasses(val), k);
+  const auto rf = classify::Score(val.y, forest.Predict(rows_of(val_rows)), k);
+  io::RunReport report("classify train");
+  auto& j = report.json();
+  j["dataset"] = a.dataset;
+  j["windows"] = {{"train", train.size()}, {"validation", val.size()}};
+  j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", reports.size()}};
+  j["validation"] = {{"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
+  j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", train.size() * reports.size() / train_s}};
+  for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv"}) report.AddOutput(f);
+  report.Write(out);
+  std::printf("classify train: %zu epochs, %.1f s (%.0f windows/s); validation macro F1: ResNet %.3f, forest %.3f\n",
+              reports.size(), train_s, train.size() * reports.size() / train_s, resnet.macro_f1, rf.macro_f1);
+  return 0;
+}
+
+int RunEval(const ClassifyArgs& a) {
+  const classify::Classifier model = classify::Classifier::Load(a.model_dir + "/model");
+  const classify::ForestBaseline forest = classify::ForestBaseline::Load(a.model_dir + "/forest.yml");
+  classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
+  // Labels by name in the model's classes.
+  for (size_t i = 0; i < d.labels.size(); ++i) {
+    const auto it = std::find(model.classes().begin(), model.classes().end(), d.labels[i]);
+    d.windows.y[i] = it == model.classes().end() ? -1 : static_cast<int>(it - model.classes().begin());
+  }
+  io::MakeOutputDir(a.common.out_dir);
+  const std::string& out = a.common.out_dir;
+  const int k = static_cast<int>(model.classes().size());
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto predicted = model.PredictClasses(d.windows);
+  const double infer_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto resnet = classify::Score(d.windows.y, predicted, k);
+  const auto rf = classify::Score(d.windows.y, forest.Predict(d.handcrafted), k);
+  classify::WriteConfusionPng(resnet, model.classes(), "1D ResNet (" + model.options().variant + ")",
+                              out + "/confusion_resnet.png");
+  classify::WriteConfusionPng(rf, model.classes(), "random forest baseline", out + "/confusion_forest.png");
+  io::RunReport report("classify eval");
+  auto& j = report.json();
+  j["inputs"] = {{"model", a.model_dir}, {"dataset", a.dataset}, {"windows", d.windows.size()}};
+  j["metrics"] = {{"resnet", resnet.ToJson(model.classes())}, {"forest", rf.ToJson(model.classes())}};
+  j["timing"] = {{"inference_windows_per_s", d.windows.size() / std::max(1e-9, infer_s)}};
+  report.AddOutput("confusion_resnet.png");
+  report.AddOutput("confusion_forest.png");
+  report.Write(out);
+  std::printf("classify eval: %zu windows; macro F1 ResNet %.3f (weighted %.3f), forest %.3f (weighted %.3f)\n",
+              d.windows.size(), resnet.macro_f1, resnet.weighted_f1, rf.macro_f1, rf.weighted_f1);
+  for (int c = 0; c < k; ++c)
+    std::printf("  %-12s F1 ResNet %.3f  forest %.3f  (%ld windows)\n", model.classes()[c].c_str(), resnet.f1[c],
+                rf.f1[c], resnet.support[c]);
+  return 0;
+}
+
+}  // namespace
+
+void AddClassifyCommand(CLI::App& app, int& exit_code) {
+  CLI::App* cmd = app.add_subcommand("classify", "trajectory classification: prepare windows, train, evaluate");
+  cmd->require_subcommand(1);
+  auto prep = std::make_shared<ClassifyArgs>();
+  CLI::App* p = cmd->add_subcommand("prepare", "object tracks (CSV) to feature windows");
+  p->add_option("tracks", prep->inputs, "object-track CSV files (id,t_s,x_m,y_m[,class][,truth_class])")->required();
+  p->add_option("--scenario", prep->scenarios, "scenario files for map features (matched by name in the ids)");
+  AddCommonOptions(*p, prep->common, "specht-out/classify-data");
+  p->callback([prep, &exit_code] { exit_code = RunPrepare(*prep); });
+
+  auto train = std::make_shared<ClassifyArgs>();
+  CLI::App* t = cmd->add_subcommand("train", "train the 1D ResNet and the random-forest baseline");
+  t->add_option("dataset", train->dataset, "a directory written by prepare")->required();
+  AddCommonOptions(*t, train->common, "specht-out/classify-model");
+  t->callback([train, &exit_code] { exit_code = RunTrain(*train); });
+
+  auto ev = std::make_shared<ClassifyArgs>();
+  CLI::App* e = cmd->add_subcommand("eval", "F1 and confusion matrices on a prepared dataset");
+  e->add_option("model", ev->model_dir, "a directory written by train")->required();
+  e->add_option("dataset", ev->dataset, "a directory written by prepare")->required();
+  AddCommonOptions(*e, ev->common, "specht-out/classify-eval");
+  e->callback([ev, &exit_code] { exit_code = RunEval(*ev); });
+}
+
+}  // namespace specht::app

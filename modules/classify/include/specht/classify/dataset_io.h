@@ -1,0 +1,33 @@
+// specht/classify/dataset_io.h: prepared datasets on disk, readable with numpy:
+//   windows.npy      float32, windows × features × length (NumPy .npy v1.0)
+//   handcrafted.npy  float32, windows × HandcraftedFeatureCount() (the baseline's)
+//   windows.csv      index,object_id,label,t0_s,valid
+//   dataset.json     feature names, length, classes, counts per preprocessing step
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "specht/classify/model.h"
+#include "specht/classify/preprocess.h"
+
+namespace specht::classify {
+
+struct PreparedDataset {
+  Dataset windows;  // y indexes `classes`
+  std::vector<float> handcrafted;
+  std::vector<std::string> labels;  // per window
+  std::vector<std::string> classes;
+  nlohmann::json info;  // dataset.json
+};
+
+void WriteNpy(const std::string& path, const std::vector<float>& data, const std::vector<size_t>& shape);
+// Throws InputError naming the file on a bad header, dtype or truncated data.
+std::vector<float> ReadNpy(const std::string& path, std::vector<size_t>& shape);
+
+void WritePrepared(const PreparedDataset& d, const std::string& dir);
+PreparedDataset ReadPrepared(const std::string& dir);
+
+}  // namespace specht::classify

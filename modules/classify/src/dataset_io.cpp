@@ -1,0 +1,109 @@
+#include "specht/classify/dataset_io.h"
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "specht/classify/baseline.h"
+#include "specht/core/error.h"
+#include "specht/io/atomic_file.h"
+
+namespace specht::classify {
+
+void WriteNpy(const std::string& path, const std::vector<float>& data, const std::vector<size_t>& shape) {
+  std::string dims;
+  for (size_t d : shape) dims += std::to_string(d) + ", ";
+  if (shape.size() > 1) dims.resize(dims.size() - 2);
+  std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': (" + dims + "), }";
+  // Magic (6) + version (2) + length (2) + header, padded with spaces to a multiple of 64, ending in '\n'.
+  while ((10 + header.size() + 1) % 64) header += ' ';
+  header += '\n';
+  std::string bytes = "\x93NUMPY";
+  bytes += '\x01', bytes += '\x00';
+  bytes += static_cast<char>(header.size() & 0xff), bytes += static_cast<char>(header.size() >> 8);
+  bytes += header;
+  bytes.append(reinterpret_cast<const char*>(data.data()), data.size() * sizeof(float));
+  io::WriteTextAtomically(path, bytes);
+}
+
+std::vector<float> ReadNpy(const std::string& path, std::vector<size_t>& shape) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError(path + ": cannot open");
+  std::stringstream buffer;
+  buffer << f.rdbuf();
+  const std::string s = buffer.str();
+  if (s.size() < 10 || s.compare(0, 6, "\x93NUMPY") != 0) throw InputError(path + ": not a .npy file");
+  const size_t hlen = static_cast<unsigned char>(s[8]) | (static_cast<unsigned char>(s[9]) << 8);
+  if (s[6] != 1 || 10 + hlen > s.size()) throw InputError(path + ": unsupported or truncated .npy header");
+  const std::string header = s.substr(10, hlen);
+  if (header.find("'descr': '<f4'") == std::string::npos) throw InputError(path + ": dtype is not float32 ('<f4')");
+  if (header.find("'fortran_order': False") == std::string::npos) throw InputError(path + ": Fortran order");
+  const size_t open = header.find('('), close = header.find(')');
+  if (open == std::string::npos || close == std::string::npos) throw InputError(path + ": no shape in the header");
+  shape.clear();
+  size_t count = 1;
+  std::stringstream dims(header.substr(open + 1, close - open - 1));
+  std::string item;
+  while (std::getline(dims, item, ',')) {
+    if (item.find_first_not_of(' ') == std::string::npos) continue;
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(item.c_str(), &end, 10);
+    if (end == item.c_str()) throw InputError(path + ": bad shape entry \"" + item + "\"");
+    shape.push_back(v);
+    if (v && count > (1ULL << 40) / v) throw InputError(path + ": shape too large");
+    count *= v;
+  }
+  if (s.size() - 10 - hlen != count * sizeof(float))
+    throw InputError(path + ": " + std::to_string(s.size() - 10 - hlen) + " data bytes, the shape needs " +
+                     std::to_string(count * sizeof(float)));
+  std::vector<float> out(count);
+  if (count) std::memcpy(out.data(), s.data() + 10 + hlen, count * sizeof(float));
+  return out;
+}
+
+void WritePrepared(const PreparedDataset& d, const std::string& dir) {
+  const auto& w = d.windows;
+  WriteNpy(dir + "/windows.npy", w.x, {w.size(), static_cast<size_t>(w.features), static_cast<size_t>(w.length)});
+  WriteNpy(dir + "/handcrafted.npy", d.handcrafted, {w.size(), static_cast<size_t>(HandcraftedFeatureCount())});
+  std::string csv = "index,object_id,label\n";
+  for (size_t i = 0; i < w.size(); ++i) csv += std::to_string(i) + "," + w.object_ids[i] + "," + d.labels[i] + "\n";
+  io::WriteTextAtomically(dir + "/windows.csv", csv);
+  nlohmann::json info = d.info;
+  info["classes"] = d.classes;
+  io::WriteTextAtomically(dir + "/dataset.json", info.dump(2) + "\n");
+}
+
+PreparedDataset ReadPrepared(const std::string& dir) {
+  PreparedDataset d;
+  std::ifstream f(dir + "/dataset.json");
+  if (!f) throw InputError(dir + "/dataset.json: cannot open (run `specht classify prepare` first)");
+  try {
+    f >> d.info;
+    d.classes = d.info.at("classes").get<std::vector<std::string>>();
+  } catch (const std::exception& e) {
+    throw InputError(dir + "/dataset.json: " + e.what());
+  }
+  std::vector<size_t> shape;
+  d.windows.x = ReadNpy(dir + "/windows.npy", shape);
+  if (shape.size() != 3) throw InputError(dir + "/windows.npy: expected windows × features × length");
+  d.windows.features = static_cast<int>(shape[1]), d.windows.length = static_cast<int>(shape[2]);
+  d.handcrafted = ReadNpy(dir + "/handcrafted.npy", shape);
+  std::ifstream csv(dir + "/windows.csv");
+  std::string line;
+  std::getline(csv, line);
+  int line_no = 1;
+  while (std::getline(csv, line)) {
+    ++line_no;
+    const size_t a = line.find(','), b = line.rfind(',');
+    if (a == std::string::npos || a == b) throw InputError(dir + "/windows.csv:" + std::to_string(line_no) + ": need index,object_id,label");
+    d.windows.object_ids.push_back(line.substr(a + 1, b - a - 1));
+    d.labels.push_back(line.substr(b + 1));
+    const auto it = std::find(d.classes.begin(), d.classes.end(), d.labels.back());
+    d.windows.y.push_back(it == d.classes.end() ? -1 : static_cast<int>(it - d.classes.begin()));
+  }
+  if (d.windows.size() * d.windows.features * d.windows.length != d.windows.x.size())
+    throw InputError(dir + ": windows.csv has " + std::to_string(d.windows.size()) + " rows, windows.npy another count");
+  return d;
+}
+
+}  // namespace specht::classify
