@@ -39,8 +39,8 @@ struct ModelOptions {
   double learning_rate = 1e-3;
   int plateau_patience = 10;
   int early_stop_patience = 15;
-  double input_noise = 0.0;
-  bool class_weights = false;
+  double input_noise = 0.01;
+  bool class_weights = true;
   int seed = 1;
   int threads = 2;
   double validation_fraction = 0.2;
