@@ -177,3 +177,22 @@ TEST(ParamsTest, EditDistance) {
 
 }  // namespace
 }  // namespace specht
+
+namespace specht::params {
+namespace {
+
+TEST(ParseNumberAssignmentsTest, KeepsValidEntriesInOrderAndNamesTheBadOnes) {
+  std::vector<std::string> problems;
+  const auto parsed = ParseNumberAssignments({"car=0.5", "bus=x", "cyclist=-2", "oops", "other=3"}, "margins",
+                                             [](double v) { return v >= 0; }, "a distance ≥ 0", &problems);
+  ASSERT_EQ(parsed.size(), 2u);
+  EXPECT_EQ(parsed[0], (std::pair<std::string, double>{"car", 0.5}));
+  EXPECT_EQ(parsed[1], (std::pair<std::string, double>{"other", 3.0}));
+  ASSERT_EQ(problems.size(), 3u);
+  EXPECT_EQ(problems[0], "margins: 'oops' is not of the form name=value");
+  EXPECT_EQ(problems[1], "margins: 'x' for 'bus' is not a distance ≥ 0");
+  EXPECT_EQ(problems[2], "margins: '-2' for 'cyclist' is not a distance ≥ 0");
+}
+
+}  // namespace
+}  // namespace specht::params

@@ -170,6 +170,24 @@ std::vector<std::pair<std::string, std::string>> SplitAssignments(const std::vec
   return out;
 }
 
+std::vector<std::pair<std::string, double>> ParseNumberAssignments(const std::vector<std::string>& entries,
+                                                                   const std::string& key,
+                                                                   const std::function<bool(double)>& valid,
+                                                                   const std::string& requirement,
+                                                                   std::vector<std::string>* problems) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const auto& [name, text] : SplitAssignments(entries, key, problems)) {
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (*end != '\0' || !valid(value)) {
+      if (problems != nullptr) problems->push_back(key + ": '" + text + "' for '" + name + "' is not " + requirement);
+      continue;
+    }
+    out.emplace_back(name, value);
+  }
+  return out;
+}
+
 // --- tree ----------------------------------------------------------------------------
 
 void ParamTree::MergeNode(const YAML::Node& node, const std::string& prefix, const std::string& file) {

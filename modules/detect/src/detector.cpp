@@ -36,18 +36,21 @@ struct Candidate {
   int label;
 };
 
+std::vector<std::pair<std::string, double>> ParseThresholds(const std::vector<std::string>& entries,
+                                                            std::vector<std::string>* problems) {
+  return params::ParseNumberAssignments(
+      entries, "class_thresholds", [](double t) { return t > 0 && t < 1; }, "in (0, 1)", problems);
+}
+
 }  // namespace
 
 std::vector<std::string> DetectorOptions::Relations() const {
   std::vector<std::string> problems;
   for (const auto& [label, cls] : params::SplitAssignments(class_map, "class_map", &problems))
     if (!IsDrivingClass(cls)) problems.push_back("class_map: '" + cls + "' (for '" + label + "') is not a driving class");
-  for (const auto& [cls, value] : params::SplitAssignments(class_thresholds, "class_thresholds", &problems)) {
+  for (const auto& [cls, value] : params::SplitAssignments(class_thresholds, "class_thresholds", nullptr))
     if (!IsDrivingClass(cls)) problems.push_back("class_thresholds: '" + cls + "' is not a driving class");
-    char* end = nullptr;
-    const double t = std::strtod(value.c_str(), &end);
-    if (*end != '\0' || !(t > 0 && t < 1)) problems.push_back("class_thresholds: '" + value + "' is not in (0, 1)");
-  }
+  ParseThresholds(class_thresholds, &problems);
   if (input_width % 32 != 0 || input_height % 32 != 0) problems.push_back("input_width and input_height: multiples of 32");
   if (format == "darknet" && config.empty()) problems.push_back("config: a darknet model needs its .cfg");
   return problems;
@@ -61,8 +64,7 @@ std::map<std::string, std::string> DetectorOptions::ClassMap() const {
 
 std::map<std::string, double> DetectorOptions::ClassThresholds() const {
   std::map<std::string, double> map;
-  for (const auto& [cls, value] : params::SplitAssignments(class_thresholds, "class_thresholds", nullptr))
-    map[cls] = std::strtod(value.c_str(), nullptr);
+  for (const auto& [cls, t] : ParseThresholds(class_thresholds, nullptr)) map[cls] = t;
   return map;
 }
 

@@ -14,17 +14,8 @@ namespace {
 // "class=metres" entries; problems reported by Relations().
 std::vector<std::pair<std::string, double>> Margins(const std::vector<std::string>& entries,
                                                     std::vector<std::string>* problems) {
-  std::vector<std::pair<std::string, double>> out;
-  for (const auto& [cls, text] : params::SplitAssignments(entries, "class_margins", problems)) {
-    char* end = nullptr;
-    const double metres = std::strtod(text.c_str(), &end);
-    if (*end != '\0' || !(metres >= 0)) {
-      if (problems != nullptr) problems->push_back("class_margins: '" + text + "' for '" + cls + "' is not a distance ≥ 0");
-      continue;
-    }
-    out.emplace_back(cls, metres);
-  }
-  return out;
+  return params::ParseNumberAssignments(
+      entries, "class_margins", [](double m) { return m >= 0; }, "a distance ≥ 0", problems);
 }
 
 // Raises `cost` around a centre: lethal within `core_m`, inscribed within core +

@@ -149,6 +149,15 @@ std::vector<std::pair<std::string, std::string>> SplitAssignments(const std::vec
                                                                   const std::string& key,
                                                                   std::vector<std::string>* problems);
 
+// The "name=number" entries (per-class margins, thresholds, noise), in order. An
+// entry whose value is not a number or fails `valid` is described in *problems as
+// "key: 'value' for 'name' is not <requirement>" and skipped.
+std::vector<std::pair<std::string, double>> ParseNumberAssignments(const std::vector<std::string>& entries,
+                                                                   const std::string& key,
+                                                                   const std::function<bool(double)>& valid,
+                                                                   const std::string& requirement,
+                                                                   std::vector<std::string>* problems);
+
 // Checks a decoded value against its range; empty string when fine.
 std::string CheckRange(double value, const Range& range, bool integer);
 
