@@ -18,18 +18,13 @@ using internal::Vec4;
 
 namespace {
 
+// "class=σ" entries, later entries of a class winning.
 std::map<std::string, double> ParseNoise(const std::vector<std::string>& entries, std::vector<std::string>* problems) {
   std::map<std::string, double> out;
-  for (const auto& [cls, value] : params::SplitAssignments(entries, "acceleration_noise", problems)) {
-    char* end = nullptr;
-    const double sigma = std::strtod(value.c_str(), &end);
-    if (end == value.c_str() || *end != '\0' || !(sigma > 0) || !std::isfinite(sigma)) {
-      if (problems) problems->push_back("acceleration_noise: \"" + cls + "=" + value +
-                                               "\": σ must be a positive number");
-      continue;
-    }
+  for (const auto& [cls, sigma] : params::ParseNumberAssignments(
+           entries, "acceleration_noise", [](double v) { return v > 0 && std::isfinite(v); },
+           "a positive number (m/s²)", problems))
     out[cls] = sigma;
-  }
   return out;
 }
 
@@ -53,12 +48,6 @@ std::vector<std::string> TrackerOptions::Relations() const {
     problems.push_back("acceleration_noise: needs an \"other=σ\" entry for classes not listed");
   if (confirm_hits > confirm_window) problems.push_back("confirm_hits must not exceed confirm_window");
   return problems;
-}
-
-double TrackerOptions::AccelerationNoiseFor(const std::string& cls) const {
-  const auto noise = ParseNoise(acceleration_noise, nullptr);
-  const auto it = noise.find(cls);
-  return it != noise.end() ? it->second : noise.at("other");
 }
 
 bool TrackerOptions::UsesTurnModel(const std::string& cls) const {
@@ -89,6 +78,11 @@ Tracker::Tracker(const TrackerOptions& options) : options_(options) {
   gate_d2_ = ChiSquare2Quantile(options.gate_probability);
 }
 Tracker::~Tracker() = default;
+
+double Tracker::AccelerationSigma(const std::string& cls) const {
+  const auto it = acceleration_noise_.find(cls);
+  return it != acceleration_noise_.end() ? it->second : acceleration_noise_.at("other");
+}
 Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
@@ -109,19 +103,17 @@ CycleStats Tracker::Update(const std::vector<world::Obstacle>& detections_in, St
     else ++skipped_;
   }
   stats.detections = static_cast<int>(detections.size());
+  // Each detection's covariance, symmetrised, with the floor added.
   const double floor2 = options_.min_measurement_sigma_m * options_.min_measurement_sigma_m;
-  auto measurement_cov = [&](const world::Obstacle& d) {
-    Mat2 r = ToEigen(d.covariance_xy);
-    r = (r + r.transpose()) / 2;
-    r += Mat2::Identity() * floor2;
-    return r;
-  };
+  std::vector<Mat2> measurement_cov(detections.size());
+  for (size_t k = 0; k < detections.size(); ++k) {
+    const Mat2 r = ToEigen(detections[k]->covariance_xy);
+    measurement_cov[k] = (r + r.transpose()) / 2 + Mat2::Identity() * floor2;
+  }
 
   // 1. Predict.
   for (auto& t : tracks_) {
-    if (dt > 0) t->filter->Predict(dt, acceleration_noise_.count(t->cls) ? acceleration_noise_.at(t->cls)
-                                                                         : acceleration_noise_.at("other"),
-                                   options_.turn_noise_rad_s2);
+    if (dt > 0) t->filter->Predict(dt, AccelerationSigma(t->cls), options_.turn_noise_rad_s2);
     ++t->cycles;
   }
 
@@ -133,7 +125,7 @@ CycleStats Tracker::Update(const std::vector<world::Obstacle>& detections_in, St
     const Mat2 pp = tracks_[i]->filter->PositionCovariance();
     for (size_t k = 0; k < detections.size(); ++k) {
       const Vec2 nu = Vec2(detections[k]->x_m, detections[k]->y_m) - p;
-      const Mat2 s = pp + measurement_cov(*detections[k]);
+      const Mat2 s = pp + measurement_cov[k];
       const double d2 = nu.dot(s.ldlt().solve(nu));
       if (!(d2 <= gate_d2_)) continue;
       cost[i][k] = d2 + std::log(s.determinant());
@@ -143,20 +135,20 @@ CycleStats Tracker::Update(const std::vector<world::Obstacle>& detections_in, St
   const Assignment assignment = SolveAssignment(cost);
 
   // 4. Update, lifecycle.
-  // A detection inside a confirmed track's gate that went to no track is not a new
-  // object: it is the same object seen twice, or clutter beside it.
-  std::vector<char> used(detections.size(), 0);
+  // A detection starts no track when it updated one, or when it lies inside a
+  // confirmed track's gate: then it is the same object seen twice, or clutter beside it.
+  std::vector<char> claimed(detections.size(), 0);
   for (size_t i = 0; i < tracks_.size(); ++i)
     if (tracks_[i]->state != TrackState::kTentative)
-      for (size_t k = 0; k < detections.size(); ++k) used[k] |= std::isfinite(cost[i][k]);
+      for (size_t k = 0; k < detections.size(); ++k) claimed[k] |= std::isfinite(cost[i][k]);
   for (size_t i = 0; i < tracks_.size(); ++i) {
     Entry& t = *tracks_[i];
     const int k = assignment.column_of_row[i];
     if (k >= 0) {
-      used[k] = 1;  // (also marks it taken)
+      claimed[k] = 1;
       ++stats.assigned;
       const auto& d = *detections[k];
-      t.filter->Update(Vec2(d.x_m, d.y_m), measurement_cov(d));
+      t.filter->Update(Vec2(d.x_m, d.y_m), measurement_cov[k]);
       t.Vote(d);
       t.last_seen = now;
       ++t.hits;
@@ -181,11 +173,11 @@ CycleStats Tracker::Update(const std::vector<world::Obstacle>& detections_in, St
   tracks_.erase(erased, tracks_.end());
 
   for (size_t k = 0; k < detections.size(); ++k) {
-    if (used[k]) continue;
+    if (claimed[k]) continue;
     const auto& d = *detections[k];
     auto t = std::make_unique<Entry>();
     t->id = next_id_++;
-    t->filter = internal::MakeConstantVelocity(Vec2(d.x_m, d.y_m), measurement_cov(d), options_.initial_speed_sigma_mps);
+    t->filter = internal::MakeConstantVelocity(Vec2(d.x_m, d.y_m), measurement_cov[k], options_.initial_speed_sigma_mps);
     t->Vote(d);
     t->last_seen = now;
     t->hits = 1;
@@ -217,8 +209,7 @@ std::vector<world::Track> Tracker::Tracks() const {
     w.history.assign(t->history.begin(), t->history.end());
     if (options_.prediction_horizon_s > 0) {
       auto f = t->filter->Clone();
-      const double sigma_a = acceleration_noise_.count(t->cls) ? acceleration_noise_.at(t->cls)
-                                                               : acceleration_noise_.at("other");
+      const double sigma_a = AccelerationSigma(t->cls);
       for (double ahead = options_.prediction_step_s; ahead <= options_.prediction_horizon_s + 1e-9;
            ahead += options_.prediction_step_s) {
         f->Predict(options_.prediction_step_s, sigma_a, options_.turn_noise_rad_s2);

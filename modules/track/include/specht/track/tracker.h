@@ -79,7 +79,6 @@ struct TrackerOptions {
     v.Param("prediction_step_s", prediction_step_s, "spacing of the predicted points", Range::Of(0.05, 10.0));
   }
   std::vector<std::string> Relations() const;
-  double AccelerationNoiseFor(const std::string& cls) const;
   bool UsesTurnModel(const std::string& cls) const;
 };
 
@@ -110,6 +109,7 @@ class Tracker {
 
  private:
   struct Entry;
+  double AccelerationSigma(const std::string& cls) const;  // the class's, else "other"'s
   TrackerOptions options_;
   std::map<std::string, double> acceleration_noise_;
   double gate_d2_ = 0;
