@@ -283,9 +283,9 @@ Classifier Classifier::Load(const std::string& path, nlohmann::json* extra) {
   try {
     o.variant = meta.at("variant").get<std::string>();
     o.batch_norm = meta.at("batch_norm").get<bool>();
+    if (Filters(o.variant).empty() && o.variant != "mlp") throw InputError(path + ".json: unknown variant " + o.variant);
     Classifier c(o, meta.at("features").get<int>(), meta.at("length").get<int>(),
                  meta.at("classes").get<std::vector<std::string>>());
-    if (Filters(o.variant).empty() && o.variant != "mlp") throw InputError(path + ".json: unknown variant " + o.variant);
     std::ifstream w(path + ".pt", std::ios::binary);
     if (!w) throw InputError(path + ".pt: cannot open");
     torch::load(c.net_, w);

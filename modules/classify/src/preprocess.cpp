@@ -120,16 +120,25 @@ std::vector<TrajectoryPoint> Transformed(const Window& w, const PreprocessOption
   if (o.transform == "rotate_to_zero") RotateToZero(p);
   return p;
 }
+
+// Widens `b` to hold the first `count` points.
+void Extend(PositionBounds& b, const std::vector<TrajectoryPoint>& points, size_t count) {
+  for (size_t i = 0; i < count && i < points.size(); ++i) {
+    b.min_x = std::min(b.min_x, points[i].x), b.max_x = std::max(b.max_x, points[i].x);
+    b.min_y = std::min(b.min_y, points[i].y), b.max_y = std::max(b.max_y, points[i].y);
+  }
+}
+
+constexpr PositionBounds kEmptyBounds{1e300, -1e300, 1e300, -1e300};
 }  // namespace
 
 PositionBounds FitPositionBounds(const std::vector<Window>& windows, const PreprocessOptions& o) {
-  PositionBounds b{1e300, -1e300, 1e300, -1e300};
-  for (const auto& w : windows)
-    for (const auto& q : Transformed(w, o)) {
-      b.min_x = std::min(b.min_x, q.x), b.max_x = std::max(b.max_x, q.x);
-      b.min_y = std::min(b.min_y, q.y), b.max_y = std::max(b.max_y, q.y);
-    }
-  if (windows.empty()) b = {};
+  if (windows.empty()) return {};
+  PositionBounds b = kEmptyBounds;
+  for (const auto& w : windows) {
+    const auto points = Transformed(w, o);
+    Extend(b, points, points.size());
+  }
   return b;
 }
 
@@ -139,11 +148,8 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
   const std::vector<TrajectoryPoint> pos = Transformed(w, o);
   PositionBounds b = global;
   if (o.normalisation == "local") {
-    b = {1e300, -1e300, 1e300, -1e300};
-    for (int i = 0; i < valid; ++i) {
-      b.min_x = std::min(b.min_x, pos[i].x), b.max_x = std::max(b.max_x, pos[i].x);
-      b.min_y = std::min(b.min_y, pos[i].y), b.max_y = std::max(b.max_y, pos[i].y);
-    }
+    b = kEmptyBounds;
+    Extend(b, pos, static_cast<size_t>(valid));
   }
   // X' = (X − Xmin) / (Xmax − Xmin); a degenerate range maps to 0.
   auto scale = [](double v, double lo, double hi) { return hi > lo ? Clamp01((v - lo) / (hi - lo)) : 0.0; };
