@@ -89,6 +89,8 @@ Detector::Detector(const DetectorOptions& options, const std::string& data_dir)
     : options_(options), net_(std::make_unique<Net>()) {
   const auto problems = options.Relations();
   if (!problems.empty()) throw InputError("detect: " + problems.front());
+  class_map_ = options.ClassMap();
+  class_thresholds_ = options.ClassThresholds();
   const std::string model = Resolve(options.model, data_dir), labels = Resolve(options.labels, data_dir);
   RequireFile(model, "model");
   RequireFile(labels, "labels file");
@@ -186,14 +188,12 @@ std::vector<Detection> Detector::Detect(const cv::Mat& image) {
       }
   }
 
-  const auto class_map = options_.ClassMap();
-  const auto thresholds = options_.ClassThresholds();
   std::map<std::string, std::vector<Detection>> by_class;
   for (const Candidate& c : candidates) {
-    const auto mapped = class_map.find(labels_[static_cast<size_t>(c.label)]);
-    if (mapped == class_map.end()) continue;
-    const auto t = thresholds.find(mapped->second);
-    if (c.score < (t != thresholds.end() ? t->second : options_.score_threshold)) continue;
+    const auto mapped = class_map_.find(labels_[static_cast<size_t>(c.label)]);
+    if (mapped == class_map_.end()) continue;
+    const auto t = class_thresholds_.find(mapped->second);
+    if (c.score < (t != class_thresholds_.end() ? t->second : options_.score_threshold)) continue;
     const double x0 = ((c.cx - c.w / 2) * input.width - pad_x) / scale_x, y0 = ((c.cy - c.h / 2) * input.height - pad_y) / scale_y;
     const double x1 = ((c.cx + c.w / 2) * input.width - pad_x) / scale_x, y1 = ((c.cy + c.h / 2) * input.height - pad_y) / scale_y;
     cv::Rect2d box(cv::Point2d(std::max(0.0, x0), std::max(0.0, y0)),

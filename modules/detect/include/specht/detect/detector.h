@@ -97,6 +97,8 @@ class Detector {
  private:
   struct Net;
   DetectorOptions options_;
+  std::map<std::string, std::string> class_map_;  // options_'s lists, parsed once
+  std::map<std::string, double> class_thresholds_;
   std::vector<std::string> labels_;
   std::unique_ptr<Net> net_;
 };
