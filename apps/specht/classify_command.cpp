@@ -1,15 +1,19 @@
-// `specht classify prepare|train|eval`: the trajectory classifier (classify module).
+// `specht classify prepare|train|eval|predict`: the trajectory classifier (classify module).
 //   prepare <tracks.csv>... [--scenario S.yaml]... -o DIR
 //       object tracks (io/object_tracks.h; label = truth_class, else class) →
 //       windows (section "classify"), with map features from the scenario whose name
 //       is the second part of the track id ("s3/urban-crossing/t7": its true static
 //       grid and parking bays as points of interest); writes dataset_io.h's files
 //       and the class counts after each step.
-//   train <dataset> -o DIR    the 1D ResNet (section "classify_model") with a held-out
-//       validation split by object, and the random-forest baseline on the same split;
-//       progress per epoch; writes model.pt/.json, forest.yml, training.csv.
+//   train <dataset> -o DIR [--resume]   the 1D ResNet (section "classify_model") with a
+//       held-out validation split by object, and the random-forest baseline on the
+//       same split; progress per epoch; writes model.pt/.json, forest.yml,
+//       training.csv; checkpoint.pt after every epoch (--resume continues from it).
 //   eval <model dir> <dataset> -o DIR   macro/weighted/per-class F1 of both, confusion
 //       matrices as PNG, inference rate.
+//   predict <model dir> <tracks.csv>... [--scenario S.yaml]... -o DIR   classes of
+//       new tracks with the model's own preprocessing: windows.csv (one row per
+//       window) and objects.csv (per track, mean of its windows' probabilities).
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -18,17 +22,18 @@
 
 #include "commands.h"
 #include "run_setup.h"
+#include "scenario_map_features.h"
 #include "specht/classify/baseline.h"
 #include "specht/classify/dataset_io.h"
-#include "specht/classify/map_features.h"
 #include "specht/classify/metrics.h"
 #include "specht/classify/model.h"
+#include "specht/classify/trajectory_classifier.h"
 #include "specht/core/error.h"
 #include "specht/core/progress.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/object_tracks.h"
 #include "specht/io/report.h"
-#include "specht/sim/world.h"
+#include "specht/sim/scenario.h"
 
 namespace specht::app {
 namespace {
@@ -37,19 +42,14 @@ struct ClassifyArgs {
   CommonArgs common;
   std::vector<std::string> inputs, scenarios;
   std::string model_dir, dataset;
+  bool resume = false;
 };
 
 std::map<std::string, classify::MapFeatures> ScenarioMaps(const std::vector<std::string>& paths) {
   std::map<std::string, classify::MapFeatures> maps;
   for (const auto& path : paths) {
     const sim::Scenario s = sim::LoadScenario(path);
-    const auto grid = sim::World(s).TrueGrid(0.1);
-    cv::Mat occupied(grid.getSizeY(), grid.getSizeX(), CV_8U);
-    for (unsigned r = 0; r < grid.getSizeY(); ++r)
-      for (unsigned c = 0; c < grid.getSizeX(); ++c) occupied.at<uint8_t>(r, c) = grid.getCell(c, r) < 0.5f;
-    std::vector<cv::Point2d> pois;
-    for (const auto& bay : s.bays) pois.push_back({bay.pose.x, bay.pose.y});
-    maps[s.name] = classify::GridMapFeatures(occupied, grid.getXMin(), grid.getYMin(), grid.getResolution(), pois);
+    maps[s.name] = ScenarioMapFeatures(s);
   }
   return maps;
 }
@@ -59,12 +59,12 @@ std::string ScenarioOf(const std::string& id) {
   return b == std::string::npos ? "" : id.substr(a + 1, b - a - 1);
 }
 
-int RunPrepare(const ClassifyArgs& a) {
-  const params::Params params = LoadParams(a.common);
-  const auto& o = params.Get<classify::PreprocessOptions>("classify");
-  const auto maps = ScenarioMaps(a.scenarios);
+// Object tracks (io/object_tracks.h) grouped by id and sorted by time; label =
+// truth_class, else class. With `labelled_only`, tracks without a label (or
+// labelled "none": never matched to a truth object) are left out.
+std::vector<classify::Trajectory> ReadTrajectories(const std::vector<std::string>& paths, bool labelled_only) {
   std::map<std::string, classify::Trajectory> by_id;
-  for (const auto& path : a.inputs)
+  for (const auto& path : paths)
     for (const auto& s : io::ReadObjectTracks(path)) {
       auto& t = by_id[s.id];
       t.object_id = s.id;
@@ -73,10 +73,24 @@ int RunPrepare(const ClassifyArgs& a) {
     }
   std::vector<classify::Trajectory> trajectories;
   for (auto& [id, t] : by_id) {
-    if (t.label.empty() || t.label == "none") continue;
+    if (labelled_only && (t.label.empty() || t.label == "none")) continue;
     std::stable_sort(t.points.begin(), t.points.end(), [](auto& p, auto& q) { return p.t_s < q.t_s; });
     trajectories.push_back(std::move(t));
   }
+  return trajectories;
+}
+
+const classify::MapFeatures& MapOf(const std::map<std::string, classify::MapFeatures>& maps, const std::string& id) {
+  static const classify::MapFeatures none;
+  const auto m = maps.find(ScenarioOf(id));
+  return m == maps.end() ? none : m->second;
+}
+
+int RunPrepare(const ClassifyArgs& a) {
+  const params::Params params = LoadParams(a.common);
+  const auto& o = params.Get<classify::PreprocessOptions>("classify");
+  const auto maps = ScenarioMaps(a.scenarios);
+  const std::vector<classify::Trajectory> trajectories = ReadTrajectories(a.inputs, true);
   PrepareOutputDir(a.common, params);
   std::map<std::string, std::map<std::string, long>> counts;
   const auto windows = classify::MakeWindows(trajectories, o, &counts);
@@ -88,10 +102,8 @@ int RunPrepare(const ClassifyArgs& a) {
   d.classes.assign(class_set.begin(), class_set.end());
   d.windows.features = static_cast<int>(o.features.size());
   d.windows.length = o.length;
-  const classify::MapFeatures none;
   for (const auto& w : windows) {
-    const auto m = maps.find(ScenarioOf(w.object_id));
-    const classify::MapFeatures& map = m == maps.end() ? none : m->second;
+    const classify::MapFeatures& map = MapOf(maps, w.object_id);
     const auto f = classify::Features(w, o, map, bounds);
     d.windows.x.insert(d.windows.x.end(), f.begin(), f.end());
     const auto h = classify::HandcraftedFeatures(w, map);
@@ -100,10 +112,11 @@ int RunPrepare(const ClassifyArgs& a) {
     d.windows.object_ids.push_back(w.object_id);
     d.labels.push_back(w.label);
   }
-  d.info = {{"features", o.features}, {"length", o.length}, {"counts", counts}, {"transform", o.transform},
-            {"normalisation", o.normalisation},
-            {"position_bounds", {bounds.min_x, bounds.max_x, bounds.min_y, bounds.max_y}},
-            {"with_map", !maps.empty()}};
+  d.info = {{"features", o.features},
+            {"length", o.length},
+            {"counts", counts},
+            {"with_map", !maps.empty()},
+            {"preprocessing", classify::PreprocessingJson(o, bounds)}};
   classify::WritePrepared(d, a.common.out_dir);
   std::printf("classify prepare: %zu trajectories → %zu windows of %d × %d\n", trajectories.size(), windows.size(),
               d.windows.features, o.length);
@@ -129,6 +142,8 @@ int RunTrain(const ClassifyArgs& a) {
   ProgressLine progress("classify train", "epochs", !a.common.quiet, 0.0);
   std::string log = "epoch,train_loss,validation_loss,validation_macro_f1,learning_rate,seconds\n";
   const auto t0 = std::chrono::steady_clock::now();
+  const std::string checkpoint = out + "/checkpoint.pt";
+  if (!a.resume) std::remove(checkpoint.c_str());
   const auto reports = model.Train(train, val, [&](const classify::EpochReport& r) {
     char line[160], note[120];
     std::snprintf(line, sizeof(line), "%d,%.5f,%.5f,%.4f,%.2e,%.2f\n", r.epoch, r.train_loss, r.validation_loss,
@@ -137,7 +152,7 @@ int RunTrain(const ClassifyArgs& a) {
     std::snprintf(note, sizeof(note), "loss %.4f val loss %.4f val F1 %.3f", r.train_loss, r.validation_loss,
                   r.validation_macro_f1);
     progress.Update(r.epoch, static_cast<double>(r.epoch) / o.epochs, note);
-  });
+  }, checkpoint);
   const double train_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   progress.Finish();
   model.Save(out + "/model", d.info);
@@ -163,7 +178,7 @@ int RunTrain(const ClassifyArgs& a) {
   j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", reports.size()}};
   j["validation"] = {{"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
   j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", train.size() * reports.size() / train_s}};
-  for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv"}) report.AddOutput(f);
+  for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv", "checkpoint.pt"}) report.AddOutput(f);
   report.Write(out);
   std::printf("classify train: %zu epochs, %.1f s (%.0f windows/s); validation macro F1: ResNet %.3f, forest %.3f\n",
               reports.size(), train_s, train.size() * reports.size() / train_s, resnet.macro_f1, rf.macro_f1);
@@ -206,10 +221,91 @@ int RunEval(const ClassifyArgs& a) {
   return 0;
 }
 
+int RunPredict(const ClassifyArgs& a) {
+  const classify::TrajectoryClassifier classifier = classify::TrajectoryClassifier::Load(a.model_dir + "/model");
+  const auto maps = ScenarioMaps(a.scenarios);
+  const std::vector<classify::Trajectory> trajectories = ReadTrajectories(a.inputs, false);
+  const std::vector<classify::Window> windows = classifier.Windows(trajectories);
+  // Windows of one scenario share its map, so classify scenario by scenario.
+  const auto& classes = classifier.classes();
+  const size_t k = classes.size();
+  std::vector<float> p(windows.size() * k);
+  std::map<std::string, std::vector<size_t>> by_scenario;
+  for (size_t i = 0; i < windows.size(); ++i) by_scenario[ScenarioOf(windows[i].object_id)].push_back(i);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (const auto& [scenario, rows] : by_scenario) {
+    std::vector<classify::Window> group;
+    for (size_t i : rows) group.push_back(windows[i]);
+    const auto q = classifier.Classify(group, MapOf(maps, group.front().object_id));
+    for (size_t j = 0; j < rows.size(); ++j) std::copy_n(q.begin() + j * k, k, p.begin() + rows[j] * k);
+  }
+  const double infer_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  io::MakeOutputDir(a.common.out_dir);
+  const std::string& out = a.common.out_dir;
+  std::string header;
+  for (const auto& c : classes) header += ",p_" + c;
+  std::string window_csv = "object_id,t0_s,t1_s,class" + header + "\n";
+  std::map<std::string, std::vector<double>> object_sum;
+  std::map<std::string, int> object_windows;
+  std::vector<int> truth, predicted;
+  char buf[64];
+  for (size_t i = 0; i < windows.size(); ++i) {
+    const auto& w = windows[i];
+    const float* row = p.data() + i * k;
+    const int best = static_cast<int>(std::max_element(row, row + k) - row);
+    std::snprintf(buf, sizeof(buf), ",%.3f,%.3f,", w.t0_s, w.points.back().t_s);
+    window_csv += w.object_id + buf + classes[best];
+    auto& sum = object_sum[w.object_id];
+    sum.resize(k, 0.0);
+    for (size_t c = 0; c < k; ++c) {
+      std::snprintf(buf, sizeof(buf), ",%.4f", row[c]);
+      window_csv += buf;
+      sum[c] += row[c];
+    }
+    window_csv += "\n";
+    ++object_windows[w.object_id];
+    const auto it = std::find(classes.begin(), classes.end(), w.label);
+    if (it != classes.end()) truth.push_back(static_cast<int>(it - classes.begin())), predicted.push_back(best);
+  }
+  std::string object_csv = "object_id,windows,class" + header + "\n";
+  std::map<std::string, long> per_class;
+  for (const auto& [id, sum] : object_sum) {
+    const int best = static_cast<int>(std::max_element(sum.begin(), sum.end()) - sum.begin());
+    ++per_class[classes[best]];
+    object_csv += id + "," + std::to_string(object_windows[id]) + "," + classes[best];
+    for (double v : sum) {
+      std::snprintf(buf, sizeof(buf), ",%.4f", v / object_windows[id]);
+      object_csv += buf;
+    }
+    object_csv += "\n";
+  }
+  io::WriteTextAtomically(out + "/windows.csv", window_csv);
+  io::WriteTextAtomically(out + "/objects.csv", object_csv);
+  io::RunReport report("classify predict");
+  auto& j = report.json();
+  j["inputs"] = {{"model", a.model_dir}, {"tracks", a.inputs}, {"trajectories", trajectories.size()}};
+  j["windows"] = windows.size();
+  j["objects_per_class"] = per_class;
+  j["timing"] = {{"inference_windows_per_s", windows.size() / std::max(1e-9, infer_s)}};
+  if (!truth.empty())  // the tracks carried labels: score the windows that had one
+    j["metrics"] = classify::Score(truth, predicted, static_cast<int>(k)).ToJson(classes);
+  report.AddOutput("windows.csv");
+  report.AddOutput("objects.csv");
+  report.Write(out);
+  std::printf("classify predict: %zu tracks → %zu windows, %zu objects classified\n", trajectories.size(),
+              windows.size(), object_sum.size());
+  for (const auto& [cls, n] : per_class) std::printf("  %-12s %ld\n", cls.c_str(), n);
+  if (!truth.empty())
+    std::printf("  labelled windows: %zu, macro F1 %.3f\n", truth.size(),
+                j["metrics"]["macro_f1"].get<double>());
+  return 0;
+}
+
 }  // namespace
 
 void AddClassifyCommand(CLI::App& app, int& exit_code) {
-  CLI::App* cmd = app.add_subcommand("classify", "trajectory classification: prepare windows, train, evaluate");
+  CLI::App* cmd = app.add_subcommand("classify", "trajectory classification: prepare windows, train, evaluate, predict");
   cmd->require_subcommand(1);
   auto prep = std::make_shared<ClassifyArgs>();
   CLI::App* p = cmd->add_subcommand("prepare", "object tracks (CSV) to feature windows");
@@ -221,6 +317,7 @@ void AddClassifyCommand(CLI::App& app, int& exit_code) {
   auto train = std::make_shared<ClassifyArgs>();
   CLI::App* t = cmd->add_subcommand("train", "train the 1D ResNet and the random-forest baseline");
   t->add_option("dataset", train->dataset, "a directory written by prepare")->required();
+  t->add_flag("--resume", train->resume, "continue from the output directory's checkpoint.pt");
   AddCommonOptions(*t, train->common, "specht-out/classify-model");
   t->callback([train, &exit_code] { exit_code = RunTrain(*train); });
 
@@ -230,6 +327,14 @@ void AddClassifyCommand(CLI::App& app, int& exit_code) {
   e->add_option("dataset", ev->dataset, "a directory written by prepare")->required();
   AddCommonOptions(*e, ev->common, "specht-out/classify-eval");
   e->callback([ev, &exit_code] { exit_code = RunEval(*ev); });
+
+  auto pr = std::make_shared<ClassifyArgs>();
+  CLI::App* q = cmd->add_subcommand("predict", "classify object tracks (CSV) with a trained model");
+  q->add_option("model", pr->model_dir, "a directory written by train")->required();
+  q->add_option("tracks", pr->inputs, "object-track CSV files (id,t_s,x_m,y_m[,...])")->required();
+  q->add_option("--scenario", pr->scenarios, "scenario files for map features (matched by name in the ids)");
+  AddCommonOptions(*q, pr->common, "specht-out/classify-predict");
+  q->callback([pr, &exit_code] { exit_code = RunPredict(*pr); });
 }
 
 }  // namespace specht::app

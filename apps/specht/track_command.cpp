@@ -9,11 +9,21 @@
 //                 input of `specht classify prepare`
 //   tracks.png    the first run: static world, agent paths (grey), tracks by class
 //   report.json   CLEAR MOT per run and over all runs, tracker time per frame
+// With --model DIR (a `specht classify train` output) the trajectory classifier runs
+// online: after every tracker update, on each confirmed track's latest window, with
+// the scene's map features; its probabilities go into the track's
+// class_probabilities, and report.json scores its class per track-frame against the
+// class of the agent the track followed, next to the tracker's own detection vote.
+#include <chrono>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include "commands.h"
 #include "run_setup.h"
+#include "scenario_map_features.h"
+#include "specht/classify/metrics.h"
+#include "specht/classify/trajectory_classifier.h"
 #include "specht/core/error.h"
 #include "specht/core/progress.h"
 #include "specht/eval/mot.h"
@@ -30,8 +40,41 @@ struct TrackArgs {
   CommonArgs common;
   std::vector<std::string> scenarios;
   std::string seeds;
+  std::string model_dir;
   double match_threshold_m = 1.0;
 };
+
+// The online classifier's answers of one run, by (track sample id, time).
+struct OnlineClasses {
+  std::map<std::pair<std::string, double>, std::string> cls;
+  long classified = 0;
+  double seconds = 0;
+};
+
+// Classifies the confirmed tracks of one frame from their latest windows.
+void ClassifyOnline(const classify::TrajectoryClassifier& classifier, const classify::MapFeatures& map,
+                    const std::string& prefix, std::vector<world::Track>& tracks, double t_s, OnlineClasses& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<classify::Window> windows;
+  std::vector<world::Track*> owners;
+  for (auto& t : tracks) {
+    if (t.state != "confirmed") continue;
+    classify::Trajectory trajectory{std::to_string(t.id), "", {}};
+    for (const auto& p : t.history) trajectory.points.push_back({p.stamp.Seconds(), p.x_m, p.y_m});
+    if (auto w = classifier.LatestWindow(trajectory)) windows.push_back(std::move(*w)), owners.push_back(&t);
+  }
+  if (windows.empty()) return;
+  const std::vector<float> p = classifier.Classify(windows, map);
+  const auto& classes = classifier.classes();
+  for (size_t i = 0; i < owners.size(); ++i) {
+    const float* row = p.data() + i * classes.size();
+    for (size_t c = 0; c < classes.size(); ++c) owners[i]->class_probabilities[classes[c]] = row[c];
+    const size_t best = std::max_element(row, row + classes.size()) - row;
+    out.cls[{prefix + "t" + std::to_string(owners[i]->id), t_s}] = classes[best];
+  }
+  out.classified += static_cast<long>(owners.size());
+  out.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 std::pair<uint64_t, uint64_t> ParseSeeds(const std::string& text, uint64_t fallback) {
   if (text.empty()) return {fallback, fallback};
@@ -82,8 +125,14 @@ int RunTrack(const TrackArgs& a) {
   for (const auto& path : a.scenarios) scenarios.push_back(sim::LoadScenario(path));
   std::vector<std::pair<uint64_t, uint64_t>> seeds;
   for (const auto& s : scenarios) seeds.push_back(ParseSeeds(a.seeds, s.seed));
+  std::optional<classify::TrajectoryClassifier> classifier;
+  if (!a.model_dir.empty()) classifier = classify::TrajectoryClassifier::Load(a.model_dir + "/model");
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
+  // Per labelled track-frame the classifier saw: truth, classifier, tracker vote.
+  std::vector<int> online_truth, online_classifier, online_vote;
+  double online_s = 0;
+  long online_classified = 0;
 
   double total_s = 0;
   for (size_t i = 0; i < scenarios.size(); ++i)
@@ -98,13 +147,34 @@ int RunTrack(const TrackArgs& a) {
   for (size_t i = 0; i < scenarios.size(); ++i) {
     for (uint64_t seed = seeds[i].first; seed <= seeds[i].second; ++seed) {
       const std::string prefix = "s" + std::to_string(seed) + "/" + scenarios[i].name + "/";
+      const classify::MapFeatures map = classifier ? ScenarioMapFeatures(scenarios[i]) : classify::MapFeatures{};
+      OnlineClasses online;
       track::SyntheticRun run = track::RunSyntheticTracking(
-          scenarios[i], seed, tracker, detection, prefix, [&](double f) {
+          scenarios[i], seed, tracker, detection, prefix,
+          [&](double f) {
             progress.Update(done_s + f * scenarios[i].duration_s, (done_s + f * scenarios[i].duration_s) / total_s);
+          },
+          [&](std::vector<world::Track>& tracks, double t_s) {
+            if (classifier) ClassifyOnline(*classifier, map, prefix, tracks, t_s, online);
           });
       done_s += scenarios[i].duration_s;
       const eval::MotResult mot = eval::EvaluateMot(run.truth, run.tracks, a.match_threshold_m);
       track::LabelTracksFromTruth(run.tracks, run.truth, mot.truth_of_hypothesis);
+      if (classifier) {
+        const auto& classes = classifier->classes();
+        const auto index = [&](const std::string& c) {
+          return static_cast<int>(std::find(classes.begin(), classes.end(), c) - classes.begin());
+        };
+        for (const auto& sample : run.tracks) {
+          const auto it = online.cls.find({sample.id, sample.t_s});
+          if (it == online.cls.end() || index(sample.truth_cls) == static_cast<int>(classes.size())) continue;
+          online_truth.push_back(index(sample.truth_cls));
+          online_classifier.push_back(index(it->second));
+          online_vote.push_back(index(sample.cls));
+        }
+        online_s += online.seconds;
+        online_classified += online.classified;
+      }
       if (all_truth.empty()) WriteTracksPng(scenarios[i], run, out + "/tracks.png");
       nlohmann::json j = mot.ToJson();
       j["scenario"] = scenarios[i].name;
@@ -124,6 +194,21 @@ int RunTrack(const TrackArgs& a) {
   j["metrics"]["match_threshold_m"] = a.match_threshold_m;
   j["runs"] = runs;
   j["timing"] = {{"frames", frames}, {"tracker_ms_per_frame", frames ? 1000.0 * tracker_s / frames : 0.0}};
+  if (classifier) {
+    const int k = static_cast<int>(classifier->classes().size());
+    const auto by_classifier = classify::Score(online_truth, online_classifier, k);
+    const auto by_vote = classify::Score(online_truth, online_vote, k);
+    j["online_classification"] = {
+        {"model", a.model_dir},
+        {"track_frames", online_truth.size()},
+        {"classifier", by_classifier.ToJson(classifier->classes())},
+        {"tracker_vote", by_vote.ToJson(classifier->classes())},
+        {"classifier_ms_per_window", online_classified ? 1000.0 * online_s / online_classified : 0.0},
+        {"classifier_ms_per_frame", frames ? 1000.0 * online_s / frames : 0.0}};
+    std::printf("track: online classifier on %zu labelled track-frames: macro F1 %.3f (tracker's detection vote "
+                "%.3f), %.2f ms per frame\n",
+                online_truth.size(), by_classifier.macro_f1, by_vote.macro_f1, frames ? 1000.0 * online_s / frames : 0.0);
+  }
   for (const char* f : {"truth.csv", "tracks.csv", "tracks.png"}) report.AddOutput(f);
   report.Write(out);
   progress.Finish();
@@ -142,6 +227,7 @@ void AddTrackCommand(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand("track", "multi-object tracking on simulated scenes, scored with CLEAR MOT");
   cmd->add_option("scenarios", args->scenarios, "scenario files (datasets/scenarios/*.yaml)")->required();
   cmd->add_option("--seeds", args->seeds, "seed N or range A-B (default: each scenario's own seed)");
+  cmd->add_option("--model", args->model_dir, "classify confirmed tracks online with this classify-train output");
   cmd->add_option("--match-threshold", args->match_threshold_m, "CLEAR MOT match distance (m)")->capture_default_str();
   AddCommonOptions(*cmd, args->common, "specht-out/track");
   cmd->callback([args, &exit_code] { exit_code = RunTrack(*args); });

@@ -12,6 +12,7 @@
 #include "specht/classify/metrics.h"
 #include "specht/classify/model.h"
 #include "specht/classify/preprocess.h"
+#include "specht/classify/trajectory_classifier.h"
 #include "specht/core/error.h"
 #include "test_support.h"
 
@@ -223,6 +224,39 @@ TEST(ModelTest, SameSeedSameModel) {
   EXPECT_EQ(a.Predict(train), b.Predict(train));
 }
 
+// Stopped after 2 epochs and resumed to 4 from the checkpoint = 4 epochs at once,
+// bit for bit (weights, Adam state, learning-rate schedule, per-epoch seeds).
+TEST(ModelTest, ResumedTrainingEqualsUninterruptedTraining) {
+  const Dataset train = ToyDataset(40, 3), validation = ToyDataset(10, 4);
+  auto o = Small();
+  o.epochs = 4;
+  o.plateau_patience = 1;  // the rate changes during the run, so the schedule must resume too
+  Classifier whole(o, 4, 32, {"s", "w"});
+  const auto whole_reports = whole.Train(train, validation);
+
+  const std::string ckpt = testing::TempDir("model_resume") + "/ckpt.pt";
+  auto first = o;
+  first.epochs = 2;
+  Classifier part(first, 4, 32, {"s", "w"});
+  part.Train(train, validation, nullptr, ckpt);
+  Classifier resumed(o, 4, 32, {"s", "w"});  // a new process would start from fresh weights
+  int seen = 0;
+  const auto reports = resumed.Train(train, validation, [&](const EpochReport&) { ++seen; }, ckpt);
+  EXPECT_EQ(seen, static_cast<int>(whole_reports.size()));
+  ASSERT_EQ(reports.size(), whole_reports.size());
+  for (size_t i = 0; i < reports.size(); ++i) {
+    EXPECT_EQ(reports[i].train_loss, whole_reports[i].train_loss) << "epoch " << i + 1;
+    EXPECT_EQ(reports[i].learning_rate, whole_reports[i].learning_rate) << "epoch " << i + 1;
+  }
+  EXPECT_EQ(resumed.Predict(validation), whole.Predict(validation));
+
+  // A checkpoint of another run is refused, and so is a corrupt one.
+  Classifier other(o, 4, 32, {"s", "w"});
+  EXPECT_THROW(other.Train(ToyDataset(30, 3), validation, nullptr, ckpt), InputError);
+  testing::WriteFile(ckpt, "garbage");
+  EXPECT_THROW(other.Train(train, validation, nullptr, ckpt), InputError);
+}
+
 TEST(ModelTest, RefusesMismatchedModelsAndInputs) {
   const std::string dir = testing::TempDir("model_bad");
   Classifier c(Small(), 4, 32, {"s", "w"});
@@ -240,6 +274,48 @@ TEST(ModelTest, RefusesMismatchedModelsAndInputs) {
   EXPECT_THROW(Classifier::Load(dir + "/m"), InputError);
   EXPECT_THROW(Classifier::Load(dir + "/missing"), InputError);
   EXPECT_THROW(Classifier(Small(), 4, 32, {"only"}), InputError);
+}
+
+// The model carries its preprocessing: a model saved with non-default options
+// cuts and normalises new trajectories exactly as its training set was.
+TEST(TrajectoryClassifierTest, CarriesItsPreprocessingAndCutsTheLatestWindow) {
+  PreprocessOptions o;
+  o.length = 32;
+  o.max_gap_s = 0.5;
+  o.features = {"x", "y", "speed", "turn_rate"};
+  o.transform = "rotate_to_zero";
+  const std::string dir = testing::TempDir("trajectory_classifier");
+  Classifier c(Small(), 4, 32, {"straight", "weaving"});
+  c.Save(dir + "/m", {{"preprocessing", PreprocessingJson(o, {-5, 5, -2, 2})}});
+  const TrajectoryClassifier t = TrajectoryClassifier::Load(dir + "/m");
+  EXPECT_EQ(t.preprocessing().max_gap_s, 0.5);
+  EXPECT_EQ(t.preprocessing().features, o.features);
+  EXPECT_EQ(t.preprocessing().transform, "rotate_to_zero");
+
+  // 100 points, a 1 s gap before point 70: the latest piece has 30 points (≥ 80 % of
+  // 32, so one padded window of 30); after a gap at point 90 only 10 (none).
+  Trajectory track = Line("a", 100, 0.1, 1, 0);
+  for (size_t i = 70; i < track.points.size(); ++i) track.points[i].t_s += 1.0;
+  const auto w = t.LatestWindow(track);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_EQ(w->valid, 30);
+  EXPECT_DOUBLE_EQ(w->points.front().t_s, track.points[70].t_s);
+  EXPECT_DOUBLE_EQ(w->points.back().t_s, track.points.back().t_s);
+  for (size_t i = 90; i < track.points.size(); ++i) track.points[i].t_s += 1.0;
+  EXPECT_FALSE(t.LatestWindow(track).has_value());
+  EXPECT_FALSE(t.LatestWindow(Line("still", 40, 0.1, 0, 0)).has_value());  // stationary
+  const auto p = t.Classify({*w});
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_NEAR(p[0] + p[1], 1.0, 1e-5);
+
+  // A model without preprocessing, or with preprocessing that does not fit it.
+  c.Save(dir + "/bare");
+  EXPECT_THROW(TrajectoryClassifier::Load(dir + "/bare"), InputError);
+  o.length = 60;
+  c.Save(dir + "/misfit", {{"preprocessing", PreprocessingJson(o, {})}});
+  EXPECT_THROW(TrajectoryClassifier::Load(dir + "/misfit"), InputError);
+  c.Save(dir + "/badkey", {{"preprocessing", {{"options_yaml", "lenght: 32\n"}, {"position_bounds", {0, 1, 0, 1}}}}});
+  EXPECT_THROW(TrajectoryClassifier::Load(dir + "/badkey"), InputError);
 }
 
 TEST(SplitTest, DisjointByObject) {

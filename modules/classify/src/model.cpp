@@ -6,6 +6,8 @@
 #include <chrono>
 #include <fstream>
 #include <functional>
+#include <limits>
+#include <sstream>
 
 #include "specht/classify/metrics.h"
 #include "specht/core/error.h"
@@ -44,6 +46,12 @@ struct ResBlockImpl : nn::Module {
 };
 TORCH_MODULE(ResBlock);
 
+// Setting the thread count rebuilds libtorch's pool (≈ 8 ms, measured: it was the
+// whole cost of classifying one window), so only when it changes.
+void UseThreads(int threads) {
+  if (torch::get_num_threads() != threads) torch::set_num_threads(threads);
+}
+
 std::vector<int> Filters(const std::string& variant) {
   if (variant == "tiny") return {32, 32};
   if (variant == "shallow") return {64, 128, 128};
@@ -56,9 +64,12 @@ std::vector<int> Filters(const std::string& variant) {
 struct Classifier::Net : nn::Module {
   std::vector<ResBlock> blocks;
   nn::Linear head{nullptr}, h1{nullptr}, h2{nullptr};
+  int widest = 0;  // channels of the widest activation
   Net(const ModelOptions& o, int features, int length, int classes) {
     int width = features;
+    widest = features;
     for (int f : Filters(o.variant)) {
+      widest = std::max(widest, f);
       blocks.push_back(register_module("block" + std::to_string(blocks.size()), ResBlock(width, f, o.batch_norm)));
       width = f;
     }
@@ -107,7 +118,7 @@ Classifier::Classifier(const ModelOptions& options, int features, int length, st
     : options_(options), features_(features), length_(length), classes_(std::move(classes)) {
   if (features < 1 || length < 1 || classes_.size() < 2)
     throw InputError("classify: a model needs features, a window length and at least two classes");
-  torch::set_num_threads(options.threads);
+  UseThreads(options.threads);
   torch::manual_seed(options.seed);
   net_ = std::make_shared<Net>(options, features, length, static_cast<int>(classes_.size()));
 }
@@ -118,6 +129,17 @@ Classifier& Classifier::operator=(Classifier&&) noexcept = default;
 long Classifier::parameter_count() const {
   long n = 0;
   for (const auto& p : net_->parameters()) n += p.numel();
+  return n;
+}
+
+// A stride-1 "same" convolution costs its weight count per output time step; a
+// linear layer its weight count once (batch norm and ReLU are not counted).
+double Classifier::multiply_adds_per_window() const {
+  double n = 0;
+  for (const auto& m : net_->modules(/*include_self=*/false)) {
+    if (const auto* conv = m->as<nn::Conv1d>()) n += static_cast<double>(conv->weight.numel()) * length_;
+    if (const auto* linear = m->as<nn::Linear>()) n += static_cast<double>(linear->weight.numel());
+  }
   return n;
 }
 
@@ -142,16 +164,107 @@ void CheckShape(const Dataset& d, int features, int length, const char* what) {
 
 }  // namespace
 
+namespace {
+
+// Everything Train needs to continue after an epoch.
+struct TrainingState {
+  int epoch = 0;  // last finished epoch
+  double learning_rate = 0, best = std::numeric_limits<double>::infinity();
+  int since_best = 0, since_lr = 0;
+  std::string best_weights;  // torch::save of the best epoch's network
+  std::vector<EpochReport> reports;
+};
+
+torch::Tensor BytesTensor(const std::string& s) {
+  return torch::from_blob(const_cast<char*>(s.data()), {static_cast<int64_t>(s.size())}, torch::kUInt8).clone();
+}
+std::string TensorBytes(const torch::Tensor& t) {
+  return std::string(reinterpret_cast<const char*>(t.data_ptr<uint8_t>()), static_cast<size_t>(t.numel()));
+}
+
+nlohmann::json ReportsJson(const std::vector<EpochReport>& reports) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& r : reports)
+    j.push_back({r.epoch, r.train_loss, r.validation_loss, r.validation_macro_f1, r.learning_rate, r.seconds});
+  return j;
+}
+std::vector<EpochReport> ReportsFromJson(const nlohmann::json& j) {
+  std::vector<EpochReport> reports;
+  for (const auto& e : j)
+    reports.push_back({e[0].get<int>(), e[1].get<double>(), e[2].get<double>(), e[3].get<double>(),
+                       e[4].get<double>(), e[5].get<double>()});
+  return reports;
+}
+
+void WriteCheckpoint(const std::string& path, const nlohmann::json& run, const TrainingState& s, nn::Module& net,
+                     torch::optim::Optimizer& optimiser) {
+  torch::serialize::OutputArchive archive, net_archive, optimiser_archive;
+  net.save(net_archive);
+  optimiser.save(optimiser_archive);
+  const nlohmann::json meta = {{"format", "specht-classifier-checkpoint-1"},
+                               {"run", run},
+                               {"epoch", s.epoch},
+                               {"learning_rate", s.learning_rate},
+                               {"best", s.best},
+                               {"since_best", s.since_best},
+                               {"since_lr", s.since_lr},
+                               {"reports", ReportsJson(s.reports)}};
+  archive.write("meta", BytesTensor(meta.dump()));
+  archive.write("best_weights", BytesTensor(s.best_weights));
+  archive.write("net", net_archive);
+  archive.write("optimiser", optimiser_archive);
+  std::ostringstream bytes;
+  archive.save_to(bytes);
+  io::WriteTextAtomically(path, bytes.str());
+}
+
+// Restores `s`, the network and the optimiser; false when there is no checkpoint.
+bool ReadCheckpoint(const std::string& path, const nlohmann::json& run, TrainingState& s, nn::Module& net,
+                    torch::optim::Optimizer& optimiser) {
+  if (!std::ifstream(path)) return false;
+  try {
+    torch::serialize::InputArchive archive, net_archive, optimiser_archive;
+    archive.load_from(path);
+    torch::Tensor meta_bytes, best;
+    archive.read("meta", meta_bytes);
+    const auto meta = nlohmann::json::parse(TensorBytes(meta_bytes));
+    if (meta.value("format", "") != "specht-classifier-checkpoint-1")
+      throw InputError(path + ": not a specht classifier checkpoint");
+    if (meta.at("run") != run)
+      throw InputError(path + ": checkpoint of another training run (was " + meta.at("run").dump() + ", now " +
+                       run.dump() + "); delete it to start over");
+    archive.read("best_weights", best);
+    archive.read("net", net_archive);
+    archive.read("optimiser", optimiser_archive);
+    net.load(net_archive);
+    optimiser.load(optimiser_archive);
+    s.epoch = meta.at("epoch").get<int>();
+    s.learning_rate = meta.at("learning_rate").get<double>();
+    s.best = meta.at("best").is_null() ? std::numeric_limits<double>::infinity() : meta.at("best").get<double>();
+    s.since_best = meta.at("since_best").get<int>();
+    s.since_lr = meta.at("since_lr").get<int>();
+    s.best_weights = TensorBytes(best);
+    s.reports = ReportsFromJson(meta.at("reports"));
+    return true;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path + ": unreadable checkpoint (" + std::string(e.what()).substr(0, 200) + ")");
+  }
+}
+
+}  // namespace
+
 std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& validation,
-                                           const std::function<void(const EpochReport&)>& on_epoch) {
+                                           const std::function<void(const EpochReport&)>& on_epoch,
+                                           const std::string& checkpoint) {
   CheckShape(train, features_, length_, "the training set");
   if (validation.size()) CheckShape(validation, features_, length_, "the validation set");
   if (train.size() == 0) throw InputError("classify: the training set is empty");
   const int k = static_cast<int>(classes_.size());
   for (int y : train.y)
     if (y < 0 || y >= k) throw InputError("classify: a training label is outside the model's classes");
-  torch::set_num_threads(options_.threads);
-  torch::manual_seed(options_.seed);
+  UseThreads(options_.threads);
 
   std::vector<double> weights(k, 1.0);
   if (options_.class_weights) {
@@ -161,16 +274,30 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
   }
   const auto weight = torch::tensor(std::vector<float>(weights.begin(), weights.end()));
   torch::optim::Adam optimiser(net_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
-  double lr = options_.learning_rate;
 
-  std::vector<EpochReport> reports;
-  double best = std::numeric_limits<double>::infinity();
-  int since_best = 0, since_lr = 0;
-  std::stringstream best_state;
-  torch::save(net_, best_state);
+  // What must match for a checkpoint to be continued (epochs may grow).
+  const nlohmann::json run = {{"variant", options_.variant}, {"batch_norm", options_.batch_norm},
+                              {"features", features_},       {"length", length_},
+                              {"classes", classes_},         {"train", train.size()},
+                              {"validation", validation.size()}, {"batch_size", options_.batch_size},
+                              {"seed", options_.seed},       {"input_noise", options_.input_noise},
+                              {"class_weights", options_.class_weights}};
+  TrainingState state;
+  state.learning_rate = options_.learning_rate;
+  if (checkpoint.empty() || !ReadCheckpoint(checkpoint, run, state, *net_, optimiser)) {
+    std::stringstream initial;
+    torch::save(net_, initial);
+    state.best_weights = initial.str();
+  }
+  for (auto& g : optimiser.param_groups()) static_cast<torch::optim::AdamOptions&>(g.options()).lr(state.learning_rate);
+  if (on_epoch)
+    for (const auto& r : state.reports) on_epoch(r);
+
   const auto labels_all = torch::tensor(std::vector<int64_t>(train.y.begin(), train.y.end()));
-  for (int epoch = 1; epoch <= options_.epochs; ++epoch) {
+  for (int epoch = state.epoch + 1; epoch <= options_.epochs && state.since_best < options_.early_stop_patience;
+       ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
+    torch::manual_seed(static_cast<uint64_t>(options_.seed) * 100003u + static_cast<uint64_t>(epoch));
     net_->train();
     const auto order = torch::randperm(static_cast<int64_t>(train.size()), torch::kLong);
     const int64_t* idx = order.data_ptr<int64_t>();
@@ -192,7 +319,7 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
     EpochReport r;
     r.epoch = epoch;
     r.train_loss = loss_sum / train.size();
-    r.learning_rate = lr;
+    r.learning_rate = state.learning_rate;
     double score = r.train_loss;
     if (validation.size()) {
       const std::vector<float> p = Predict(validation);
@@ -208,33 +335,37 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
       score = r.validation_loss;
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    reports.push_back(r);
-    if (on_epoch) on_epoch(r);
-    if (score < best - 1e-6) {
-      best = score, since_best = 0, since_lr = 0;
-      best_state.str("");
-      torch::save(net_, best_state);
+    state.reports.push_back(r);
+    state.epoch = epoch;
+    if (score < state.best - 1e-6) {
+      state.best = score, state.since_best = 0, state.since_lr = 0;
+      std::stringstream best;
+      torch::save(net_, best);
+      state.best_weights = best.str();
     } else {
-      ++since_best, ++since_lr;
-      if (since_lr >= options_.plateau_patience) {
-        lr /= 2, since_lr = 0;
-        for (auto& g : optimiser.param_groups()) static_cast<torch::optim::AdamOptions&>(g.options()).lr(lr);
+      ++state.since_best, ++state.since_lr;
+      if (state.since_lr >= options_.plateau_patience) {
+        state.learning_rate /= 2, state.since_lr = 0;
+        for (auto& g : optimiser.param_groups())
+          static_cast<torch::optim::AdamOptions&>(g.options()).lr(state.learning_rate);
       }
-      if (since_best >= options_.early_stop_patience) break;
     }
+    if (!checkpoint.empty()) WriteCheckpoint(checkpoint, run, state, *net_, optimiser);
+    if (on_epoch) on_epoch(r);
   }
-  best_state.seekg(0);
-  torch::load(net_, best_state);
-  return reports;
+  std::stringstream best(state.best_weights);
+  torch::load(net_, best);
+  return state.reports;
 }
 
 std::vector<float> Classifier::Predict(const Dataset& data, int batch_size) const {
   CheckShape(data, features_, length_, "the input");
-  torch::set_num_threads(options_.threads);
+  UseThreads(options_.threads);
   torch::NoGradGuard no_grad;
   net_->eval();
   const int k = static_cast<int>(classes_.size());
   std::vector<float> out(data.size() * k);
+  if (batch_size <= 0) batch_size = std::clamp((1 << 20) / (net_->widest * length_), 8, 256);
   for (size_t start = 0; start < data.size(); start += batch_size) {
     const size_t end = std::min(data.size(), start + batch_size);
     std::vector<int64_t> rows(end - start);

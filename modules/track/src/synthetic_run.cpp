@@ -10,7 +10,8 @@ namespace specht::track {
 
 SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, const TrackerOptions& tracker_options,
                                   const SyntheticDetectionOptions& detection, const std::string& prefix,
-                                  const std::function<void(double)>& progress) {
+                                  const std::function<void(double)>& progress,
+                                  const std::function<void(std::vector<world::Track>&, double t_s)>& on_tracks) {
   sim::Simulator sim(scenario, seed);
   SyntheticDetector detector(detection, seed);
   Tracker tracker(tracker_options);
@@ -38,7 +39,9 @@ SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, 
     }
     for (const auto& a : detector.hidden())
       run.truth.push_back({prefix + std::to_string(a.id) + "#hidden", t, a.pose.x, a.pose.y, sim::Name(a.cls), "", true});
-    for (const auto& tr : tracker.Tracks())
+    std::vector<world::Track> tracks = tracker.Tracks();
+    if (on_tracks) on_tracks(tracks, t);
+    for (const auto& tr : tracks)
       run.tracks.push_back({prefix + "t" + std::to_string(tr.id), t, tr.x_m, tr.y_m, tr.cls, ""});
   }
   run.simulated_s = sim.time_s();

@@ -338,6 +338,32 @@ class Params {
   std::map<std::string, std::any> values_;
 };
 
+// One options struct as a YAML map and back, for artefacts that must carry the
+// options they were made with (a classifier remembers its preprocessing).
+// FromYaml starts from the defaults and throws InputError naming `source` on an
+// unknown key, a wrong type or a value out of range.
+template <class O>
+std::string ToYaml(O options) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  Writer writer(out, false);
+  options.Visit(writer);
+  out << YAML::EndMap;
+  return out.c_str();
+}
+template <class O>
+O FromYaml(const std::string& yaml, const std::string& source) {
+  ParamTree tree;
+  tree.MergeText(yaml, source);
+  O options;
+  std::vector<std::string> errors;
+  Reader reader(tree, "", errors);
+  options.Visit(reader);
+  for (const auto& [key, leaf] : tree.Unused()) errors.push_back(source + ": unknown key '" + key + "'");
+  if (!errors.empty()) throw InputError(errors.front());
+  return options;
+}
+
 // Edit distance, for "did you mean" suggestions.
 size_t EditDistance(const std::string& a, const std::string& b);
 

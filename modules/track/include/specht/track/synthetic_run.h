@@ -25,10 +25,13 @@ struct SyntheticRun {
 };
 
 // Simulates `scenario` with `seed` for its duration. `progress(fraction)` is called
-// every simulated second when given.
+// every simulated second when given; `on_tracks(tracks, now)` after every tracker
+// update with the tracks the frame records and the simulated time, as in the
+// samples (e.g. to classify them online).
 SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, const TrackerOptions& tracker,
                                   const SyntheticDetectionOptions& detection, const std::string& id_prefix,
-                                  const std::function<void(double)>& progress = nullptr);
+                                  const std::function<void(double)>& progress = nullptr,
+                                  const std::function<void(std::vector<world::Track>&, double t_s)>& on_tracks = nullptr);
 
 // Sets each track sample's truth_class to the class of the truth object its track
 // was matched to most often (`truth_of_hypothesis`, from eval::EvaluateMot), "none"
