@@ -1,5 +1,5 @@
 // classify_bench: the trajectory classifier's speed on 2 threads, per variant
-// (tiny, shallow, deep, mlp) and window length (360 × 9 as in the vessel paper,
+// (tiny, shallow, deep, split, mlp) and window length (360 × 9 as in the vessel paper,
 // 60 × 9 as the robot tracks use): batched inference in windows per second
 // (Predict's cache-sized batches, best of 3 passes over 1,024 random windows) and training throughput in
 // windows per second (one epoch of 512 windows, batch 64, Adam, input noise), and
@@ -42,7 +42,7 @@ specht::classify::Dataset RandomWindows(int n, int features, int length, int cla
 int main() {
   const std::vector<std::string> classes = {"a", "b", "c", "d", "e"};
   for (const int length : {360, 60}) {
-    for (const std::string variant : {"tiny", "shallow", "deep", "mlp"}) {
+    for (const std::string variant : {"tiny", "shallow", "deep", "split", "mlp"}) {
       specht::classify::ModelOptions o;
       o.variant = variant;
       o.threads = 2;

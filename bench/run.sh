@@ -27,4 +27,6 @@ if [[ -d "$data/stereo" ]]; then
   run "$build/bench/detect_bench" "$data"
 fi
 run "$build/bench/sim_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
+run "$build/bench/track_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
+run "$build/bench/classify_bench"
 echo "bench: results in $out" >&2

@@ -52,41 +52,65 @@ void UseThreads(int threads) {
   if (torch::get_num_threads() != threads) torch::set_num_threads(threads);
 }
 
+// Residual block widths of one path.
 std::vector<int> Filters(const std::string& variant) {
   if (variant == "tiny") return {32, 32};
   if (variant == "shallow") return {64, 128, 128};
   if (variant == "deep") return {64, 64, 64, 128, 128, 128, 128, 128, 128};
+  if (variant == "split") return {32, 48};  // per feature
   return {};
 }
 
 }  // namespace
 
+// The convolutional variants are one or more paths of residual blocks, each over a
+// slice of the input channels (all of them, or one feature each for "split"),
+// concatenated and pooled over time.
 struct Classifier::Net : nn::Module {
-  std::vector<ResBlock> blocks;
+  struct Path {
+    int first_channel = 0, channels = 0;
+    std::vector<ResBlock> blocks;
+  };
+  std::vector<Path> paths;
   nn::Linear head{nullptr}, h1{nullptr}, h2{nullptr};
   int widest = 0;  // channels of the widest activation
   Net(const ModelOptions& o, int features, int length, int classes) {
-    int width = features;
-    widest = features;
-    for (int f : Filters(o.variant)) {
-      widest = std::max(widest, f);
-      blocks.push_back(register_module("block" + std::to_string(blocks.size()), ResBlock(width, f, o.batch_norm)));
-      width = f;
+    const bool split = o.variant == "split";
+    const std::vector<int> filters = Filters(o.variant);
+    int pooled = 0;
+    for (int f = 0; f < (split ? features : 1) && !filters.empty(); ++f) {
+      Path path{split ? f : 0, split ? 1 : features, {}};
+      int width = path.channels;
+      for (int out : filters) {
+        const std::string name = (split ? "path" + std::to_string(f) + "_" : "") + "block" +
+                                 std::to_string(path.blocks.size());
+        path.blocks.push_back(register_module(name, ResBlock(width, out, o.batch_norm)));
+        width = out;
+      }
+      pooled += width;
+      paths.push_back(std::move(path));
     }
-    if (blocks.empty()) {  // mlp
+    widest = features;
+    for (int out : filters) widest = std::max(widest, out);
+    if (paths.empty()) {  // mlp
       h1 = register_module("h1", nn::Linear(features * length, 64));
       h2 = register_module("h2", nn::Linear(64, 64));
-      width = 64;
+      pooled = 64;
     }
-    head = register_module("head", nn::Linear(width, classes));
+    head = register_module("head", nn::Linear(pooled, classes));
   }
   torch::Tensor forward(torch::Tensor x) {
-    if (blocks.empty()) {
+    if (paths.empty()) {
       x = torch::relu(h1(x.flatten(1)));
       return head(torch::relu(h2(x)));
     }
-    for (auto& b : blocks) x = b(x);
-    return head(x.mean(2));  // global average pooling over time
+    std::vector<torch::Tensor> outputs;
+    for (auto& path : paths) {
+      torch::Tensor y = x.narrow(1, path.first_channel, path.channels);
+      for (auto& b : path.blocks) y = b(y);
+      outputs.push_back(y.mean(2));  // global average pooling over time
+    }
+    return head(outputs.size() == 1 ? outputs[0] : torch::cat(outputs, 1));
   }
 };
 

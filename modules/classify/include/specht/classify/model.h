@@ -9,6 +9,10 @@
 //   tiny     2 blocks of 32 filters             (~27 k parameters)
 //   shallow  3 blocks of 64, 128, 128 filters   (the paper's best; ~0.5 M)
 //   deep     9 blocks: 3 × 64, 6 × 128
+//   split    the paper's split ResNet: one path of 2 blocks (32, 48 filters) per
+//            input feature, the paths' pooled outputs concatenated (~0.38 M for 9
+//            features); features that are "not necessarily logically linked" get
+//            their own filters
 //   mlp      the paper's baseline: two hidden layers of 64 on the flattened window
 // then global average pooling over time and a linear layer to the classes.
 //
@@ -48,7 +52,7 @@ struct ModelOptions {
   template <class V>
   void Visit(V& v) {
     using params::Range;
-    v.Choice("variant", variant, {"tiny", "shallow", "deep", "mlp"}, "network (see classify/model.h)");
+    v.Choice("variant", variant, {"tiny", "shallow", "deep", "split", "mlp"}, "network (see classify/model.h)");
     v.Param("batch_norm", batch_norm, "batch normalisation after each convolution");
     v.Param("epochs", epochs, "maximum training epochs", Range::Of(1, 10000));
     v.Param("batch_size", batch_size, "windows per optimiser step", Range::Of(1, 4096).Log());
