@@ -6,8 +6,10 @@
 // (1×1 convolution + batch norm when the width changes):
 //   y = ReLU(BN(conv3(ReLU(BN(conv2(ReLU(BN(conv1(x))))))) + shortcut(x))
 // Variants (section "classify_model", variant):
-//   tiny     2 blocks of 32 filters             (~27 k parameters)
-//   shallow  3 blocks of 64, 128, 128 filters   (the paper's best; ~0.5 M)
+//   tiny     2 blocks of 32 filters             (~28 k parameters; the default:
+//            on the robot classes it beat shallow on 3 of 3 seeds, 0.970 vs
+//            0.953 macro F1, and runs 12× faster; see README)
+//   shallow  3 blocks of 64, 128, 128 filters   (the paper's best on AIS; ~0.5 M)
 //   deep     9 blocks: 3 × 64, 6 × 128
 //   split    the paper's split ResNet: one path of 2 blocks (32, 48 filters) per
 //            input feature, the paths' pooled outputs concatenated (~0.38 M for 9
@@ -36,7 +38,7 @@ namespace specht::classify {
 
 // Section "classify_model".
 struct ModelOptions {
-  std::string variant = "shallow";
+  std::string variant = "tiny";
   bool batch_norm = true;
   int epochs = 100;
   int batch_size = 64;
