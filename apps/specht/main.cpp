@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   specht::app::AddDetectCommand(app, exit_code);
   specht::app::AddTrackCommand(app, exit_code);
   specht::app::AddClassifyCommand(app, exit_code);
+  specht::app::AddTuneCommand(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

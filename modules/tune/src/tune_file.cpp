@@ -1,0 +1,154 @@
+#include "specht/tune/tune_file.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "specht/core/error.h"
+
+namespace specht::tune {
+namespace {
+
+std::vector<std::string> Words(const std::string& line) {
+  std::vector<std::string> w;
+  std::stringstream ss(line);
+  for (std::string x; ss >> x;) w.push_back(x);
+  return w;
+}
+
+void Flatten(const nlohmann::json& j, const std::string& prefix, std::vector<std::string>& out) {
+  if (j.is_number()) out.push_back(prefix);
+  if (j.is_object())
+    for (const auto& [k, v] : j.items()) Flatten(v, prefix.empty() ? k : prefix + "." + k, out);
+}
+
+}  // namespace
+
+TuneFile LoadTuneFile(const std::string& path, const std::vector<params::ParamInfo>& declared) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open the tune file");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  if (!root.IsMap()) throw InputError(path + ": a tune file is a YAML map (run, metric, parameters, search, …)");
+  TuneFile t;
+  t.path = path;
+  const auto at = [&](const YAML::Node& n) { return path + ":" + std::to_string(n.Mark().line + 1) + ": "; };
+  try {
+    for (const auto& kv : root) {
+      const std::string k = kv.first.as<std::string>();
+      static const std::vector<std::string> known = {"run",     "report",   "metric",     "goal",
+                                                     "repeats", "timeout_s", "parameters", "search"};
+      if (std::find(known.begin(), known.end(), k) == known.end())
+        throw InputError(at(kv.first) + "unknown field '" + k + "' (run, report, metric, goal, repeats, timeout_s, " +
+                         "parameters, search)");
+    }
+    const YAML::Node run = root["run"];
+    if (!run) throw InputError(path + ": 'run' is missing (the command lines of one evaluation)");
+    if (run.IsScalar()) t.commands.push_back(Words(run.as<std::string>()));
+    else
+      for (const auto& c : run) t.commands.push_back(Words(c.as<std::string>()));
+    for (const auto& c : t.commands)
+      if (c.empty()) throw InputError(at(run) + "an empty command");
+    if (!root["metric"]) throw InputError(path + ": 'metric' is missing (a dotted path into the report JSON)");
+    t.metric = root["metric"].as<std::string>();
+    if (root["report"]) t.report = root["report"].as<std::string>();
+    if (root["goal"]) {
+      const std::string g = root["goal"].as<std::string>();
+      if (g != "minimise" && g != "maximise" && g != "minimize" && g != "maximize")
+        throw InputError(at(root["goal"]) + "goal must be minimise or maximise");
+      t.maximise = g.substr(0, 3) == "max";
+    }
+    if (root["repeats"]) t.repeats = root["repeats"].as<int>();
+    if (t.repeats < 1) throw InputError(at(root["repeats"]) + "repeats must be at least 1");
+    if (root["timeout_s"]) t.timeout_s = root["timeout_s"].as<double>();
+    if (!(t.timeout_s > 0)) throw InputError(at(root["timeout_s"]) + "timeout_s must be positive");
+    if (const YAML::Node s = root["search"]) {
+      std::stringstream yaml;
+      yaml << s;
+      t.search = params::FromYaml<SearchOptions>(yaml.str(), path + " (search)");
+    }
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  t.space = SearchSpace::FromTuneFile(declared, root["parameters"], path);
+  return t;
+}
+
+double MetricFromReport(const std::string& report_path, const std::string& metric) {
+  std::ifstream f(report_path);
+  if (!f) throw InputError(report_path + ": no report (did the run write it there?)");
+  nlohmann::json j;
+  try {
+    f >> j;
+  } catch (const std::exception& e) {
+    throw InputError(report_path + ": not JSON: " + e.what());
+  }
+  const nlohmann::json* node = &j;
+  std::stringstream parts(metric);
+  for (std::string part; std::getline(parts, part, '.');) {
+    if (!node->is_object() || !node->contains(part)) {
+      node = nullptr;
+      break;
+    }
+    node = &(*node)[part];
+  }
+  if (node && node->is_number()) return node->get<double>();
+  std::vector<std::string> numeric;
+  Flatten(j, "", numeric);
+  std::string nearest;
+  size_t best = 1000;
+  for (const auto& p : numeric)
+    if (const size_t d = params::EditDistance(p, metric); d < best) best = d, nearest = p;
+  throw InputError(report_path + ": no number at '" + metric + "'" +
+                   (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)"));
+}
+
+ProcessResult RunProcess(const std::vector<std::string>& argv, const std::string& log_path, double timeout_s) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (log_fd < 0) throw RuntimeError(log_path + ": cannot open for the worker's output");
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {  // child: only async-signal-safe calls until exec
+    setpgid(0, 0);
+    dup2(log_fd, 1);
+    dup2(log_fd, 2);
+    execvp(args[0], args.data());
+    _exit(127);
+  }
+  close(log_fd);
+  if (pid < 0) throw RuntimeError("tune: fork failed");
+  setpgid(pid, pid);  // also from the parent, so the kill below cannot miss
+  ProcessResult r;
+  int status = 0;
+  for (;;) {
+    const pid_t done = waitpid(pid, &status, WNOHANG);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (done == pid) break;
+    if (r.seconds > timeout_s) {
+      kill(-pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      r.timed_out = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  return r;
+}
+
+}  // namespace specht::tune
