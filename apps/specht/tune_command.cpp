@@ -35,7 +35,7 @@ namespace {
 struct TuneArgs {
   std::string tune_file, out_dir = "specht-out/tune", data_dir;
   int jobs = 1;
-  bool resume = false, quiet = false;
+  bool resume = false, quiet = false, check = false;
 };
 
 std::string SelfExecutable() {
@@ -84,6 +84,21 @@ std::string Values(const tune::TuneFile& t, const tune::Evaluation& e) {
 int RunTune(const TuneArgs& a) {
   const auto declared = AllOptions().Defaults().Describe();
   const tune::TuneFile t = tune::LoadTuneFile(a.tune_file, declared);
+  if (a.check) {  // the file is valid: say what would be searched
+    std::printf("%s: %s search, %d candidates, metric %s (%s)\n", a.tune_file.c_str(), t.search.method.c_str(),
+                t.search.budget, t.metric.c_str(), t.maximise ? "maximise" : "minimise");
+    for (const auto& d : t.space.dimensions()) {
+      std::string range = d.choices.empty() ? "[" + std::to_string(d.min) + ", " + std::to_string(d.max) + "]" +
+                                                  (d.log_scale ? " log" : "")
+                                            : "{" + [&] {
+                                                std::string c;
+                                                for (const auto& x : d.choices) c += (c.empty() ? "" : ", ") + x;
+                                                return c;
+                                              }() + "}";
+      std::printf("  %-36s %s\n", d.key.c_str(), range.c_str());
+    }
+    return 0;
+  }
   std::map<std::string, std::string> vars = {
       {"{self}", SelfExecutable()},
       {"{tune_dir}", std::filesystem::absolute(a.tune_file).parent_path().string()}};
@@ -162,6 +177,7 @@ void AddTuneCommand(CLI::App& app, int& exit_code) {
   cmd->add_flag("--resume", args->resume, "continue from the output directory's evaluations.csv");
   cmd->add_option("--data-dir", args->data_dir, "data directory for {data} (default $SPECHT_DATA_DIR)");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress line");
+  cmd->add_flag("--check", args->check, "only check the tune file and list the search space");
   cmd->callback([args, &exit_code] { exit_code = RunTune(*args); });
 }
 

@@ -78,5 +78,16 @@ TEST(TuneCliTest, BadInputStopsBeforeTheSearch) {
   }
 }
 
+// The shipped tune files name parameters that exist (guards against renames).
+TEST(TuneCliTest, ShippedTuneFilesAreValid) {
+  int files = 0;
+  for (const auto& f : fs::directory_iterator(testing::SourceDir() + "/params/tune")) {
+    const auto r = testing::RunSpecht("tune --check '" + f.path().string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << f.path() << ": " << r.err;
+    ++files;
+  }
+  EXPECT_GE(files, 2);
+}
+
 }  // namespace
 }  // namespace specht

@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "internal/nearest.h"
 #include "specht/core/error.h"
 
 namespace specht::tune {
@@ -19,13 +20,10 @@ std::string Number(double v, bool integer) {
 }
 
 std::string NearestKey(const std::vector<params::ParamInfo>& declared, const std::string& key) {
-  std::string best;
-  size_t best_distance = 1000;
-  for (const auto& p : declared) {
-    const size_t d = params::EditDistance(p.key, key);
-    if (d < best_distance) best_distance = d, best = p.key;
-  }
-  return best_distance <= 4 ? " (did you mean '" + best + "'?)" : "";
+  std::vector<std::string> keys;
+  for (const auto& p : declared) keys.push_back(p.key);
+  const std::string nearest = internal::Nearest(keys, key);
+  return nearest.empty() ? "" : " (did you mean '" + nearest + "'?)";
 }
 
 // One entry of `parameters`; appends problems instead of throwing so the user sees all.

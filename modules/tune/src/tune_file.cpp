@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "internal/nearest.h"
 #include "specht/core/error.h"
 
 namespace specht::tune {
@@ -107,10 +108,7 @@ double MetricFromReport(const std::string& report_path, const std::string& metri
   if (node && node->is_number()) return node->get<double>();
   std::vector<std::string> numeric;
   Flatten(j, "", numeric);
-  std::string nearest;
-  size_t best = 1000;
-  for (const auto& p : numeric)
-    if (const size_t d = params::EditDistance(p, metric); d < best) best = d, nearest = p;
+  const std::string nearest = internal::Nearest(numeric, metric, 1000);
   throw InputError(report_path + ": no number at '" + metric + "'" +
                    (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)"));
 }
