@@ -1,0 +1,91 @@
+// specht/plan/hybrid_astar.h: the global search (Dolgov et al. 2008, "Path Planning
+// for Autonomous Vehicles in Unknown Semi-structured Environments"): A* over
+// (x, y, θ) cells whose nodes carry continuous poses, expanded by driving arcs of
+// the bicycle model (steer_samples angles from −δmax to δmax, forward and reverse).
+//
+// Cost of an arc of length s: s · (reverse ? reverse_penalty : 1)
+//   + steer_penalty · |δ|/δmax · s + steer_change_penalty · |δ − δ_parent|/δmax
+//   + gear_change_penalty_m when the direction flips.
+// Heuristic: max(Reeds-Shepp length ignoring obstacles (OMPL's ReedsSheppStateSpace
+// at R_min), shortest 8-connected grid distance to the goal around obstacles
+// ignoring heading) — both admissible for the arc lengths. The grid distances come
+// from one Dijkstra from the goal; they are cached, so replanning to the same goal
+// on the same map costs only the search.
+// Analytic expansion: every analytic_every expansions the Reeds-Shepp path from the
+// node to the goal is checked for collisions; when free, it ends the search exactly
+// at the goal.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "specht/plan/distance_map.h"
+#include "specht/plan/path.h"
+
+namespace specht::plan {
+
+// Section "hybrid_astar".
+struct HybridAStarOptions {
+  double xy_cell_m = 0.5;
+  int heading_bins = 72;
+  double step_m = 0.75;
+  int steer_samples = 5;
+  bool allow_reverse = true;
+  double reverse_penalty = 2.0;
+  double gear_change_penalty_m = 3.0;
+  double steer_penalty = 0.05;
+  double steer_change_penalty = 0.2;
+  int analytic_every = 5;
+  double collision_step_m = 0.15;
+  double output_spacing_m = 0.1;
+  int max_expansions = 200000;
+  double time_budget_ms = 500;
+
+  template <class V>
+  void Visit(V& v) {
+    using params::Range;
+    v.Param("xy_cell_m", xy_cell_m, "search cell size (one node per cell and heading bin)", Range::Of(0.05, 5.0).Log());
+    v.Param("heading_bins", heading_bins, "heading cells over 360°", Range::Of(8, 720));
+    v.Param("step_m", step_m, "arc length of one expansion (more than a cell diagonal)", Range::Of(0.05, 10.0).Log());
+    v.Param("steer_samples", steer_samples, "steering angles per direction (odd: includes straight)",
+            Range::Of(3, 31));
+    v.Param("allow_reverse", allow_reverse, "expand in reverse too");
+    v.Param("reverse_penalty", reverse_penalty, "cost factor on reversing arcs", Range::Of(1.0, 100.0));
+    v.Param("gear_change_penalty_m", gear_change_penalty_m, "cost of a change of direction, in metres",
+            Range::Of(0.0, 1000.0));
+    v.Param("steer_penalty", steer_penalty, "cost per metre at full steering lock", Range::Of(0.0, 10.0));
+    v.Param("steer_change_penalty", steer_change_penalty, "cost of a steering change of δmax",
+            Range::Of(0.0, 10.0));
+    v.Param("analytic_every", analytic_every, "try the Reeds-Shepp shot to the goal every n expansions",
+            Range::Of(1, 1000));
+    v.Param("collision_step_m", collision_step_m, "spacing of collision checks along arcs", Range::Of(0.01, 1.0).Log());
+    v.Param("output_spacing_m", output_spacing_m, "spacing of the returned path's points", Range::Of(0.01, 1.0).Fixed());
+    v.Param("max_expansions", max_expansions, "give up after this many expansions", Range::Of(100, 100000000).Fixed());
+    v.Param("time_budget_ms", time_budget_ms, "give up after this long", Range::Of(1.0, 600000.0).Fixed());
+  }
+  std::vector<std::string> Relations() const;
+};
+
+struct PlanResult {
+  bool found = false;
+  Path path;
+  std::string failure;  // why not found
+  long expansions = 0;
+  double milliseconds = 0;          // search (and heuristic, when not cached)
+  double heuristic_milliseconds = 0;  // 0 when the goal's grid distances were cached
+};
+
+class HybridAStar {
+ public:
+  HybridAStar(const HybridAStarOptions& options, const CarOptions& car, std::shared_ptr<const DistanceMap> map);
+  ~HybridAStar();
+  // Throws InputError when start or goal is outside the map or in collision.
+  PlanResult Plan(const Pose& start, const Pose& goal);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace specht::plan

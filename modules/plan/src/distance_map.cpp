@@ -1,0 +1,60 @@
+#include "specht/plan/distance_map.h"
+
+#include <cmath>
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <opencv2/imgproc.hpp>
+
+#include "specht/core/error.h"
+#include "specht/world/world_model.h"
+
+namespace specht::plan {
+
+DistanceMap::DistanceMap(const cv::Mat& obstacle, double origin_x, double origin_y, double resolution)
+    : obstacle_(obstacle.clone()), origin_x_(origin_x), origin_y_(origin_y), resolution_(resolution) {
+  if (obstacle.empty() || obstacle.type() != CV_8U || !(resolution > 0))
+    throw InputError("plan: a distance map needs a non-empty 8-bit obstacle raster and a positive resolution");
+  cv::Mat free = obstacle == 0;
+  cv::distanceTransform(free, distance_, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  // Cell centre to the nearest obstacle cell's centre, less half a cell: the
+  // distance to that cell's near edge, never more than the true clearance.
+  distance_ = cv::max(distance_ * resolution - 0.5 * resolution, 0.0);
+  distance_.setTo(0, obstacle != 0);
+}
+
+DistanceMap DistanceMap::FromGrid(const mrpt::maps::COccupancyGridMap2D& g, bool unknown_is_obstacle) {
+  cv::Mat obstacle(static_cast<int>(g.getSizeY()), static_cast<int>(g.getSizeX()), CV_8U);
+  for (int r = 0; r < obstacle.rows; ++r)
+    for (int c = 0; c < obstacle.cols; ++c) {
+      const float p_free = g.getCell(c, r);  // MRPT stores p(free)
+      obstacle.at<uint8_t>(r, c) = p_free < 0.35f || (unknown_is_obstacle && std::abs(p_free - 0.5f) < 0.01f);
+    }
+  return DistanceMap(obstacle, g.getXMin(), g.getYMin(), g.getResolution());
+}
+
+DistanceMap DistanceMap::FromCost(const world::CostGrid& cost, bool unknown_is_obstacle) {
+  cv::Mat obstacle = cost.cost == world::CostGrid::kLethal;
+  if (unknown_is_obstacle) obstacle |= cost.cost == world::CostGrid::kUnknown;
+  return DistanceMap(obstacle / 255, cost.origin_x_m, cost.origin_y_m, cost.resolution_m);
+}
+
+double DistanceMap::Distance(double x, double y) const {
+  const int c = static_cast<int>(std::floor((x - origin_x_) / resolution_));
+  const int r = static_cast<int>(std::floor((y - origin_y_) / resolution_));
+  if (c < 0 || r < 0 || c >= distance_.cols || r >= distance_.rows) return 0.0;
+  return distance_.at<float>(r, c);
+}
+
+double DistanceMap::Clearance(const CarOptions& car, const Pose& p) const {
+  const double c = std::cos(p.theta), s = std::sin(p.theta), radius = car.DiscRadius();
+  double clearance = INFINITY;
+  for (const auto& d : car.DiscCentres())
+    clearance = std::min(clearance, Distance(p.x + c * d.x - s * d.y, p.y + s * d.x + c * d.y) - radius);
+  return clearance;
+}
+
+bool DistanceMap::Free(const CarOptions& car, const Pose& p) const {
+  return Clearance(car, p) > car.safety_margin_m;
+}
+
+}  // namespace specht::plan

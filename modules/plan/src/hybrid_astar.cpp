@@ -1,0 +1,283 @@
+#include "specht/plan/hybrid_astar.h"
+
+#include <chrono>
+#include <cmath>
+#include <queue>
+
+#include <ompl/base/ScopedState.h>
+#include <ompl/base/spaces/ReedsSheppStateSpace.h>
+
+#include "specht/core/error.h"
+
+namespace specht::plan {
+
+std::vector<std::string> HybridAStarOptions::Relations() const {
+  std::vector<std::string> p;
+  if (step_m <= xy_cell_m * std::sqrt(2.0)) p.push_back("step_m must exceed the cell diagonal (xy_cell_m · √2)");
+  return p;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Ms(Clock::time_point a) { return std::chrono::duration<double, std::milli>(Clock::now() - a).count(); }
+
+// Drives `s` metres (negative: reverse) with steering tan δ = `tan_steer` from `p`.
+Pose Drive(const Pose& p, double s, double tan_steer, double wheelbase) {
+  if (std::abs(tan_steer) < 1e-9) return {p.x + s * std::cos(p.theta), p.y + s * std::sin(p.theta), p.theta};
+  const double radius = wheelbase / tan_steer, theta = p.theta + s / radius;
+  return {p.x + radius * (std::sin(theta) - std::sin(p.theta)), p.y - radius * (std::cos(theta) - std::cos(p.theta)),
+          std::remainder(theta, 2 * M_PI)};
+}
+
+// OMPL keeps interpolation along a computed Reeds-Shepp path protected; we need it
+// to sample the path we already have instead of solving it again per sample.
+struct ReedsSheppSpace : ompl::base::ReedsSheppStateSpace {
+  using ompl::base::ReedsSheppStateSpace::ReedsSheppStateSpace;
+  using ompl::base::ReedsSheppStateSpace::interpolate;
+};
+
+struct Node {
+  Pose pose;
+  double g = 0;
+  int parent = -1;
+  int direction = 0;      // of the arc that led here (0 at the start)
+  double tan_steer = 0;   // of that arc
+};
+
+}  // namespace
+
+struct HybridAStar::Impl {
+  HybridAStarOptions o;
+  CarOptions car;
+  std::shared_ptr<const DistanceMap> map;
+  std::shared_ptr<ReedsSheppSpace> rs;
+  int cols = 0, rows = 0;
+  // Grid distances to the cached goal cell (−1: unreachable).
+  int cached_goal = -1;
+  std::vector<float> to_goal;
+  // Closed set: node index per (cell, heading), valid when stamp matches.
+  std::vector<uint32_t> stamp;
+  std::vector<int> slot;
+  uint32_t search = 0;
+
+  int CellOf(double x, double y) const {
+    const int c = static_cast<int>(std::floor((x - map->origin_x()) / o.xy_cell_m));
+    const int r = static_cast<int>(std::floor((y - map->origin_y()) / o.xy_cell_m));
+    return c < 0 || r < 0 || c >= cols || r >= rows ? -1 : r * cols + c;
+  }
+  int KeyOf(const Pose& p) const {
+    const int cell = CellOf(p.x, p.y);
+    if (cell < 0) return -1;
+    const double t = std::remainder(p.theta, 2 * M_PI) + M_PI;
+    const int bin = std::min(o.heading_bins - 1, static_cast<int>(t / (2 * M_PI) * o.heading_bins));
+    return cell * o.heading_bins + bin;
+  }
+
+  // Dijkstra from the goal cell over cells the rear axle can be in: a lower bound
+  // of the distance any pose there must drive.
+  void GridDistances(int goal_cell) {
+    to_goal.assign(static_cast<size_t>(cols) * rows, -1.f);
+    const double need = std::min(car.width_m / 2, car.rear_overhang_m) + car.safety_margin_m;
+    const double half_diagonal = o.xy_cell_m * std::sqrt(0.5);
+    std::vector<uint8_t> passable(to_goal.size());
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c)
+        passable[r * cols + c] = map->Distance(map->origin_x() + (c + 0.5) * o.xy_cell_m,
+                                               map->origin_y() + (r + 0.5) * o.xy_cell_m) + half_diagonal > need;
+    using Item = std::pair<float, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+    to_goal[goal_cell] = 0;
+    open.push({0.f, goal_cell});
+    const float diagonal = static_cast<float>(o.xy_cell_m * std::sqrt(2.0)), straight = static_cast<float>(o.xy_cell_m);
+    while (!open.empty()) {
+      const auto [d, cell] = open.top();
+      open.pop();
+      if (d > to_goal[cell]) continue;
+      const int r = cell / cols, c = cell % cols;
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int nr = r + dr, nc = c + dc;
+          if ((dr == 0 && dc == 0) || nr < 0 || nc < 0 || nr >= rows || nc >= cols) continue;
+          const int n = nr * cols + nc;
+          if (!passable[n]) continue;
+          const float nd = d + (dr && dc ? diagonal : straight);
+          if (to_goal[n] < 0 || nd < to_goal[n]) to_goal[n] = nd, open.push({nd, n});
+        }
+    }
+  }
+
+  double ReedsShepp(const Pose& a, const Pose& b) const {
+    ompl::base::ScopedState<ompl::base::SE2StateSpace> s1(rs), s2(rs);
+    s1->setXY(a.x, a.y), s1->setYaw(a.theta);
+    s2->setXY(b.x, b.y), s2->setYaw(b.theta);
+    return rs->distance(s1.get(), s2.get());
+  }
+
+  // Poses of the Reeds-Shepp path a → b every `spacing`, with directions; empty when
+  // any of them collides.
+  std::vector<PathPoint> ReedsSheppShot(const Pose& a, const Pose& b, double spacing) const {
+    ompl::base::ScopedState<ompl::base::SE2StateSpace> s1(rs), s2(rs), s(rs);
+    s1->setXY(a.x, a.y), s1->setYaw(a.theta);
+    s2->setXY(b.x, b.y), s2->setYaw(b.theta);
+    const auto path = rs->reedsShepp(s1.get(), s2.get());
+    const double rho = car.MinTurningRadius(), total = path.length() * rho;
+    const int n = std::max(1, static_cast<int>(std::ceil(total / spacing)));
+    std::vector<PathPoint> out;
+    for (int i = 1; i <= n; ++i) {
+      const double t = static_cast<double>(i) / n;
+      rs->interpolate(s1.get(), path, t, s.get());
+      // Direction: the sign of the segment that contains arc length t · total.
+      double along = t * path.length(), acc = 0;
+      int direction = 1;
+      for (int k = 0; k < 5; ++k) {
+        acc += std::abs(path.length_[k]);
+        if (path.length_[k] != 0 && along <= acc + 1e-9) {
+          direction = path.length_[k] < 0 ? -1 : 1;
+          break;
+        }
+      }
+      const Pose p{s->getX(), s->getY(), s->getYaw()};
+      if (!map->Free(car, p)) return {};
+      out.push_back({p, direction});
+    }
+    return out;
+  }
+
+  // The arc from a node's parent, sampled every `spacing` (excluding the parent).
+  void AppendArc(const Node& from, const Node& to, double spacing, std::vector<PathPoint>& out) const {
+    const int n = std::max(1, static_cast<int>(std::round(o.step_m / spacing)));
+    for (int i = 1; i <= n; ++i)
+      out.push_back({Drive(from.pose, to.direction * o.step_m * i / n, to.tan_steer, car.wheelbase_m), to.direction});
+    out.back().pose = to.pose;
+  }
+
+  bool ArcFree(const Pose& p, double s, double tan_steer, Pose& end) const {
+    const int n = std::max(1, static_cast<int>(std::ceil(std::abs(s) / o.collision_step_m)));
+    for (int i = 1; i <= n; ++i) {
+      end = Drive(p, s * i / n, tan_steer, car.wheelbase_m);
+      if (!map->Free(car, end)) return false;
+    }
+    return true;
+  }
+};
+
+HybridAStar::HybridAStar(const HybridAStarOptions& options, const CarOptions& car,
+                         std::shared_ptr<const DistanceMap> map)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->o = options;
+  impl_->car = car;
+  impl_->map = std::move(map);
+  impl_->rs = std::make_shared<ReedsSheppSpace>(car.MinTurningRadius());
+  impl_->cols = static_cast<int>(std::ceil(impl_->map->cols() * impl_->map->resolution() / options.xy_cell_m));
+  impl_->rows = static_cast<int>(std::ceil(impl_->map->rows() * impl_->map->resolution() / options.xy_cell_m));
+  const size_t keys = static_cast<size_t>(impl_->cols) * impl_->rows * options.heading_bins;
+  impl_->stamp.assign(keys, 0);
+  impl_->slot.assign(keys, -1);
+}
+HybridAStar::~HybridAStar() = default;
+
+PlanResult HybridAStar::Plan(const Pose& start, const Pose& goal) {
+  Impl& m = *impl_;
+  const auto t0 = Clock::now();
+  PlanResult result;
+  for (const auto& [name, p] : {std::pair<const char*, Pose>{"start", start}, {"goal", goal}}) {
+    if (m.KeyOf(p) < 0) throw InputError(std::string("plan: the ") + name + " is outside the map");
+    if (!m.map->Free(m.car, p))
+      throw InputError(std::string("plan: the car collides at the ") + name + " (clearance " +
+                       std::to_string(m.map->Clearance(m.car, p)) + " m, needs " +
+                       std::to_string(m.car.safety_margin_m) + ")");
+  }
+  const int goal_cell = m.CellOf(goal.x, goal.y);
+  if (goal_cell != m.cached_goal) {
+    const auto th = Clock::now();
+    m.GridDistances(goal_cell);
+    m.cached_goal = goal_cell;
+    result.heuristic_milliseconds = Ms(th);
+  }
+  const auto heuristic = [&](const Pose& p) {
+    const float grid = m.to_goal[m.CellOf(p.x, p.y)];
+    return std::max<double>(grid, m.ReedsShepp(p, goal));
+  };
+  if (m.to_goal[m.CellOf(start.x, start.y)] < 0) {
+    result.failure = "the goal cannot be reached from the start (no free corridor)";
+    result.milliseconds = Ms(t0);
+    return result;
+  }
+
+  ++m.search;
+  std::vector<Node> nodes;
+  using Item = std::pair<double, int>;  // f, node
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  nodes.push_back({start, 0.0, -1, 0, 0.0});
+  open.push({heuristic(start), 0});
+  std::vector<double> steers;
+  for (int i = 0; i < m.o.steer_samples; ++i)
+    steers.push_back(std::tan((-1.0 + 2.0 * i / (m.o.steer_samples - 1)) * m.car.max_steer_deg * M_PI / 180.0));
+  std::vector<PathPoint> shot;
+  int reached = -1;
+  while (!open.empty()) {
+    const auto [f, index] = open.top();
+    open.pop();
+    const Node node = nodes[index];
+    const int key = m.KeyOf(node.pose);
+    if (index != 0 && m.stamp[key] == m.search && m.slot[key] != index) continue;  // superseded
+    if (++result.expansions > m.o.max_expansions) {
+      result.failure = "no path within " + std::to_string(m.o.max_expansions) + " expansions";
+      break;
+    }
+    if ((result.expansions & 63) == 0 && Ms(t0) > m.o.time_budget_ms) {
+      result.failure = "no path within the time budget of " + std::to_string(m.o.time_budget_ms) + " ms";
+      break;
+    }
+    if (result.expansions % m.o.analytic_every == 1 || m.o.analytic_every == 1) {
+      shot = m.ReedsSheppShot(node.pose, goal, m.o.collision_step_m);
+      if (!shot.empty()) {
+        reached = index;
+        break;
+      }
+    }
+    for (const int direction : {1, -1}) {
+      if (direction < 0 && !m.o.allow_reverse) continue;
+      for (const double tan_steer : steers) {
+        Pose end;
+        if (!m.ArcFree(node.pose, direction * m.o.step_m, tan_steer, end)) continue;
+        const int next = m.KeyOf(end);
+        if (next < 0 || m.to_goal[m.CellOf(end.x, end.y)] < 0) continue;
+        const double steer = std::abs(std::atan(tan_steer)) / (m.car.max_steer_deg * M_PI / 180.0);
+        double g = node.g + m.o.step_m * (direction < 0 ? m.o.reverse_penalty : 1.0) + m.o.steer_penalty * steer * m.o.step_m;
+        if (node.direction != 0) {
+          g += m.o.steer_change_penalty * std::abs(std::atan(tan_steer) - std::atan(node.tan_steer)) /
+               (m.car.max_steer_deg * M_PI / 180.0);
+          if (direction != node.direction) g += m.o.gear_change_penalty_m;
+        }
+        if (m.stamp[next] == m.search && nodes[m.slot[next]].g <= g) continue;
+        m.stamp[next] = m.search;
+        m.slot[next] = static_cast<int>(nodes.size());
+        nodes.push_back({end, g, index, direction, tan_steer});
+        open.push({g + heuristic(end), m.slot[next]});
+      }
+    }
+  }
+  result.milliseconds = Ms(t0);
+  if (reached < 0) {
+    if (result.failure.empty()) result.failure = "the search space was exhausted: no path";
+    return result;
+  }
+  std::vector<int> chain;
+  for (int i = reached; i >= 0; i = nodes[i].parent) chain.push_back(i);
+  std::reverse(chain.begin(), chain.end());
+  Path& path = result.path;
+  path.points.push_back({start, 1});
+  for (size_t k = 1; k < chain.size(); ++k) m.AppendArc(nodes[chain[k - 1]], nodes[chain[k]], m.o.output_spacing_m, path.points);
+  // The shot was sampled at the collision spacing; resample at the output spacing.
+  auto final_leg = m.ReedsSheppShot(nodes[reached].pose, goal, m.o.output_spacing_m);
+  if (final_leg.empty()) final_leg = shot;  // a finer sample grazed an obstacle: keep the checked spacing
+  path.points.insert(path.points.end(), final_leg.begin(), final_leg.end());
+  if (path.points.size() > 1) path.points[0].direction = path.points[1].direction;
+  result.found = true;
+  result.milliseconds = Ms(t0);
+  return result;
+}
+
+}  // namespace specht::plan

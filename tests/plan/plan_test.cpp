@@ -1,0 +1,161 @@
+// Hybrid A* on hand-made maps with known answers: a straight run, a U-turn, a
+// perpendicular parking manoeuvre between parked cars; every returned pose is
+// checked against the obstacle raster with the exact rectangular footprint (not
+// the planner's disc cover), and every arc against the steering limit.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "specht/core/error.h"
+#include "specht/plan/hybrid_astar.h"
+#include "specht/plan/smoother.h"
+
+namespace specht::plan {
+namespace {
+
+constexpr double kRes = 0.1;
+
+// A w × h metre map with a wall around it; boxes are (x0, y0, x1, y1) in metres.
+cv::Mat Map(double w, double h, const std::vector<cv::Rect2d>& boxes = {}) {
+  cv::Mat m(static_cast<int>(h / kRes), static_cast<int>(w / kRes), CV_8U, cv::Scalar(0));
+  cv::rectangle(m, {0, 0}, {m.cols - 1, m.rows - 1}, cv::Scalar(1), 1);
+  for (const auto& b : boxes)
+    cv::rectangle(m, cv::Point(static_cast<int>(b.x / kRes), static_cast<int>(b.y / kRes)),
+                  cv::Point(static_cast<int>((b.x + b.width) / kRes) - 1, static_cast<int>((b.y + b.height) / kRes) - 1),
+                  cv::Scalar(1), cv::FILLED);
+  return m;
+}
+
+// Cells of obstacle under the exact footprint rectangle at each path pose.
+int Overlaps(const cv::Mat& obstacles, const CarOptions& car, const Path& path) {
+  int hits = 0;
+  for (const auto& p : path.points) {
+    cv::Mat footprint(obstacles.size(), CV_8U, cv::Scalar(0));
+    std::vector<cv::Point> poly;
+    for (const auto& c : car.Corners(p.pose)) poly.push_back({static_cast<int>(c.x / kRes), static_cast<int>(c.y / kRes)});
+    cv::fillConvexPoly(footprint, poly, cv::Scalar(1));
+    hits += cv::countNonZero(footprint & obstacles) > 0;
+  }
+  return hits;
+}
+
+struct Planner {
+  CarOptions car;
+  HybridAStarOptions options;
+  cv::Mat obstacles;
+  std::shared_ptr<DistanceMap> map;
+  std::unique_ptr<HybridAStar> search;
+  explicit Planner(cv::Mat m) : obstacles(std::move(m)) {
+    map = std::make_shared<DistanceMap>(obstacles, 0.0, 0.0, kRes);
+    search = std::make_unique<HybridAStar>(options, car, map);
+  }
+};
+
+void ExpectFeasible(const Planner& p, const PlanResult& r, const Pose& goal) {
+  ASSERT_TRUE(r.found) << r.failure;
+  ASSERT_GE(r.path.points.size(), 2u);
+  EXPECT_NEAR(r.path.points.back().pose.x, goal.x, 1e-3);
+  EXPECT_NEAR(r.path.points.back().pose.y, goal.y, 1e-3);
+  EXPECT_NEAR(std::remainder(r.path.points.back().pose.theta - goal.theta, 2 * M_PI), 0.0, 1e-3);
+  EXPECT_LE(r.path.MaxCurvature(), 1.0 / p.car.MinTurningRadius() * 1.05);  // 5 %: chord vs arc at 0.1 m
+  EXPECT_EQ(Overlaps(p.obstacles, p.car, r.path), 0);
+  for (size_t i = 1; i < r.path.points.size(); ++i)  // no jumps
+    EXPECT_LT(std::hypot(r.path.points[i].pose.x - r.path.points[i - 1].pose.x,
+                         r.path.points[i].pose.y - r.path.points[i - 1].pose.y), 0.2) << i;
+}
+
+TEST(HybridAStarTest, StraightRunIsStraight) {
+  Planner p(Map(30, 30));
+  const Pose goal{25, 15, 0};
+  const PlanResult r = p.search->Plan({5, 15, 0}, goal);
+  ExpectFeasible(p, r, goal);
+  EXPECT_NEAR(r.path.Length(), 20.0, 0.05);
+  EXPECT_EQ(r.path.GearChanges(), 0);
+}
+
+TEST(HybridAStarTest, UTurnInACorridorRespectsTheTurningRadius) {
+  // 10 m wide corridor: a forward U-turn needs 2·R_min + width ≈ 7.2 m.
+  Planner p(Map(40, 10));
+  const Pose goal{10, 5, M_PI};
+  const PlanResult r = p.search->Plan({10, 5, 0}, goal);
+  ExpectFeasible(p, r, goal);
+  EXPECT_GT(r.path.Length(), 0.99 * M_PI * p.car.MinTurningRadius());  // at least half a circle (chords)
+}
+
+TEST(HybridAStarTest, ParksPerpendicularlyBetweenParkedCars) {
+  // A 3 m wide bay between two parked cars (2 m × 4.5 m) on the south side of a
+  // 30 m × 14 m lot; the car starts in the aisle and must end inside the bay.
+  Planner p(Map(30, 14, {{10.0, 0.0, 2.0, 4.5}, {15.0, 0.0, 2.0, 4.5}}));
+  const Pose goal{13.5, 1.0, M_PI / 2};  // rear axle 1 m from the back wall, nose out
+  const PlanResult r = p.search->Plan({4, 9, 0}, goal);
+  ExpectFeasible(p, r, goal);
+  EXPECT_GE(r.path.GearChanges(), 1);  // reversing into the bay
+}
+
+TEST(HybridAStarTest, ReplanningToTheSameGoalReusesTheHeuristic) {
+  Planner p(Map(30, 30, {{12, 5, 2, 20}}));
+  const Pose goal{25, 15, 0};
+  const PlanResult first = p.search->Plan({5, 15, 0}, goal);
+  ASSERT_TRUE(first.found) << first.failure;
+  EXPECT_GT(first.heuristic_milliseconds, 0.0);
+  const PlanResult second = p.search->Plan({5, 12, 0.3}, goal);
+  ASSERT_TRUE(second.found) << second.failure;
+  EXPECT_EQ(second.heuristic_milliseconds, 0.0);
+}
+
+TEST(HybridAStarTest, UnreachableGoalFailsWithAReason) {
+  // The goal sits in a closed room.
+  cv::Mat m = Map(30, 30);
+  cv::rectangle(m, cv::Point(180, 100), cv::Point(280, 200), cv::Scalar(1), 2);
+  Planner p(m);
+  const PlanResult r = p.search->Plan({5, 5, 0}, {23, 15, 0});
+  EXPECT_FALSE(r.found);
+  EXPECT_NE(r.failure.find("cannot be reached"), std::string::npos) << r.failure;
+}
+
+TEST(HybridAStarTest, StartInCollisionOrOutsideIsAnError) {
+  Planner p(Map(30, 30, {{10, 10, 5, 5}}));
+  EXPECT_THROW(p.search->Plan({12, 12, 0}, {25, 25, 0}), InputError);
+  EXPECT_THROW(p.search->Plan({5, 5, 0}, {45, 25, 0}), InputError);
+}
+
+// Discrete bending energy Σ κ_i² Δs_i from consecutive chords (κ as Path::MaxCurvature).
+double Bending(const Path& path) {
+  double e = 0;
+  const auto& p = path.points;
+  for (size_t i = 1; i + 1 < p.size(); ++i) {
+    const double ux = p[i].pose.x - p[i - 1].pose.x, uy = p[i].pose.y - p[i - 1].pose.y;
+    const double vx = p[i + 1].pose.x - p[i].pose.x, vy = p[i + 1].pose.y - p[i].pose.y;
+    const double mean = 0.5 * (std::hypot(ux, uy) + std::hypot(vx, vy));
+    const double k = std::atan2(ux * vy - uy * vx, ux * vx + uy * vy) / mean;
+    e += k * k * mean;
+  }
+  return e;
+}
+
+// Around a wall the searched path (full-lock arcs, then the Reeds-Shepp shot)
+// grazes the corner; the smoothed one keeps more clearance without bending more,
+// stays within the steering limit and keeps its ends.
+TEST(SmootherTest, SmoothsWithoutLosingFeasibility) {
+  Planner p(Map(40, 20, {{15, 0, 2, 12}}));
+  const Pose goal{32, 4, -M_PI / 2};
+  const PlanResult r = p.search->Plan({4, 4, M_PI / 2}, goal);
+  ASSERT_TRUE(r.found) << r.failure;
+  const SmoothResult s = SmoothPath(r.path, *p.map, p.car, SmootherOptions{});
+  ASSERT_TRUE(s.accepted) << s.note << " max curvature " << s.path.MaxCurvature() << " gears " << r.path.GearChanges();
+  EXPECT_LE(Bending(s.path), Bending(r.path)) << Bending(s.path) << " vs " << Bending(r.path);
+  EXPECT_EQ(s.path.GearChanges(), r.path.GearChanges());
+  EXPECT_EQ(Overlaps(p.obstacles, p.car, s.path), 0);
+  EXPECT_LE(s.path.MaxCurvature(), 1.05 / p.car.MinTurningRadius());
+  EXPECT_NEAR(s.path.points.front().pose.x, 4, 1e-9);
+  EXPECT_NEAR(s.path.points.back().pose.x, goal.x, 1e-9);
+  EXPECT_NEAR(s.path.points.back().pose.y, goal.y, 1e-9);
+  double before = INFINITY, after = INFINITY;
+  for (const auto& q : r.path.points) before = std::min(before, p.map->Clearance(p.car, q.pose));
+  for (const auto& q : s.path.points) after = std::min(after, p.map->Clearance(p.car, q.pose));
+  EXPECT_GT(after, before + 0.05) << before << " → " << after;  // measured 0.13 → 0.26 m
+}
+
+}  // namespace
+}  // namespace specht::plan
