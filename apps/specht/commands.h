@@ -17,5 +17,6 @@ void AddDetectCommand(CLI::App& app, int& exit_code);
 void AddTrackCommand(CLI::App& app, int& exit_code);
 void AddClassifyCommand(CLI::App& app, int& exit_code);
 void AddTuneCommand(CLI::App& app, int& exit_code);
+void AddPlanCommand(CLI::App& app, int& exit_code);
 
 }  // namespace specht::app

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   specht::app::AddTrackCommand(app, exit_code);
   specht::app::AddClassifyCommand(app, exit_code);
   specht::app::AddTuneCommand(app, exit_code);
+  specht::app::AddPlanCommand(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -2,6 +2,8 @@
 
 #include "specht/core/transform_tree.h"
 #include "specht/io/replay.h"
+#include "specht/plan/hybrid_astar.h"
+#include "specht/plan/smoother.h"
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
 #include "specht/slam/graph_slam.h"
@@ -38,6 +40,9 @@ const params::Registry& AllOptions() {
     r.Add<track::SyntheticDetectionOptions>("synthetic_detections", "simulated detections for tracking on synthetic scenes");
     r.Add<classify::PreprocessOptions>("classify", "trajectory preprocessing: segmentation, windows, features");
     r.Add<classify::ModelOptions>("classify_model", "trajectory classifier: 1D ResNet variant and training");
+    r.Add<plan::CarOptions>("car", "the car: bicycle model limits and footprint");
+    r.Add<plan::HybridAStarOptions>("hybrid_astar", "global search: hybrid A* over (x, y, heading)");
+    r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
     return r;
   }();
   return registry;
@@ -53,6 +58,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"world.yaml", {"world"}},
       {"track.yaml", {"track", "synthetic_detections"}},
       {"classify.yaml", {"classify", "classify_model"}},
+      {"plan.yaml", {"car", "hybrid_astar", "smoother"}},
   };
   return files;
 }

@@ -27,6 +27,14 @@ double CarOptions::DiscRadius() const {
   return std::hypot(half, width_m / 2);
 }
 
+DiscCover CarOptions::Discs() const {
+  DiscCover d;
+  for (const auto& c : DiscCentres()) d.offsets.push_back(c.x);
+  d.radius = DiscRadius();
+  d.margin = safety_margin_m;
+  return d;
+}
+
 std::vector<cv::Point2d> CarOptions::Corners(const Pose& p) const {
   const double c = std::cos(p.theta), s = std::sin(p.theta);
   std::vector<cv::Point2d> out;

@@ -45,16 +45,18 @@ double DistanceMap::Distance(double x, double y) const {
   return distance_.at<float>(r, c);
 }
 
-double DistanceMap::Clearance(const CarOptions& car, const Pose& p) const {
-  const double c = std::cos(p.theta), s = std::sin(p.theta), radius = car.DiscRadius();
+double DistanceMap::Clearance(const DiscCover& discs, const Pose& p) const {
+  const double c = std::cos(p.theta), s = std::sin(p.theta);
   double clearance = INFINITY;
-  for (const auto& d : car.DiscCentres())
-    clearance = std::min(clearance, Distance(p.x + c * d.x - s * d.y, p.y + s * d.x + c * d.y) - radius);
-  return clearance;
+  for (const double d : discs.offsets) clearance = std::min(clearance, Distance(p.x + c * d, p.y + s * d));
+  return clearance - discs.radius;
 }
 
-bool DistanceMap::Free(const CarOptions& car, const Pose& p) const {
-  return Clearance(car, p) > car.safety_margin_m;
+bool DistanceMap::Free(const DiscCover& discs, const Pose& p) const {
+  const double c = std::cos(p.theta), s = std::sin(p.theta), need = discs.radius + discs.margin;
+  for (const double d : discs.offsets)
+    if (Distance(p.x + c * d, p.y + s * d) <= need) return false;  // stop at the first disc that touches
+  return true;
 }
 
 }  // namespace specht::plan

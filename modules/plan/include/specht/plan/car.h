@@ -22,6 +22,13 @@ struct Pose {
   double x = 0, y = 0, theta = 0;  // m, m, rad (rear-axle centre, heading)
 };
 
+// The footprint's disc cover, computed once (checks run millions of times).
+struct DiscCover {
+  std::vector<double> offsets;  // disc centres along the car's axis from the rear axle
+  double radius = 0;
+  double margin = 0;            // the safety margin a free pose keeps beyond the discs
+};
+
 // Section "car".
 struct CarOptions {
   double wheelbase_m = 1.6;
@@ -55,6 +62,7 @@ struct CarOptions {
   // Disc centres in the car frame (x forward from the rear axle) and their radius.
   std::vector<cv::Point2d> DiscCentres() const;
   double DiscRadius() const;
+  DiscCover Discs() const;
   // The footprint's corners in the map frame at `pose` (for drawing and exact checks).
   std::vector<cv::Point2d> Corners(const Pose& pose) const;
 };

@@ -32,9 +32,11 @@ class DistanceMap {
   // (the map's edge is a wall).
   double Distance(double x, double y) const;
   // Whether the car's footprint (disc cover + safety margin) is free at `pose`.
-  bool Free(const CarOptions& car, const Pose& pose) const;
+  bool Free(const DiscCover& discs, const Pose& pose) const;
+  bool Free(const CarOptions& car, const Pose& pose) const { return Free(car.Discs(), pose); }
   // Smallest clearance of the footprint discs at `pose` (negative: in collision).
-  double Clearance(const CarOptions& car, const Pose& pose) const;
+  double Clearance(const DiscCover& discs, const Pose& pose) const;
+  double Clearance(const CarOptions& car, const Pose& pose) const { return Clearance(car.Discs(), pose); }
 
   double origin_x() const { return origin_x_; }
   double origin_y() const { return origin_y_; }

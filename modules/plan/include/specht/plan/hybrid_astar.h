@@ -11,9 +11,14 @@
 // ignoring heading) — both admissible for the arc lengths. The grid distances come
 // from one Dijkstra from the goal; they are cached, so replanning to the same goal
 // on the same map costs only the search.
-// Analytic expansion: every analytic_every expansions the Reeds-Shepp path from the
-// node to the goal is checked for collisions; when free, it ends the search exactly
-// at the goal.
+// Nodes are ordered by g + w·h: with heuristic_weight w > 1 the search expands far
+// fewer nodes and its path costs at most w times the optimum (weighted A*).
+// Analytic expansion: from the start, from every node within two car lengths of the
+// goal (a tight goal is often reached only by the right shot), and every
+// analytic_every expansions within analytic_radius_m (grid distance), the Reeds-Shepp
+// path from the node to the goal is checked for collisions; when free, it ends the
+// search exactly at the goal (far from the goal such shots rarely survive and cost
+// most of the time).
 #pragma once
 
 #include <memory>
@@ -37,6 +42,8 @@ struct HybridAStarOptions {
   double steer_penalty = 0.05;
   double steer_change_penalty = 0.2;
   int analytic_every = 5;
+  double analytic_radius_m = 15.0;
+  double heuristic_weight = 2.5;
   double collision_step_m = 0.15;
   double output_spacing_m = 0.1;
   int max_expansions = 200000;
@@ -59,6 +66,10 @@ struct HybridAStarOptions {
             Range::Of(0.0, 10.0));
     v.Param("analytic_every", analytic_every, "try the Reeds-Shepp shot to the goal every n expansions",
             Range::Of(1, 1000));
+    v.Param("analytic_radius_m", analytic_radius_m,
+            "try the shot only within this grid distance of the goal (and from the start)", Range::Of(0.0, 1000.0));
+    v.Param("heuristic_weight", heuristic_weight, "weighted A*: f = g + w·h (w > 1: faster, cost ≤ w × optimal)",
+            Range::Of(1.0, 10.0));
     v.Param("collision_step_m", collision_step_m, "spacing of collision checks along arcs", Range::Of(0.01, 1.0).Log());
     v.Param("output_spacing_m", output_spacing_m, "spacing of the returned path's points", Range::Of(0.01, 1.0).Fixed());
     v.Param("max_expansions", max_expansions, "give up after this many expansions", Range::Of(100, 100000000).Fixed());

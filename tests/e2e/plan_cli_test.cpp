@@ -1,0 +1,54 @@
+// `specht plan` as a user runs it: parking in a marked bay of a shipped scenario,
+// and the errors a user meets first.
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace specht {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+TEST(PlanCliTest, ParksInAScenarioBay) {
+  const std::string out = testing::TempDir("plan_cli") + "/out";
+  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
+  const auto r = testing::RunSpecht("plan '" + scenario + "' --goal bay:south-13 -q -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"path.csv", "plan.png", "params.yaml", "report.json", "report.md"})
+    EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  EXPECT_TRUE(report["metrics"]["found"].get<bool>());
+  EXPECT_GT(report["metrics"]["min_clearance_m"].get<double>(), 0.1);  // the safety margin
+  EXPECT_LE(report["metrics"]["max_curvature_per_m"].get<double>(),
+            1.05 * report["metrics"]["curvature_limit_per_m"].get<double>());
+  // The last row of path.csv is the goal: the footprint centred in the bay (13.5,
+  // 3.75, heading 90°): the rear axle 0.85 m behind the centre for the scenario's
+  // 2.6 m car with a 0.45 m overhang.
+  const std::string csv = testing::ReadFile(out + "/path.csv");
+  const std::string last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+  double x = 0, y = 0, theta = 0;
+  ASSERT_EQ(std::sscanf(last.c_str(), "%lf,%lf,%lf", &x, &y, &theta), 3) << last;
+  EXPECT_NEAR(x, 13.5, 0.01);
+  EXPECT_NEAR(y, 3.75 - 0.85, 0.01);
+  EXPECT_NEAR(theta, M_PI / 2, 0.01);
+}
+
+TEST(PlanCliTest, BadInputNamesTheProblem) {
+  const std::string out = testing::TempDir("plan_cli_bad") + "/out";
+  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
+  auto r = testing::RunSpecht("plan '" + scenario + "' --goal bay:nowhere -q -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("no bay \"nowhere\""));
+  r = testing::RunSpecht("plan '" + scenario + "' --goal 13.5,3.75 -q -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("is not x,y,heading_deg"));
+  r = testing::RunSpecht("plan '" + scenario + "' --start 0.5,0.5,0 --goal bay:south-13 -q -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("collides at the start"));
+}
+
+}  // namespace
+}  // namespace specht
