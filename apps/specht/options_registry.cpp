@@ -2,6 +2,7 @@
 
 #include "specht/core/transform_tree.h"
 #include "specht/io/replay.h"
+#include "specht/decide/closed_loop.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/smoother.h"
 #include "specht/detect/detector.h"
@@ -43,6 +44,8 @@ const params::Registry& AllOptions() {
     r.Add<plan::CarOptions>("car", "the car: bicycle model limits and footprint");
     r.Add<plan::HybridAStarOptions>("hybrid_astar", "global search: hybrid A* over (x, y, heading)");
     r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
+    r.Add<plan::TrackerOptions>("tracker", "path tracking: pure pursuit and speed profile");
+    r.Add<decide::ClosedLoopOptions>("closed_loop", "mission state machine: margins, waiting, tolerances");
     return r;
   }();
   return registry;
@@ -58,7 +61,8 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"world.yaml", {"world"}},
       {"track.yaml", {"track", "synthetic_detections"}},
       {"classify.yaml", {"classify", "classify_model"}},
-      {"plan.yaml", {"car", "hybrid_astar", "smoother"}},
+      {"plan.yaml", {"car", "hybrid_astar", "smoother", "tracker"}},
+      {"decide.yaml", {"closed_loop"}},
   };
   return files;
 }

@@ -10,6 +10,7 @@
 #include "specht/core/error.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/smoother.h"
+#include "specht/plan/tracker.h"
 
 namespace specht::plan {
 namespace {
@@ -162,6 +163,36 @@ TEST(SmootherTest, SmoothsWithoutLosingFeasibility) {
     return sum / path.points.size();
   };
   EXPECT_LT(shortfall(s.path), 0.85 * shortfall(r.path)) << shortfall(r.path) << " → " << shortfall(s.path);
+}
+
+// Pure pursuit on a parking path with gear changes, on a kinematic bicycle with
+// speed and steering-rate limits: it ends on the goal.
+TEST(PathTrackerTest, FollowsAParkingManoeuvreToTheGoal) {
+  Planner p(Map(30, 14, {{10.0, 0.0, 2.0, 4.5}, {15.0, 0.0, 2.0, 4.5}}));
+  const Pose goal{13.5, 1.0, M_PI / 2};
+  const PlanResult r = p.search->Plan({4, 9, 0}, goal);
+  ASSERT_TRUE(r.found) << r.failure;
+  const SmoothResult s = SmoothPath(r.path, *p.map, p.car, SmootherOptions{});
+  PathTracker tracker(TrackerOptions{}, p.car, s.path);
+  Pose pose{4, 9, 0};
+  double v = 0, steer = 0;
+  const double dt = 0.01, max_steer = p.car.max_steer_deg * M_PI / 180, rate = p.car.max_steer_rate_deg_s * M_PI / 180;
+  double worst = INFINITY;
+  int steps = 0;
+  Command held;
+  for (; steps < 60000 && !tracker.finished(); ++steps) {
+    if (steps % 5 == 0) held = tracker.Update(pose, v);  // 20 Hz control, 100 Hz motion
+    v += std::clamp(held.speed_mps - v, -p.car.max_accel_mps2 * dt, p.car.max_accel_mps2 * dt);
+    steer += std::clamp(std::clamp(held.steer_rad, -max_steer, max_steer) - steer, -rate * dt, rate * dt);
+    pose.x += v * std::cos(pose.theta) * dt, pose.y += v * std::sin(pose.theta) * dt;
+    pose.theta += v * std::tan(steer) / p.car.wheelbase_m * dt;
+    worst = std::min(worst, p.map->Clearance(p.car, pose));
+  }
+  ASSERT_TRUE(tracker.finished()) << "not finished after " << steps * dt << " s";
+  EXPECT_NEAR(pose.x, goal.x, 0.1);
+  EXPECT_NEAR(pose.y, goal.y, 0.1);
+  EXPECT_NEAR(std::remainder(pose.theta - goal.theta, 2 * M_PI), 0.0, 3 * M_PI / 180);
+  EXPECT_GT(worst, 0.0);  // never touched an obstacle (disc cover, conservative)
 }
 
 }  // namespace

@@ -176,9 +176,10 @@ HybridAStar::HybridAStar(const HybridAStarOptions& options, const CarOptions& ca
     : impl_(std::make_unique<Impl>()) {
   impl_->o = options;
   impl_->car = car;
+  impl_->car.max_steer_deg *= options.steer_fraction;
   impl_->discs = car.Discs();
   impl_->map = std::move(map);
-  impl_->rs = std::make_shared<ReedsSheppSpace>(car.MinTurningRadius());
+  impl_->rs = std::make_shared<ReedsSheppSpace>(impl_->car.MinTurningRadius());
   impl_->cols = static_cast<int>(std::ceil(impl_->map->cols() * impl_->map->resolution() / options.xy_cell_m));
   impl_->rows = static_cast<int>(std::ceil(impl_->map->rows() * impl_->map->resolution() / options.xy_cell_m));
   const size_t keys = static_cast<size_t>(impl_->cols) * impl_->rows * options.heading_bins;

@@ -161,4 +161,22 @@ void RouteFollower::Step(double dt, std::mt19937_64& rng) {
   s.pose.yaw_rad = Wrap(s.pose.yaw_rad + s.yaw_rate * dt);
 }
 
+void RouteFollower::StepCommanded(double dt, double speed_mps, double steer_rad, double steer_rate_rad_s) {
+  MoverState& s = state_;
+  const MotionParams& p = params_;
+  const double limit = p.bicycle ? p.max_steer_rad : 0.0;
+  const double steer = Clip(steer_rad, -limit, limit);
+  s.steer_rad += Clip(steer - s.steer_rad, -steer_rate_rad_s * dt, steer_rate_rad_s * dt);
+  // Braking (towards zero) uses the deceleration limit, speeding up the acceleration one.
+  const bool braking = std::abs(speed_mps) < std::abs(s.speed_mps) || speed_mps * s.speed_mps < 0;
+  const double rate = braking ? p.decel_mps2 : p.accel_mps2;
+  const double dv = Clip(speed_mps - s.speed_mps, -rate * dt, rate * dt);
+  s.accel_mps2 = dv / dt;
+  s.speed_mps += dv;
+  s.yaw_rate = s.speed_mps * std::tan(s.steer_rad) / p.wheelbase_m;
+  s.pose.x += s.speed_mps * std::cos(s.pose.yaw_rad) * dt;
+  s.pose.y += s.speed_mps * std::sin(s.pose.yaw_rad) * dt;
+  s.pose.yaw_rad = Wrap(s.pose.yaw_rad + s.yaw_rate * dt);
+}
+
 }  // namespace specht::sim

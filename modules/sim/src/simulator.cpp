@@ -80,7 +80,9 @@ std::vector<Box3> Simulator::AgentBoxes() const {
 
 void Simulator::Step(const Sink& sink, const StereoSink& stereo) {
   ++step_;
-  ego_.Step(kStepS, motion_rng_);
+  if (ego_command_) ego_.StepCommanded(kStepS, ego_command_->speed_mps, ego_command_->steer_rad,
+                                       ego_command_->steer_rate_rad_s);
+  else ego_.Step(kStepS, motion_rng_);
   for (size_t i = 0; i < agents_.size(); ++i) {
     if (time_s() >= scenario_.agents[i].start_s) agents_[i].Step(kStepS, motion_rng_);
   }

@@ -6,6 +6,8 @@
 // Cost of an arc of length s: s · (reverse ? reverse_penalty : 1)
 //   + steer_penalty · |δ|/δmax · s + steer_change_penalty · |δ − δ_parent|/δmax
 //   + gear_change_penalty_m when the direction flips.
+// Paths use steer_fraction of the car's steering limit (arcs and Reeds-Shepp
+// radius): a path at full lock leaves a tracker no room to correct.
 // Heuristic: max(Reeds-Shepp length ignoring obstacles (OMPL's ReedsSheppStateSpace
 // at R_min), shortest 8-connected grid distance to the goal around obstacles
 // ignoring heading) — both admissible for the arc lengths. The grid distances come
@@ -32,13 +34,14 @@ namespace specht::plan {
 
 // Section "hybrid_astar".
 struct HybridAStarOptions {
+  double steer_fraction = 0.85;
   double xy_cell_m = 0.5;
   int heading_bins = 72;
   double step_m = 0.75;
   int steer_samples = 5;
   bool allow_reverse = true;
   double reverse_penalty = 2.0;
-  double gear_change_penalty_m = 3.0;
+  double gear_change_penalty_m = 10.0;
   double steer_penalty = 0.05;
   double steer_change_penalty = 0.2;
   int analytic_every = 5;
@@ -52,6 +55,9 @@ struct HybridAStarOptions {
   template <class V>
   void Visit(V& v) {
     using params::Range;
+    v.Param("steer_fraction", steer_fraction,
+            "plan with this share of the steering limit: the rest is the tracker's to correct errors",
+            Range::Of(0.3, 1.0));
     v.Param("xy_cell_m", xy_cell_m, "search cell size (one node per cell and heading bin)", Range::Of(0.05, 5.0).Log());
     v.Param("heading_bins", heading_bins, "heading cells over 360°", Range::Of(8, 720));
     v.Param("step_m", step_m, "arc length of one expansion (more than a cell diagonal)", Range::Of(0.05, 10.0).Log());

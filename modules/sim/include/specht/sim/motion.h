@@ -48,6 +48,7 @@ struct MoverState {
   double speed_mps = 0;
   double yaw_rate = 0;
   double accel_mps2 = 0;
+  double steer_rad = 0;  // bicycle movers under StepCommanded
   size_t target = 0;  // index of the waypoint heading for
   double wait_s = 0;  // remaining pause
   bool finished = false;
@@ -59,6 +60,11 @@ class RouteFollower {
   // returns along itself and starts again.
   RouteFollower(std::vector<Waypoint> route, bool loop, MotionParams params, Pose2 start, bool back_and_forth = false);
   void Step(double dt, std::mt19937_64& rng);
+  // Closed loop: one step driven by a controller instead of the route — the speed
+  // approaches `speed_mps` (negative: reverse) within the accel/decel limits, the
+  // steering angle follows `steer_rad` (clamped to ±max_steer) at up to
+  // `steer_rate_rad_s`, and the bicycle kinematics integrate.
+  void StepCommanded(double dt, double speed_mps, double steer_rad, double steer_rate_rad_s);
   const MoverState& state() const { return state_; }
   const MotionParams& params() const { return params_; }
 

@@ -50,6 +50,12 @@ class Simulator {
   // One 10 ms step; observations due in it go to `sink` in time order, rendered
   // stereo frames (when the scenario has a camera) to `stereo`.
   void Step(const Sink& sink, const StereoSink& stereo = nullptr);
+  // Closed loop: from the next step on, the ego drives by these commands (see
+  // RouteFollower::StepCommanded) instead of following its route.
+  struct EgoCommand {
+    double speed_mps = 0, steer_rad = 0, steer_rate_rad_s = 1.0;
+  };
+  void CommandEgo(const EgoCommand& command) { ego_command_ = command; }
   // The agents as the camera sees them (boxes with class heights and KITTI names).
   std::vector<Box3> AgentBoxes() const;
 
@@ -71,6 +77,7 @@ class Simulator {
   const Scenario& scenario_;
   World world_;
   RouteFollower ego_;
+  std::optional<EgoCommand> ego_command_;
   std::vector<RouteFollower> agents_;
   std::mt19937_64 motion_rng_, lidar_rng_, odometry_rng_, imu_rng_;
   int64_t step_ = 0;

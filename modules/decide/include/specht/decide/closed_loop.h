@@ -1,0 +1,113 @@
+// specht/decide/closed_loop.h: the mission state machine driving the simulated car.
+//
+// States and transitions (each logged with its time and reason):
+//   plan     → drive     a path to the current goal was found (hybrid A* + smoothing)
+//   plan     → failed    no path (the reason is the planner's)
+//   drive    → wait      the independent check sees an agent in the swept footprint
+//                        ahead (pedestrians with pedestrian_margin_m, others with
+//                        agent_margin_m): stop
+//   wait     → drive     clear for clear_s
+//   wait     → plan      blocked longer than replan_after_s: plan again with the
+//                        blocking agents as obstacles
+//   drive    → plan      the goal is reached and another follows, or the path ended
+//                        outside the goal's tolerance (up to max_corrections times:
+//                        a short manoeuvre from where the car stands)
+//   drive    → done      the last goal is reached
+//   any      → failed    the time limit passed
+// The independent check does not use the planner's data: it tests the car's
+// rectangle at the path poses within the stopping distance (+ 1.5 m) against the
+// agents' true boxes, now and every 0.5 s up to prediction_s ahead at constant
+// velocity, as a safety layer below the planner would.
+//
+// Localisation and the static map are ground truth here (the scenario's grid at
+// 0.1 m); agents are seen as they are. The car is the scenario's ego (its box is
+// centred on its kinematic reference point, so rear_overhang = length / 2).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "specht/decide/mission.h"
+#include "specht/plan/hybrid_astar.h"
+#include "specht/plan/smoother.h"
+#include "specht/plan/tracker.h"
+
+namespace specht::decide {
+
+// Section "closed_loop".
+struct ClosedLoopOptions {
+  double control_hz = 20;
+  double pedestrian_margin_m = 1.0;
+  double agent_margin_m = 0.5;
+  double clear_s = 1.0;
+  double prediction_s = 2.0;
+  double replan_after_s = 8.0;
+  double time_limit_s = 180;
+  double park_tolerance_m = 0.2;
+  double park_tolerance_deg = 5.0;
+  double waypoint_tolerance_m = 0.5;
+  int max_corrections = 3;
+
+  template <class V>
+  void Visit(V& v) {
+    using params::Range;
+    v.Param("control_hz", control_hz, "planning/control loop rate", Range::Of(1.0, 100.0));
+    v.Param("pedestrian_margin_m", pedestrian_margin_m, "never drive closer than this to a pedestrian",
+            Range::Of(0.0, 10.0));
+    v.Param("agent_margin_m", agent_margin_m, "clearance kept from cyclists and cars", Range::Of(0.0, 10.0));
+    v.Param("prediction_s", prediction_s, "agents are checked where they will be up to this far ahead (constant velocity)",
+            Range::Of(0.0, 10.0));
+    v.Param("clear_s", clear_s, "how long the way must be clear before driving on", Range::Of(0.0, 60.0));
+    v.Param("replan_after_s", replan_after_s, "replan around agents blocking longer than this", Range::Of(0.5, 600.0));
+    v.Param("time_limit_s", time_limit_s, "the mission fails after this long", Range::Of(1.0, 36000.0));
+    v.Param("park_tolerance_m", park_tolerance_m, "parked: position within this of the bay pose", Range::Of(0.01, 5.0));
+    v.Param("park_tolerance_deg", park_tolerance_deg, "parked: heading within this", Range::Of(0.1, 90.0));
+    v.Param("waypoint_tolerance_m", waypoint_tolerance_m, "a waypoint counts as reached within this",
+            Range::Of(0.01, 10.0));
+    v.Param("max_corrections", max_corrections, "replans from where the car stopped when it missed a goal",
+            Range::Of(0, 100));
+  }
+};
+
+struct Transition {
+  double t_s = 0;
+  std::string from, to, reason;
+};
+
+struct ClosedLoopResult {
+  bool success = false;
+  std::string failure;
+  int collisions = 0;                  // contacts (static or agent) begun while moving
+  std::vector<std::string> collision_events;  // e.g. "12.30 s: pedestrian 7"
+  double min_clearance_m = 1e9;        // footprint to static obstacles
+  double min_pedestrian_m = 1e9;       // footprint to pedestrian boxes while moving
+  double time_s = 0;
+  double park_error_m = -1, park_error_deg = -1;  // of the last parking goal
+  std::vector<double> plan_ms;
+  std::vector<Transition> transitions;
+  std::vector<plan::Pose> trajectory;  // at the control rate
+  std::vector<plan::Path> paths;       // every plan made
+  nlohmann::json ToJson() const;
+};
+
+struct ClosedLoopConfig {
+  plan::CarOptions car;  // limits; dimensions come from the scenario
+  plan::HybridAStarOptions search;
+  plan::SmootherOptions smoother;
+  plan::TrackerOptions tracker;
+  ClosedLoopOptions loop;
+};
+
+// Runs the mission; `on_step(t_s, state, pose)` (optional) after every control step.
+ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, const std::vector<Goal>& mission,
+                               const ClosedLoopConfig& config,
+                               const std::function<void(double, const std::string&, const plan::Pose&)>& on_step = nullptr);
+
+// The car the closed loop drives: the scenario's ego dimensions and limits over
+// `base` (steering rate, reverse speed, margins).
+plan::CarOptions ScenarioCar(const sim::Scenario& scenario, plan::CarOptions base);
+
+}  // namespace specht::decide

@@ -1,0 +1,304 @@
+#include "specht/decide/closed_loop.h"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include <opencv2/imgproc.hpp>
+
+#include "specht/core/error.h"
+#include "specht/sim/simulator.h"
+
+namespace specht::decide {
+namespace {
+
+// A box: centre, heading, half length and half width.
+struct Box {
+  double x, y, theta, hl, hw;
+};
+
+Box CarBox(const plan::CarOptions& car, const plan::Pose& p) {
+  const double ahead = car.length_m / 2 - car.rear_overhang_m;
+  return {p.x + ahead * std::cos(p.theta), p.y + ahead * std::sin(p.theta), p.theta, car.length_m / 2, car.width_m / 2};
+}
+
+std::vector<cv::Point2d> Corners(const Box& b) {
+  const double c = std::cos(b.theta), s = std::sin(b.theta);
+  std::vector<cv::Point2d> out;
+  for (const auto& [lx, ly] : {std::pair{b.hl, b.hw}, {-b.hl, b.hw}, {-b.hl, -b.hw}, {b.hl, -b.hw}})
+    out.push_back({b.x + c * lx - s * ly, b.y + s * lx + c * ly});
+  return out;
+}
+
+double PointToBox(const cv::Point2d& p, const Box& b) {
+  const double c = std::cos(b.theta), s = std::sin(b.theta), dx = p.x - b.x, dy = p.y - b.y;
+  const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
+  return std::hypot(std::max(std::abs(lx) - b.hl, 0.0), std::max(std::abs(ly) - b.hw, 0.0));
+}
+
+// Distance between two boxes (0 when they touch or overlap): for separated convex
+// shapes the nearest points include a vertex of one of them.
+double BoxToBox(const Box& a, const Box& b) {
+  double d = std::min(PointToBox({a.x, a.y}, b), PointToBox({b.x, b.y}, a)) > 0 ? INFINITY : 0.0;
+  for (const auto& p : Corners(a)) d = std::min(d, PointToBox(p, b));
+  for (const auto& p : Corners(b)) d = std::min(d, PointToBox(p, a));
+  return d;
+}
+
+// Smallest obstacle distance along the box's outline (0: touching an obstacle cell).
+double OutlineClearance(const plan::DistanceMap& map, const Box& b) {
+  const auto c = Corners(b);
+  double d = INFINITY;
+  for (size_t k = 0; k < 4; ++k) {
+    const cv::Point2d a = c[k], e = c[(k + 1) % 4];
+    const int n = std::max(2, static_cast<int>(std::hypot(e.x - a.x, e.y - a.y) / 0.05));
+    for (int i = 0; i <= n; ++i) d = std::min(d, map.Distance(a.x + (e.x - a.x) * i / n, a.y + (e.y - a.y) * i / n));
+  }
+  return d;
+}
+
+Box AgentBox(const sim::AgentTruth& a) { return {a.pose.x, a.pose.y, a.pose.yaw_rad, a.length_m / 2, a.width_m / 2}; }
+
+class Machine {
+ public:
+  Machine(const sim::Scenario& s, const ClosedLoopConfig& c, const std::vector<Goal>& mission, ClosedLoopResult& r)
+      : s_(s), c_(c), mission_(mission), r_(r) {
+    static_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(s).TrueGrid(0.1)));
+    static_obstacles_ = static_map_->obstacles().clone();
+    search_ = std::make_unique<plan::HybridAStar>(c.search, c.car, static_map_);
+  }
+
+  const std::string& state() const { return state_; }
+  const plan::DistanceMap& static_map() const { return *static_map_; }
+
+  plan::Command Step(double t, const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) {
+    if (state_ == "plan") return Plan(t, pose, agents, false);
+    if (state_ == "drive") {
+      if (tracker_->finished()) return GoalReached(t, pose);
+      if (Blocked(pose, speed, agents)) {
+        Go(t, "wait", "an agent in the way");
+        blocked_since_ = t, clear_since_ = -1;
+        return {};
+      }
+      return tracker_->Update(pose, speed);
+    }
+    if (state_ == "wait") {
+      if (!Blocked(pose, speed, agents)) {
+        if (clear_since_ < 0) clear_since_ = t;
+        if (t - clear_since_ >= c_.loop.clear_s) Go(t, "drive", "the way is clear");
+      } else {
+        clear_since_ = -1;
+        if (t - blocked_since_ > c_.loop.replan_after_s) return Plan(t, pose, agents, true);
+      }
+      return {};
+    }
+    return {};  // done, failed
+  }
+
+  void Go(double t, const std::string& to, const std::string& reason) {
+    r_.transitions.push_back({t, state_, to, reason});
+    state_ = to;
+  }
+
+ private:
+  plan::Command Plan(double t, const plan::Pose& pose, const std::vector<sim::AgentTruth>& agents, bool around_agents) {
+    const Goal& goal = mission_[goal_];
+    std::shared_ptr<plan::DistanceMap> map = static_map_;
+    plan::HybridAStar* search = search_.get();
+    std::unique_ptr<plan::HybridAStar> local;
+    if (around_agents) {  // the blocking agents become obstacles, inflated by their margins
+      cv::Mat obstacles = static_obstacles_.clone();
+      for (const auto& a : agents) {
+        Box b = AgentBox(a);
+        const double m = a.cls == sim::AgentClass::kPedestrian ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
+        b.hl += m, b.hw += m;
+        std::vector<cv::Point> poly;
+        for (const auto& p : Corners(b))
+          poly.push_back({static_cast<int>((p.x - map->origin_x()) / 0.1), static_cast<int>((p.y - map->origin_y()) / 0.1)});
+        cv::fillConvexPoly(obstacles, poly, cv::Scalar(1));
+      }
+      map = std::make_shared<plan::DistanceMap>(obstacles, static_map_->origin_x(), static_map_->origin_y(), 0.1);
+      local = std::make_unique<plan::HybridAStar>(c_.search, c_.car, map);
+      search = local.get();
+    }
+    plan::PlanResult found;
+    try {
+      found = search->Plan(pose, goal.pose);
+    } catch (const InputError& e) {
+      found.failure = e.what();
+    }
+    r_.plan_ms.push_back(found.milliseconds + found.heuristic_milliseconds);
+    if (!found.found) {
+      if (around_agents) {  // keep waiting; the agents may move on
+        blocked_since_ = t;
+        return {};
+      }
+      r_.failure = "no path to " + goal.name + ": " + found.failure;
+      Go(t, "failed", r_.failure);
+      return {};
+    }
+    const plan::SmoothResult smooth = plan::SmoothPath(found.path, *map, c_.car, c_.smoother);
+    r_.plan_ms.back() += smooth.milliseconds;
+    r_.paths.push_back(smooth.path);
+    tracker_.emplace(c_.tracker, c_.car, smooth.path);
+    Go(t, "drive", "path to " + goal.name + (around_agents ? " around the agents" : ""));
+    return {};
+  }
+
+  plan::Command GoalReached(double t, const plan::Pose& pose) {
+    const Goal& goal = mission_[goal_];
+    const double e_m = std::hypot(pose.x - goal.pose.x, pose.y - goal.pose.y);
+    const double e_deg = std::abs(std::remainder(pose.theta - goal.pose.theta, 2 * M_PI)) * 180 / M_PI;
+    if (goal.park) r_.park_error_m = e_m, r_.park_error_deg = e_deg;
+    const bool ok = goal.park ? e_m <= c_.loop.park_tolerance_m && e_deg <= c_.loop.park_tolerance_deg
+                              : e_m <= c_.loop.waypoint_tolerance_m;
+    char note[128];
+    std::snprintf(note, sizeof(note), "%s: %.3f m, %.1f° off", goal.name.c_str(), e_m, e_deg);
+    if (!ok) {
+      if (corrections_ < c_.loop.max_corrections) {  // a short manoeuvre from where the car stands
+        ++corrections_;
+        Go(t, "plan", std::string("correcting: ") + note);
+        return {};
+      }
+      r_.failure = std::string("missed ") + note;
+      Go(t, "failed", r_.failure);
+      return {};
+    }
+    corrections_ = 0;
+    if (++goal_ < mission_.size()) {
+      Go(t, "plan", std::string("reached ") + note);
+      return {};
+    }
+    r_.success = true;
+    Go(t, "done", std::string("reached ") + note);
+    return {};
+  }
+
+  // The independent check: the car's box at the path poses within the stopping
+  // distance (+ 1.5 m), and where it stands, against the agents' true boxes now
+  // and predicted at constant velocity.
+  bool Blocked(const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) const {
+    const auto& points = tracker_->path().points;
+    const double reach = speed * speed / (2 * c_.car.max_accel_mps2) + 1.5;
+    std::vector<Box> swept = {CarBox(c_.car, pose)};
+    double along = 0;
+    for (size_t i = tracker_->progress_index() + 1; i < points.size() && along < reach; ++i) {
+      along += std::hypot(points[i].pose.x - points[i - 1].pose.x, points[i].pose.y - points[i - 1].pose.y);
+      swept.push_back(CarBox(c_.car, points[i].pose));
+    }
+    for (const auto& a : agents) {
+      const double margin = a.cls == sim::AgentClass::kPedestrian ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
+      // The agent where it is and where it would be, going straight on, over the
+      // prediction horizon: a cyclist about to cross counts before it arrives.
+      for (double dt = 0; dt <= c_.loop.prediction_s + 1e-9; dt += 0.5) {
+        Box b = AgentBox(a);
+        b.x += a.speed_mps * std::cos(a.pose.yaw_rad) * dt, b.y += a.speed_mps * std::sin(a.pose.yaw_rad) * dt;
+        if (std::hypot(b.x - pose.x, b.y - pose.y) > reach + c_.car.length_m + margin + 5) continue;
+        for (const auto& box : swept)
+          if (BoxToBox(box, b) < margin) return true;
+      }
+    }
+    return false;
+  }
+
+  const sim::Scenario& s_;
+  const ClosedLoopConfig& c_;
+  const std::vector<Goal>& mission_;
+  ClosedLoopResult& r_;
+  cv::Mat static_obstacles_;
+  std::shared_ptr<plan::DistanceMap> static_map_;
+  std::unique_ptr<plan::HybridAStar> search_;
+  std::optional<plan::PathTracker> tracker_;
+  std::string state_ = "plan";
+  size_t goal_ = 0;
+  int corrections_ = 0;
+  double blocked_since_ = 0, clear_since_ = -1;
+};
+
+}  // namespace
+
+plan::CarOptions ScenarioCar(const sim::Scenario& s, plan::CarOptions car) {
+  const sim::VehicleModel& v = s.ego.model;
+  car.wheelbase_m = v.wheelbase_m, car.max_steer_deg = v.max_steer_rad * 180 / M_PI;
+  car.length_m = v.length_m, car.width_m = v.width_m, car.rear_overhang_m = v.length_m / 2;
+  car.max_speed_mps = std::min(car.max_speed_mps, v.max_speed_mps);
+  car.max_accel_mps2 = v.max_accel_mps2;
+  return car;
+}
+
+ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, const std::vector<Goal>& mission,
+                               const ClosedLoopConfig& config,
+                               const std::function<void(double, const std::string&, const plan::Pose&)>& on_step) {
+  if (mission.empty()) throw InputError("closed loop: the mission has no goals");
+  ClosedLoopResult r;
+  sim::Simulator sim(scenario, seed);
+  Machine machine(scenario, config, mission, r);
+  const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (config.loop.control_hz * sim::Simulator::kStepS))));
+  const auto ignore = [](Stamp, const mrpt::obs::CObservation::Ptr&) {};
+  bool touching = false;
+  while (machine.state() != "done" && machine.state() != "failed") {
+    const double t = sim.time_s();
+    if (t > config.loop.time_limit_s) {
+      r.failure = "time limit of " + std::to_string(config.loop.time_limit_s) + " s";
+      machine.Go(t, "failed", r.failure);
+      break;
+    }
+    const auto& ego = sim.ego();
+    const plan::Pose pose{ego.pose.x, ego.pose.y, ego.pose.yaw_rad};
+    const auto agents = sim.agents();
+    const plan::Command cmd = machine.Step(t, pose, ego.speed_mps, agents);
+    sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
+    r.trajectory.push_back(pose);
+    if (on_step) on_step(t, machine.state(), pose);
+    for (int k = 0; k < substeps; ++k) {
+      sim.Step(ignore);
+      const auto& e = sim.ego();
+      const Box car = CarBox(config.car, {e.pose.x, e.pose.y, e.pose.yaw_rad});
+      const bool moving = std::abs(e.speed_mps) > 0.05;
+      const double clearance = OutlineClearance(machine.static_map(), car);
+      r.min_clearance_m = std::min(r.min_clearance_m, clearance);
+      std::string what = clearance <= 0 ? "static obstacle" : "";
+      for (const auto& a : sim.agents()) {
+        const double d = BoxToBox(car, AgentBox(a));
+        if (moving && a.cls == sim::AgentClass::kPedestrian) r.min_pedestrian_m = std::min(r.min_pedestrian_m, d);
+        if (moving && d <= 0) what = std::string(sim::Name(a.cls)) + " " + std::to_string(a.id);
+      }
+      const bool contact = !what.empty();
+      if (contact && !touching) {  // count contacts, not the steps they last
+        ++r.collisions;
+        char buf[96];
+        std::snprintf(buf, sizeof(buf), "%.2f s: %s", sim.time_s(), what.c_str());
+        r.collision_events.push_back(buf);
+      }
+      touching = contact;
+    }
+  }
+  r.time_s = sim.time_s();
+  return r;
+}
+
+nlohmann::json ClosedLoopResult::ToJson() const {
+  std::vector<double> t = plan_ms;
+  std::sort(t.begin(), t.end());
+  const auto q = [&](double p) { return t.empty() ? 0.0 : t[std::min(t.size() - 1, static_cast<size_t>(p * t.size()))]; };
+  nlohmann::json states = nlohmann::json::array(), visited = nlohmann::json::array();
+  for (const auto& tr : transitions) {
+    states.push_back({{"t_s", tr.t_s}, {"from", tr.from}, {"to", tr.to}, {"reason", tr.reason}});
+    if (std::find(visited.begin(), visited.end(), tr.to) == visited.end()) visited.push_back(tr.to);
+  }
+  return {{"success", success},
+          {"failure", failure},
+          {"collisions", collisions},
+          {"collision_events", collision_events},
+          {"min_clearance_m", min_clearance_m},
+          {"min_pedestrian_distance_m", min_pedestrian_m > 1e8 ? nlohmann::json() : nlohmann::json(min_pedestrian_m)},
+          {"time_s", time_s},
+          {"park_error_m", park_error_m},
+          {"park_error_deg", park_error_deg},
+          {"planning_ms", {{"count", t.size()}, {"p50", q(0.5)}, {"p90", q(0.9)}, {"max", t.empty() ? 0.0 : t.back()}}},
+          {"states_visited", visited},
+          {"transitions", states}};
+}
+
+}  // namespace specht::decide

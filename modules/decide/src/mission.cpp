@@ -1,0 +1,63 @@
+#include "specht/decide/mission.h"
+
+#include <cmath>
+
+#include <yaml-cpp/yaml.h>
+
+#include "specht/core/error.h"
+
+namespace specht::decide {
+
+plan::Pose BayPose(const sim::ParkingBay& bay, const plan::CarOptions& car) {
+  const double ahead = car.length_m / 2 - car.rear_overhang_m;  // footprint centre ahead of the reference
+  return {bay.pose.x - ahead * std::cos(bay.pose.yaw_rad), bay.pose.y - ahead * std::sin(bay.pose.yaw_rad),
+          std::remainder(bay.pose.yaw_rad, 2 * M_PI)};
+}
+
+std::vector<Goal> DefaultMission(const sim::Scenario& s, const plan::CarOptions& car) {
+  if (s.bays.empty()) throw InputError("scenario " + s.name + " has no parking bay: give a mission file");
+  return {{"park " + s.bays.front().name, BayPose(s.bays.front(), car), true}};
+}
+
+std::vector<Goal> LoadMission(const std::string& path, const sim::Scenario& s, const plan::CarOptions& car) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open the mission file");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  const auto at = [&](const YAML::Node& n) { return path + ":" + std::to_string(n.Mark().line + 1) + ": "; };
+  if (!root.IsMap() || !root["goals"] || !root["goals"].IsSequence() || root["goals"].size() == 0)
+    throw InputError(path + ": a mission is a map with a non-empty 'goals' list");
+  for (const auto& kv : root)
+    if (kv.first.as<std::string>() != "goals")
+      throw InputError(at(kv.first) + "unknown field '" + kv.first.as<std::string>() + "' (goals)");
+  std::vector<Goal> goals;
+  int waypoints = 0;
+  for (const auto& g : root["goals"]) {
+    if (!g.IsMap() || g.size() != 1) throw InputError(at(g) + "a goal is {waypoint: [x, y, deg]} or {park: BAY}");
+    const std::string kind = g.begin()->first.as<std::string>();
+    const YAML::Node v = g.begin()->second;
+    if (kind == "waypoint") {
+      std::vector<double> xyz;
+      try {
+        xyz = v.as<std::vector<double>>();
+      } catch (const YAML::Exception&) {
+      }
+      if (xyz.size() != 3) throw InputError(at(v) + "a waypoint is [x, y, heading_deg]");
+      goals.push_back({"waypoint " + std::to_string(++waypoints), {xyz[0], xyz[1], xyz[2] * M_PI / 180}, false});
+    } else if (kind == "park") {
+      const std::string name = v.as<std::string>();
+      const auto bay = std::find_if(s.bays.begin(), s.bays.end(), [&](const auto& b) { return b.name == name; });
+      if (bay == s.bays.end()) throw InputError(at(v) + "scenario " + s.name + " has no bay '" + name + "'");
+      goals.push_back({"park " + name, BayPose(*bay, car), true});
+    } else {
+      throw InputError(at(g) + "unknown goal '" + kind + "' (waypoint, park)");
+    }
+  }
+  return goals;
+}
+
+}  // namespace specht::decide

@@ -1,0 +1,72 @@
+#include "specht/plan/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace specht::plan {
+
+PathTracker::PathTracker(const TrackerOptions& options, const CarOptions& car, Path path)
+    : o_(options), car_(car), path_(std::move(path)) {
+  const auto& p = path_.points;
+  along_.assign(p.size(), 0.0);
+  for (size_t i = 1; i < p.size(); ++i)
+    along_[i] = along_[i - 1] + std::hypot(p[i].pose.x - p[i - 1].pose.x, p[i].pose.y - p[i - 1].pose.y);
+  stretch_end_.assign(p.size(), p.empty() ? 0 : p.size() - 1);
+  // A stretch ends at the last point before the direction flips (the cusp).
+  for (size_t i = p.size(); i-- > 1;)
+    stretch_end_[i - 1] = p[i].direction != p[i - 1].direction && i - 1 > 0 ? i - 1 : stretch_end_[i];
+  finished_ = p.size() < 2;
+}
+
+Command PathTracker::Update(const Pose& pose, double speed) {
+  const auto& p = path_.points;
+  if (finished_) return {};
+  const auto dist = [&](size_t i) { return std::hypot(p[i].pose.x - pose.x, p[i].pose.y - pose.y); };
+  // Arc length of the car's projection on the current stretch.
+  const auto along_car = [&](size_t end) {
+    while (index_ < end && dist(index_ + 1) <= dist(index_)) ++index_;
+    const size_t j = std::min(index_ + 1, end);
+    const double ex = p[j].pose.x - p[index_].pose.x, ey = p[j].pose.y - p[index_].pose.y;
+    const double len = std::hypot(ex, ey);
+    const double u = len > 1e-9 ? ((pose.x - p[index_].pose.x) * ex + (pose.y - p[index_].pose.y) * ey) / len : 0.0;
+    return along_[index_] + std::clamp(u, -0.5, len);
+  };
+  size_t end = stretch_end_[index_];
+  double left = along_[end] - along_car(end);
+  // At a stretch's end: stop there, then take the next stretch (a gear change) or finish.
+  if (left <= o_.goal_tolerance_m) {
+    if (std::abs(speed) > o_.stop_speed_mps) return {0.0, 0.0};
+    if (end + 1 >= p.size()) {
+      finished_ = true;
+      return {};
+    }
+    index_ = end + 1;
+    end = stretch_end_[index_];
+    left = along_[end] - along_car(end);
+  }
+  remaining_ = along_.back() - along_[index_];
+  const int direction = p[std::min(index_ + 1, end)].direction;
+  // Pure pursuit towards the goal point.
+  const double lookahead = o_.min_lookahead_m + o_.lookahead_per_mps * std::abs(speed);
+  size_t g = index_;
+  while (g < end && along_[g] - along_[index_] < lookahead) ++g;
+  const double heading = direction > 0 ? pose.theta : pose.theta + M_PI;
+  const double alpha = std::atan2(p[g].pose.y - pose.y, p[g].pose.x - pose.x) - heading;
+  const double d = std::max(0.3, dist(g));
+  double steer = std::atan(2.0 * car_.wheelbase_m * std::sin(alpha) / d);
+  if (direction < 0) steer = -steer;
+  // Speed: direction limit, curvature ahead, braking to the stretch's end.
+  double kappa = 0;
+  for (size_t i = index_ + 1; i <= end && along_[i] - along_[index_] < 3.0 + lookahead; ++i) {
+    const Pose &a = p[i - 1].pose, &b = p[i].pose;
+    kappa = std::max(kappa, std::abs(std::remainder(b.theta - a.theta, 2 * M_PI)) /
+                                std::max(1e-3, std::hypot(b.x - a.x, b.y - a.y)));
+  }
+  const double v_max = direction > 0 ? car_.max_speed_mps : car_.max_reverse_mps;
+  double v = std::min({v_max, kappa > 1e-6 ? std::sqrt(o_.max_lateral_accel_mps2 / kappa) : v_max,
+                       std::sqrt(2.0 * 0.8 * car_.max_accel_mps2 * std::max(0.0, left))});
+  v = std::max(v, std::min(0.3, v_max));  // creep the last centimetres rather than stall short
+  return {direction * v, steer};
+}
+
+}  // namespace specht::plan

@@ -1,0 +1,47 @@
+// `specht run`: the closed loop on the parking-lot scenario — the mission state
+// machine plans, waits for agents, corrects and parks; checked against the
+// scenario's ground truth (bay pose, agents' boxes, static map).
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace specht {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
+  const std::string out = testing::TempDir("run_cli") + "/out";
+  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
+  const auto r = testing::RunSpecht("run '" + scenario + "' --seeds 1-3 -q -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  const auto& m = report["metrics"];
+  EXPECT_EQ(m["success_rate"].get<double>(), 1.0);
+  EXPECT_EQ(m["collisions"].get<int>(), 0);
+  EXPECT_LE(m["max_park_error_m"].get<double>(), 0.2);
+  EXPECT_LE(m["max_park_error_deg"].get<double>(), 5.0);
+  if (!m["min_pedestrian_distance_m"].is_null())
+    EXPECT_GE(m["min_pedestrian_distance_m"].get<double>(), m["pedestrian_margin_m"].get<double>());
+  for (const auto& run : report["runs"]) {
+    EXPECT_EQ(run["states_visited"].back(), "done");
+    EXPECT_GT(run["planning_ms"]["count"].get<int>(), 0);
+  }
+  for (const char* f : {"run-1.png", "steps-1.jsonl", "paths-1.csv", "report.json"})
+    EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+}
+
+TEST(RunCliTest, BadMissionNamesTheLine) {
+  const std::string dir = testing::TempDir("run_cli_bad");
+  testing::WriteFile(dir + "/mission.yaml", "goals:\n  - park: bay-z\n");
+  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
+  const auto r = testing::RunSpecht("run '" + scenario + "' --mission '" + dir + "/mission.yaml' -q -o '" + dir + "/out'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("mission.yaml:2: scenario parking-lot has no bay 'bay-z'"));
+}
+
+}  // namespace
+}  // namespace specht
