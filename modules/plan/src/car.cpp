@@ -32,6 +32,7 @@ DiscCover CarOptions::Discs() const {
   for (const auto& c : DiscCentres()) d.offsets.push_back(c.x);
   d.radius = DiscRadius();
   d.margin = safety_margin_m;
+  d.front = length_m - rear_overhang_m, d.rear = rear_overhang_m, d.half_width = width_m / 2;
   return d;
 }
 

@@ -54,8 +54,23 @@ double DistanceMap::Clearance(const DiscCover& discs, const Pose& p) const {
 
 bool DistanceMap::Free(const DiscCover& discs, const Pose& p) const {
   const double c = std::cos(p.theta), s = std::sin(p.theta), need = discs.radius + discs.margin;
+  bool discs_free = true;
   for (const double d : discs.offsets)
-    if (Distance(p.x + c * d, p.y + s * d) <= need) return false;  // stop at the first disc that touches
+    if (Distance(p.x + c * d, p.y + s * d) <= need) {
+      discs_free = false;
+      break;
+    }
+  if (discs_free) return true;
+  // The rectangle itself: samples at the map's resolution over it (edges included).
+  const int nx = static_cast<int>(std::ceil((discs.front + discs.rear) / resolution_));
+  const int ny = static_cast<int>(std::ceil(2 * discs.half_width / resolution_));
+  for (int i = 0; i <= nx; ++i) {
+    const double lx = -discs.rear + (discs.front + discs.rear) * i / nx;
+    for (int j = 0; j <= ny; ++j) {
+      const double ly = -discs.half_width + 2 * discs.half_width * j / ny;
+      if (Distance(p.x + c * lx - s * ly, p.y + s * lx + c * ly) <= discs.margin) return false;
+    }
+  }
   return true;
 }
 

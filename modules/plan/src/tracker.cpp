@@ -50,9 +50,14 @@ Command PathTracker::Update(const Pose& pose, double speed) {
   const double lookahead = o_.min_lookahead_m + o_.lookahead_per_mps * std::abs(speed);
   size_t g = index_;
   while (g < end && along_[g] - along_[index_] < lookahead) ++g;
+  double gx = p[g].pose.x, gy = p[g].pose.y;
+  if (g == end && left < lookahead) {  // past the end: on the end pose's heading line, so the car arrives aligned
+    const double beyond = (lookahead - left) * direction;
+    gx += beyond * std::cos(p[end].pose.theta), gy += beyond * std::sin(p[end].pose.theta);
+  }
   const double heading = direction > 0 ? pose.theta : pose.theta + M_PI;
-  const double alpha = std::atan2(p[g].pose.y - pose.y, p[g].pose.x - pose.x) - heading;
-  const double d = std::max(0.3, dist(g));
+  const double alpha = std::atan2(gy - pose.y, gx - pose.x) - heading;
+  const double d = std::max(0.3, std::hypot(gx - pose.x, gy - pose.y));
   double steer = std::atan(2.0 * car_.wheelbase_m * std::sin(alpha) / d);
   if (direction < 0) steer = -steer;
   // Speed: direction limit, curvature ahead, braking to the stretch's end.

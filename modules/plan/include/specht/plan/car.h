@@ -7,7 +7,10 @@
 // The footprint is covered by n discs along the car (n = ⌈length / width⌉), each of
 // radius √((length / 2n)² + (width / 2)²): a pose is free when every disc centre is
 // farther than its radius + safety margin from the nearest obstacle. The cover is
-// conservative (it never accepts a rectangle that touches an obstacle).
+// conservative (it never accepts a rectangle that touches an obstacle) but
+// overshoots the corners; where it says no, the rectangle itself is checked
+// (samples over it at the map's resolution, each farther than the margin from an
+// obstacle), so tight bays stay reachable.
 #pragma once
 
 #include <vector>
@@ -26,7 +29,8 @@ struct Pose {
 struct DiscCover {
   std::vector<double> offsets;  // disc centres along the car's axis from the rear axle
   double radius = 0;
-  double margin = 0;            // the safety margin a free pose keeps beyond the discs
+  double margin = 0;            // the safety margin a free pose keeps beyond the footprint
+  double front = 0, rear = 0, half_width = 0;  // the rectangle: x in [−rear, front], |y| ≤ half_width
 };
 
 // Section "car".

@@ -2,8 +2,9 @@
 // and a speed profile, stretch by stretch between cusps.
 //
 // Steering (Coulter 1992): the goal point lies `lookahead` ahead on the current
-// stretch (d = max(min_lookahead, k · |v| + min_lookahead), never past the stretch's
-// end); with α its bearing from the car's heading, δ = atan(2 L sin α / d). In
+// stretch (d = min_lookahead + k · |v|; never past the stretch's: near the end it lies on the line of the end pose's heading beyond it, so the
+// car arrives aligned); with α its bearing from the car's heading,
+// δ = atan(2 L sin α / d). In
 // reverse the same law runs for a virtual car facing backwards (heading θ + π) and
 // the angle is negated (θ̇ = v tan δ / L with v < 0).
 // Speed: v ≤ max speed of the direction, v ≤ √(a_lat / κ) for the path's curvature
