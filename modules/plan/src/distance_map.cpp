@@ -45,11 +45,26 @@ double DistanceMap::Distance(double x, double y) const {
   return distance_.at<float>(r, c);
 }
 
-double DistanceMap::Clearance(const DiscCover& discs, const Pose& p) const {
+// Smallest obstacle distance over samples of the footprint rectangle at the map's
+// resolution (edges included); stops once a sample is at or below `stop_at`.
+double DistanceMap::RectangleClearance(const DiscCover& discs, const Pose& p, double stop_at) const {
   const double c = std::cos(p.theta), s = std::sin(p.theta);
-  double clearance = INFINITY;
-  for (const double d : discs.offsets) clearance = std::min(clearance, Distance(p.x + c * d, p.y + s * d));
-  return clearance - discs.radius;
+  const int nx = static_cast<int>(std::ceil((discs.front + discs.rear) / resolution_));
+  const int ny = static_cast<int>(std::ceil(2 * discs.half_width / resolution_));
+  double least = INFINITY;
+  for (int i = 0; i <= nx; ++i) {
+    const double lx = -discs.rear + (discs.front + discs.rear) * i / nx;
+    for (int j = 0; j <= ny; ++j) {
+      const double ly = -discs.half_width + 2 * discs.half_width * j / ny;
+      least = std::min(least, Distance(p.x + c * lx - s * ly, p.y + s * lx + c * ly));
+      if (least <= stop_at) return least;
+    }
+  }
+  return least;
+}
+
+double DistanceMap::Clearance(const DiscCover& discs, const Pose& p) const {
+  return RectangleClearance(discs, p, -INFINITY);
 }
 
 bool DistanceMap::Free(const DiscCover& discs, const Pose& p) const {
@@ -60,18 +75,7 @@ bool DistanceMap::Free(const DiscCover& discs, const Pose& p) const {
       discs_free = false;
       break;
     }
-  if (discs_free) return true;
-  // The rectangle itself: samples at the map's resolution over it (edges included).
-  const int nx = static_cast<int>(std::ceil((discs.front + discs.rear) / resolution_));
-  const int ny = static_cast<int>(std::ceil(2 * discs.half_width / resolution_));
-  for (int i = 0; i <= nx; ++i) {
-    const double lx = -discs.rear + (discs.front + discs.rear) * i / nx;
-    for (int j = 0; j <= ny; ++j) {
-      const double ly = -discs.half_width + 2 * discs.half_width * j / ny;
-      if (Distance(p.x + c * lx - s * ly, p.y + s * lx + c * ly) <= discs.margin) return false;
-    }
-  }
-  return true;
+  return discs_free || RectangleClearance(discs, p, discs.margin) > discs.margin;
 }
 
 }  // namespace specht::plan

@@ -61,15 +61,24 @@ Command PathTracker::Update(const Pose& pose, double speed) {
   double steer = std::atan(2.0 * car_.wheelbase_m * std::sin(alpha) / d);
   if (direction < 0) steer = -steer;
   // Speed: direction limit, curvature ahead, braking to the stretch's end.
-  double kappa = 0;
+  // Curvature κ and its change per metre dκ/ds over the next metres: the steering
+  // angle follows dκ/dt = dκ/ds · v at a limited rate (κ = tan δ / L, so
+  // dδ/dt ≈ L · dκ/ds · v near straight), which bounds v through S-bends.
+  double kappa = 0, kappa_rate = 0, previous = NAN;
   for (size_t i = index_ + 1; i <= end && along_[i] - along_[index_] < 3.0 + lookahead; ++i) {
     const Pose &a = p[i - 1].pose, &b = p[i].pose;
-    kappa = std::max(kappa, std::abs(std::remainder(b.theta - a.theta, 2 * M_PI)) /
-                                std::max(1e-3, std::hypot(b.x - a.x, b.y - a.y)));
+    const double ds = std::max(1e-3, std::hypot(b.x - a.x, b.y - a.y));
+    const double k = std::remainder(b.theta - a.theta, 2 * M_PI) / ds;
+    kappa = std::max(kappa, std::abs(k));
+    if (!std::isnan(previous)) kappa_rate = std::max(kappa_rate, std::abs(k - previous) / ds);
+    previous = k;
   }
+  const double steer_rate = car_.max_steer_rate_deg_s * M_PI / 180;
   const double v_max = direction > 0 ? car_.max_speed_mps : car_.max_reverse_mps;
   double v = std::min({v_max, kappa > 1e-6 ? std::sqrt(o_.max_lateral_accel_mps2 / kappa) : v_max,
+                       kappa_rate > 1e-6 ? 0.5 * steer_rate / (car_.wheelbase_m * kappa_rate) : v_max,
                        std::sqrt(2.0 * 0.8 * car_.max_accel_mps2 * std::max(0.0, left))});
+  if (remaining_ < o_.approach_distance_m) v = std::min(v, o_.approach_speed_mps);
   v = std::max(v, std::min(0.3, v_max));  // creep the last centimetres rather than stall short
   return {direction * v, steer};
 }

@@ -31,10 +31,12 @@ class DistanceMap {
   // Metres to the nearest obstacle from the cell containing (x, y); 0 outside the map
   // (the map's edge is a wall).
   double Distance(double x, double y) const;
-  // Whether the car's footprint (disc cover + safety margin) is free at `pose`.
+  // Whether the car's footprint is free at `pose` with the safety margin: the disc
+  // cover first (a few lookups), the rectangle itself where the discs say no.
   bool Free(const DiscCover& discs, const Pose& pose) const;
   bool Free(const CarOptions& car, const Pose& pose) const { return Free(car.Discs(), pose); }
-  // Smallest clearance of the footprint discs at `pose` (negative: in collision).
+  // Distance from the footprint rectangle to the nearest obstacle (0: touching or
+  // overlapping), to the map's resolution.
   double Clearance(const DiscCover& discs, const Pose& pose) const;
   double Clearance(const CarOptions& car, const Pose& pose) const { return Clearance(car.Discs(), pose); }
 
@@ -47,6 +49,7 @@ class DistanceMap {
   const cv::Mat& obstacles() const { return obstacle_; }
 
  private:
+  double RectangleClearance(const DiscCover& discs, const Pose& pose, double stop_at) const;
   cv::Mat obstacle_, distance_;
   double origin_x_, origin_y_, resolution_;
 };

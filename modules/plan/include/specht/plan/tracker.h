@@ -8,8 +8,11 @@
 // reverse the same law runs for a virtual car facing backwards (heading θ + π) and
 // the angle is negated (θ̇ = v tan δ / L with v < 0).
 // Speed: v ≤ max speed of the direction, v ≤ √(a_lat / κ) for the path's curvature
-// ahead, and v ≤ √(2 a_brake s) with s the distance left to the stretch's end, where
-// the car stops before the next stretch starts (a gear change) or the goal.
+// ahead, v ≤ ½ δ̇_max / (L |dκ/ds|) so the steering can keep up through S-bends,
+// v ≤ √(2 a_brake s) with s the distance left to the stretch's end, where
+// the car stops before the next stretch starts (a gear change) or the goal, and
+// v ≤ approach_speed within approach_distance of the path's end (precision where
+// goals sit: bays between parked cars).
 #pragma once
 
 #include <cstddef>
@@ -24,6 +27,8 @@ struct TrackerOptions {
   double lookahead_per_mps = 0.5;
   double max_lateral_accel_mps2 = 1.5;
   double goal_tolerance_m = 0.05;
+  double approach_distance_m = 8.0;
+  double approach_speed_mps = 1.0;
   double stop_speed_mps = 0.05;
 
   template <class V>
@@ -33,6 +38,10 @@ struct TrackerOptions {
     v.Param("lookahead_per_mps", lookahead_per_mps, "lookahead added per m/s", Range::Of(0.0, 5.0));
     v.Param("max_lateral_accel_mps2", max_lateral_accel_mps2, "speed limit in curves: v²κ ≤ this",
             Range::Of(0.1, 10.0));
+    v.Param("approach_distance_m", approach_distance_m, "the last metres of a path are driven slowly",
+            Range::Of(0.0, 100.0));
+    v.Param("approach_speed_mps", approach_speed_mps, "speed limit on the approach (goals sit in tight spots)",
+            Range::Of(0.1, 20.0));
     v.Param("goal_tolerance_m", goal_tolerance_m, "a stretch's end is reached within this distance",
             Range::Of(0.005, 1.0));
     v.Param("stop_speed_mps", stop_speed_mps, "below this the car counts as stopped", Range::Of(0.001, 1.0));
