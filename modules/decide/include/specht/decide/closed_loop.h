@@ -45,7 +45,7 @@ struct ClosedLoopOptions {
   double clear_s = 1.0;
   double prediction_s = 2.0;
   double replan_after_s = 8.0;
-  double time_limit_s = 180;
+  double time_limit_s = 300;
   double park_tolerance_m = 0.2;
   double park_tolerance_deg = 5.0;
   double waypoint_tolerance_m = 0.5;
