@@ -29,4 +29,5 @@ fi
 run "$build/bench/sim_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/track_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/classify_bench"
+run "$build/bench/plan_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 echo "bench: results in $out" >&2

@@ -13,6 +13,7 @@ PACKAGES=(
   libceres-dev       # pose-graph optimisation
   liboctomap-dev     # 3D occupancy (OctoMap .bt) from stereo points
   libtorch-dev       # trajectory classifier (1D ResNet, CPU)
+  libompl-dev        # Reeds-Shepp paths (hybrid A*), RRT baseline
   libopencv-dev      # images, PNG output, drawing
   libeigen3-dev
   zlib1g-dev         # reading gzip CARMEN logs
