@@ -26,16 +26,6 @@ struct RunArgs {
   std::string scenario, mission, seeds;
 };
 
-std::pair<uint64_t, uint64_t> SeedRange(const std::string& text, uint64_t fallback) {
-  if (text.empty()) return {fallback, fallback};
-  unsigned long long a = 0, b = 0;
-  char dash = 0;
-  const int n = std::sscanf(text.c_str(), "%llu%c%llu", &a, &dash, &b);
-  if (n == 1) return {a, a};
-  if (n == 3 && dash == '-' && b >= a) return {a, b};
-  throw InputError("--seeds: \"" + text + "\" is not N or A-B with A <= B");
-}
-
 int RunRun(const RunArgs& a) {
   const params::Params params = LoadParams(a.common);
   const sim::Scenario scenario = sim::LoadScenario(a.scenario);
@@ -48,7 +38,7 @@ int RunRun(const RunArgs& a) {
   const std::vector<decide::Goal> mission = a.mission.empty()
                                                 ? decide::DefaultMission(scenario, config.car)
                                                 : decide::LoadMission(a.mission, scenario, config.car);
-  const auto [first, last] = SeedRange(a.seeds, scenario.seed);
+  const auto [first, last] = ParseSeedRange(a.seeds, scenario.seed);
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
   const auto map = plan::DistanceMap::FromGrid(sim::World(scenario).TrueGrid(0.1));

@@ -1,6 +1,9 @@
 #include "run_setup.h"
 
+#include <cstdio>
+
 #include "options_registry.h"
+#include "specht/core/error.h"
 #include "specht/io/atomic_file.h"
 
 namespace specht::app {
@@ -19,6 +22,16 @@ params::Params LoadParams(const CommonArgs& args) {
   for (const auto& file : args.param_files) tree.MergeFile(file);
   for (const auto& assignment : args.overrides) tree.Set(assignment);
   return AllOptions().Load(tree);
+}
+
+std::pair<uint64_t, uint64_t> ParseSeedRange(const std::string& text, uint64_t fallback) {
+  if (text.empty()) return {fallback, fallback};
+  unsigned long long a = 0, b = 0;
+  char dash = 0;
+  const int n = std::sscanf(text.c_str(), "%llu%c%llu", &a, &dash, &b);
+  if (n == 1) return {a, a};
+  if (n == 3 && dash == '-' && b >= a) return {a, b};
+  throw InputError("--seeds: \"" + text + "\" is not N or A-B with A <= B");
 }
 
 void PrepareOutputDir(const CommonArgs& args, const params::Params& params) {

@@ -3,7 +3,9 @@
 // create the output directory and write the effective parameters into it.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -25,6 +27,9 @@ void AddCommonOptions(CLI::App& cmd, CommonArgs& args, const std::string& defaul
 
 // Defaults, then each file, then each --set. Throws InputError on any problem.
 params::Params LoadParams(const CommonArgs& args);
+
+// "--seeds N" or "A-B" (A <= B); `fallback` when empty. Throws InputError.
+std::pair<uint64_t, uint64_t> ParseSeedRange(const std::string& text, uint64_t fallback);
 
 // Creates args.out_dir and writes params.yaml (the effective parameters) there.
 void PrepareOutputDir(const CommonArgs& args, const params::Params& params);

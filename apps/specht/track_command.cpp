@@ -76,16 +76,6 @@ void ClassifyOnline(const classify::TrajectoryClassifier& classifier, const clas
   out.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::pair<uint64_t, uint64_t> ParseSeeds(const std::string& text, uint64_t fallback) {
-  if (text.empty()) return {fallback, fallback};
-  unsigned long long a = 0, b = 0;
-  char dash = 0;
-  const int n = std::sscanf(text.c_str(), "%llu%c%llu", &a, &dash, &b);
-  if (n == 1) return {a, a};
-  if (n == 3 && dash == '-' && b >= a) return {a, b};
-  throw InputError("--seeds: \"" + text + "\" is not N or A-B with A <= B");
-}
-
 std::array<unsigned char, 3> ClassColour(const std::string& cls) {
   if (cls == "pedestrian") return {220, 40, 40};
   if (cls == "cyclist") return {230, 150, 0};
@@ -124,7 +114,7 @@ int RunTrack(const TrackArgs& a) {
   std::vector<sim::Scenario> scenarios;
   for (const auto& path : a.scenarios) scenarios.push_back(sim::LoadScenario(path));
   std::vector<std::pair<uint64_t, uint64_t>> seeds;
-  for (const auto& s : scenarios) seeds.push_back(ParseSeeds(a.seeds, s.seed));
+  for (const auto& s : scenarios) seeds.push_back(ParseSeedRange(a.seeds, s.seed));
   std::optional<classify::TrajectoryClassifier> classifier;
   if (!a.model_dir.empty()) classifier = classify::TrajectoryClassifier::Load(a.model_dir + "/model");
   PrepareOutputDir(a.common, params);
