@@ -1,6 +1,6 @@
 #include "specht/io/carmen.h"
 
-#include <zlib.h>
+#include "specht/io/line_reader.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -16,48 +16,6 @@ namespace specht::io {
 namespace {
 
 using mrpt::poses::CPose2D;
-
-// Reads text lines from a gzip or plain file (zlib reads both).
-class LineReader {
- public:
-  explicit LineReader(const std::string& path) : path_(path), file_(gzopen(path.c_str(), "rb")) {
-    if (file_ == nullptr) throw InputError(path + ": cannot open");
-  }
-  ~LineReader() {
-    if (file_ != nullptr) gzclose(file_);
-  }
-  LineReader(const LineReader&) = delete;
-  LineReader& operator=(const LineReader&) = delete;
-
-  bool Next(std::string& line) {
-    line.clear();
-    char buf[8192];
-    while (gzgets(file_, buf, sizeof(buf)) != nullptr) {
-      line += buf;
-      if (!line.empty() && line.back() == '\n') break;
-    }
-    int error = Z_OK;
-    const char* message = gzerror(file_, &error);
-    if (error != Z_OK) {
-      throw DatasetError(path_, number_ + 1, -1, std::string("compressed data ends or breaks here (") + message +
-                                                     "): truncated or corrupt gzip file");
-    }
-    if (line.empty()) return false;
-    ++number_;
-    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
-    return true;
-  }
-  int64_t number() const { return number_; }
-  // Compressed bytes consumed (gzoffset) over the file size.
-  double Fraction(uint64_t file_size) const {
-    return file_size > 0 ? std::min(1.0, static_cast<double>(gzoffset(file_)) / file_size) : -1.0;
-  }
-
- private:
-  std::string path_;
-  gzFile file_;
-  int64_t number_ = 0;
-};
 
 struct LaserMessage {
   std::vector<float> ranges;
