@@ -6,26 +6,11 @@
 #include <map>
 #include <sstream>
 
+#include "specht/core/csv.h"
 #include "specht/core/error.h"
 #include "specht/io/atomic_file.h"
 
 namespace specht::io {
-namespace {
-
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) {
-    while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-    while (!cell.empty() && cell.front() == ' ') cell.erase(cell.begin());
-    out.push_back(cell);
-  }
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
-
-}  // namespace
 
 std::vector<ObjectSample> ParseObjectTracks(const std::string& text, const std::string& source) {
   std::istringstream in(text);

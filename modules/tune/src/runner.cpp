@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "specht/core/csv.h"
 #include "specht/core/error.h"
 
 namespace specht::tune {
@@ -35,14 +36,6 @@ std::string LogLine(const Evaluation& e, size_t dims) {
   for (size_t i = 0; i < dims; ++i) line << ',' << (e.values.empty() ? "default" : e.values[i]);
   line << ',' << Clean(e.error) << '\n';
   return line.str();
-}
-
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> f;
-  std::stringstream ss(line);
-  for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-  if (!line.empty() && line.back() == ',') f.push_back("");
-  return f;
 }
 
 // The log's evaluations by index. A last line cut short by a kill is dropped (it
