@@ -128,63 +128,6 @@ int RunPrepare(const ClassifyArgs& a) {
   return 0;
 }
 
-int RunTrain(const ClassifyArgs& a) {
-  const params::Params params = LoadParams(a.common);
-  const auto& o = params.Get<classify::ModelOptions>("classify_model");
-  const classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
-  std::vector<size_t> train_rows, val_rows;
-  classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
-  const classify::Dataset train = d.windows.Subset(train_rows), val = d.windows.Subset(val_rows);
-  PrepareOutputDir(a.common, params);
-  const std::string& out = a.common.out_dir;
-
-  classify::Classifier model(o, d.windows.features, d.windows.length, d.classes);
-  ProgressLine progress("classify train", "epochs", !a.common.quiet, 0.0);
-  std::string log = "epoch,train_loss,validation_loss,validation_macro_f1,learning_rate,seconds\n";
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::string checkpoint = out + "/checkpoint.pt";
-  if (!a.resume) std::remove(checkpoint.c_str());
-  const auto reports = model.Train(train, val, [&](const classify::EpochReport& r) {
-    char line[160], note[120];
-    std::snprintf(line, sizeof(line), "%d,%.5f,%.5f,%.4f,%.2e,%.2f\n", r.epoch, r.train_loss, r.validation_loss,
-                  r.validation_macro_f1, r.learning_rate, r.seconds);
-    log += line;
-    std::snprintf(note, sizeof(note), "loss %.4f val loss %.4f val F1 %.3f", r.train_loss, r.validation_loss,
-                  r.validation_macro_f1);
-    progress.Update(r.epoch, static_cast<double>(r.epoch) / o.epochs, note);
-  }, checkpoint);
-  const double train_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  progress.Finish();
-  model.Save(out + "/model", d.info);
-  io::WriteTextAtomically(out + "/training.csv", log);
-
-  auto rows_of = [&](const std::vector<size_t>& rows) {
-    std::vector<float> x;
-    const int f = classify::HandcraftedFeatureCount();
-    for (size_t r : rows) x.insert(x.end(), d.handcrafted.begin() + r * f, d.handcrafted.begin() + (r + 1) * f);
-    return x;
-  };
-  classify::ForestBaseline forest(200, 12, o.seed);
-  forest.Train(rows_of(train_rows), train.y);
-  forest.Save(out + "/forest.yml");
-
-  const int k = static_cast<int>(d.classes.size());
-  const auto resnet = classify::Score(val.y, model.PredictClasses(val), k);
-  const auto rf = classify::Score(val.y, forest.Predict(rows_of(val_rows)), k);
-  io::RunReport report("classify train");
-  auto& j = report.json();
-  j["dataset"] = a.dataset;
-  j["windows"] = {{"train", train.size()}, {"validation", val.size()}};
-  j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", reports.size()}};
-  j["validation"] = {{"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
-  j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", train.size() * reports.size() / train_s}};
-  for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv", "checkpoint.pt"}) report.AddOutput(f);
-  report.Write(out);
-  std::printf("classify train: %zu epochs, %.1f s (%.0f windows/s); validation macro F1: ResNet %.3f, forest %.3f\n",
-              reports.size(), train_s, train.size() * reports.size() / train_s, resnet.macro_f1, rf.macro_f1);
-  return 0;
-}
-
 int RunEval(const ClassifyArgs& a) {
   const classify::Classifier model = classify::Classifier::Load(a.model_dir + "/model");
   const classify::ForestBaseline forest = classify::ForestBaseline::Load(a.model_dir + "/forest.yml");
@@ -304,6 +247,62 @@ int RunPredict(const ClassifyArgs& a) {
 
 }  // namespace
 
+int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
+                          const std::string& dataset, bool resume, const std::string& label) {
+  const classify::PreparedDataset d = classify::ReadPrepared(dataset);
+  std::vector<size_t> train_rows, val_rows;
+  classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
+  const classify::Dataset train = d.windows.Subset(train_rows), val = d.windows.Subset(val_rows);
+  PrepareOutputDir(common, params);
+  const std::string& out = common.out_dir;
+
+  classify::Classifier model(o, d.windows.features, d.windows.length, d.classes);
+  ProgressLine progress(label, "epochs", !common.quiet, 0.0);
+  std::string log = "epoch,train_loss,validation_loss,validation_macro_f1,learning_rate,seconds\n";
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string checkpoint = out + "/checkpoint.pt";
+  if (!resume) std::remove(checkpoint.c_str());
+  const auto reports = model.Train(train, val, [&](const classify::EpochReport& r) {
+    char line[160], note[120];
+    std::snprintf(line, sizeof(line), "%d,%.5f,%.5f,%.4f,%.2e,%.2f\n", r.epoch, r.train_loss, r.validation_loss,
+                  r.validation_macro_f1, r.learning_rate, r.seconds);
+    log += line;
+    std::snprintf(note, sizeof(note), "loss %.4f val loss %.4f val F1 %.3f", r.train_loss, r.validation_loss,
+                  r.validation_macro_f1);
+    progress.Update(r.epoch, static_cast<double>(r.epoch) / o.epochs, note);
+  }, checkpoint);
+  const double train_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.Finish();
+  model.Save(out + "/model", d.info);
+  io::WriteTextAtomically(out + "/training.csv", log);
+
+  auto rows_of = [&](const std::vector<size_t>& rows) {
+    std::vector<float> x;
+    const int f = classify::HandcraftedFeatureCount();
+    for (size_t r : rows) x.insert(x.end(), d.handcrafted.begin() + r * f, d.handcrafted.begin() + (r + 1) * f);
+    return x;
+  };
+  classify::ForestBaseline forest(200, 12, o.seed);
+  forest.Train(rows_of(train_rows), train.y);
+  forest.Save(out + "/forest.yml");
+
+  const int k = static_cast<int>(d.classes.size());
+  const auto resnet = classify::Score(val.y, model.PredictClasses(val), k);
+  const auto rf = classify::Score(val.y, forest.Predict(rows_of(val_rows)), k);
+  io::RunReport report(label);
+  auto& j = report.json();
+  j["dataset"] = dataset;
+  j["windows"] = {{"train", train.size()}, {"validation", val.size()}};
+  j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", reports.size()}};
+  j["validation"] = {{"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
+  j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", train.size() * reports.size() / train_s}};
+  for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv", "checkpoint.pt"}) report.AddOutput(f);
+  report.Write(out);
+  std::printf("%s: %zu epochs, %.1f s (%.0f windows/s); validation macro F1: ResNet %.3f, forest %.3f\n", label.c_str(),
+              reports.size(), train_s, train.size() * reports.size() / train_s, resnet.macro_f1, rf.macro_f1);
+  return 0;
+}
+
 void AddClassifyCommand(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand("classify", "trajectory classification: prepare windows, train, evaluate, predict");
   cmd->require_subcommand(1);
@@ -319,7 +318,11 @@ void AddClassifyCommand(CLI::App& app, int& exit_code) {
   t->add_option("dataset", train->dataset, "a directory written by prepare")->required();
   t->add_flag("--resume", train->resume, "continue from the output directory's checkpoint.pt");
   AddCommonOptions(*t, train->common, "specht-out/classify-model");
-  t->callback([train, &exit_code] { exit_code = RunTrain(*train); });
+  t->callback([train, &exit_code] {
+    const params::Params params = LoadParams(train->common);
+    exit_code = RunClassifierTraining(train->common, params, params.Get<classify::ModelOptions>("classify_model"),
+                                      train->dataset, train->resume, "classify train");
+  });
 
   auto ev = std::make_shared<ClassifyArgs>();
   CLI::App* e = cmd->add_subcommand("eval", "F1 and confusion matrices on a prepared dataset");

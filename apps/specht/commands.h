@@ -2,7 +2,12 @@
 // and a callback that sets the exit code (0 ok, 1 runtime failure, 2 bad input).
 #pragma once
 
+#include <string>
+
 #include <CLI/CLI.hpp>
+
+#include "run_setup.h"
+#include "specht/classify/model.h"
 
 namespace specht::app {
 
@@ -19,5 +24,11 @@ void AddClassifyCommand(CLI::App& app, int& exit_code);
 void AddTuneCommand(CLI::App& app, int& exit_code);
 void AddPlanCommand(CLI::App& app, int& exit_code);
 void AddRunCommand(CLI::App& app, int& exit_code);
+void AddAisCommand(CLI::App& app, int& exit_code);
+
+// Trains the 1D ResNet and the random-forest baseline on a prepared dataset;
+// shared by `classify train` and `ais train`.
+int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
+                          const std::string& dataset, bool resume, const std::string& label);
 
 }  // namespace specht::app

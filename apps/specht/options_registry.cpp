@@ -1,5 +1,7 @@
 #include "options_registry.h"
 
+#include "specht/ais/dataset.h"
+#include "specht/ais/nmea.h"
 #include "specht/core/transform_tree.h"
 #include "specht/io/replay.h"
 #include "specht/decide/closed_loop.h"
@@ -41,6 +43,10 @@ const params::Registry& AllOptions() {
     r.Add<track::SyntheticDetectionOptions>("synthetic_detections", "simulated detections for tracking on synthetic scenes");
     r.Add<classify::PreprocessOptions>("classify", "trajectory preprocessing: segmentation, windows, features");
     r.Add<classify::ModelOptions>("classify_model", "trajectory classifier: 1D ResNet variant and training");
+    r.Add<ais::SentenceOptions>("ais_decoder", "AIS NMEA decoding: multipart reassembly");
+    r.Add<ais::AisOptions>("ais", "AIS dataset preparation: coastline, harbours, threads");
+    r.Add<ais::AisPreprocessOptions>("ais_classify", "AIS trajectory preprocessing (the classify chain, AIS defaults)");
+    r.Add<ais::AisModelOptions>("ais_model", "AIS vessel classifier: 1D ResNet variant and training");
     r.Add<plan::CarOptions>("car", "the car: bicycle model limits and footprint");
     r.Add<plan::HybridAStarOptions>("hybrid_astar", "global search: hybrid A* over (x, y, heading)");
     r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
@@ -61,6 +67,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"world.yaml", {"world"}},
       {"track.yaml", {"track", "synthetic_detections"}},
       {"classify.yaml", {"classify", "classify_model"}},
+      {"ais.yaml", {"ais_decoder", "ais", "ais_classify", "ais_model"}},
       {"plan.yaml", {"car", "hybrid_astar", "smoother", "tracker"}},
       {"decide.yaml", {"closed_loop"}},
   };

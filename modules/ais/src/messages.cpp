@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "specht/core/time.h"
+
 namespace specht::ais {
 namespace {
 
@@ -243,16 +245,6 @@ int64_t IntOr(const Message& m, const char* name, int64_t fallback = 0) {
   return v ? static_cast<int64_t>(*v) : fallback;
 }
 
-// Days from 1970-01-01 to a civil date (Howard Hinnant's algorithm).
-int64_t DaysFromCivil(int64_t y, int64_t m, int64_t d) {
-  y -= m <= 2;
-  const int64_t era = (y >= 0 ? y : y - 399) / 400;
-  const int64_t yoe = y - era * 400;
-  const int64_t doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-  const int64_t doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-  return era * 146097 + doe - 719468;
-}
-
 // Type 4/11: "timestamp" as gpsd writes it, and time_s when the date is valid
 // (year 0, month 0, day 0, hour 24, minute 60, second 60 mean not available).
 void AddUtcTime(Message& m) {
@@ -260,7 +252,7 @@ void AddUtcTime(Message& m) {
                 mi = IntOr(m, "minute"), s = IntOr(m, "utc_second");
   m.Set("timestamp", Format("%04lld-%02lld-%02lldT%02lld:%02lld:%02lldZ", y, mo, d, h, mi, s));
   const bool valid = y > 0 && mo >= 1 && mo <= 12 && d >= 1 && d <= 31 && h < 24 && mi < 60 && s < 60;
-  m.Set("time_s", valid ? Value(static_cast<double>(DaysFromCivil(y, mo, d) * 86400 + h * 3600 + mi * 60 + s)) : Value());
+  m.Set("time_s", valid ? Value(static_cast<double>(UnixSecondsFromUtc(y, mo, d, h, mi, s))) : Value());
 }
 
 void AddEta(Message& m) {

@@ -1,6 +1,7 @@
 #include "specht/classify/metrics.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include <opencv2/imgproc.hpp>
@@ -79,6 +80,48 @@ void WriteConfusionPng(const Scores& s, const std::vector<std::string>& classes,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   cv::putText(img, "rows: truth, columns: predicted (fraction of the row, count)", {10, top + k * cell + 35},
               cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+  io::WritePng(img, path);
+}
+
+void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>& counts,
+                        const std::vector<std::string>& steps, const std::vector<std::string>& classes,
+                        const std::string& title, const std::string& path) {
+  const int k = static_cast<int>(classes.size()), n = static_cast<int>(steps.size());
+  const int bar = 16, group = k * bar + 30, left = 70, top = 50, height = 300;
+  cv::Mat img(top + height + 90, left + n * group + 180, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::putText(img, title, {10, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  long max_count = 1;
+  for (const auto& [step, per_class] : counts)
+    for (const auto& [cls, c] : per_class) max_count = std::max(max_count, c);
+  const double decades = std::max(1.0, std::ceil(std::log10(static_cast<double>(max_count) + 1)));
+  auto y_of = [&](double v) { return top + height - static_cast<int>(height * std::log10(v + 1) / decades); };
+  for (int d = 0; d <= decades; ++d) {
+    const int y = y_of(std::pow(10.0, d) - 1);
+    cv::line(img, {left - 5, y}, {left + n * group, y}, cv::Scalar(220, 220, 220), 1);
+    cv::putText(img, "1e" + std::to_string(d), {15, y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(60, 60, 60), 1,
+                cv::LINE_AA);
+  }
+  const cv::Scalar palette[] = {{180, 119, 31}, {14, 127, 255}, {44, 160, 44}, {40, 39, 214}, {189, 103, 148},
+                                {75, 86, 140},  {194, 119, 227}, {127, 127, 127}};
+  for (int s = 0; s < n; ++s) {
+    const auto it = counts.find(steps[s]);
+    for (int c = 0; c < k; ++c) {
+      long v = 0;
+      if (it != counts.end() && it->second.count(classes[c])) v = it->second.at(classes[c]);
+      const int x = left + s * group + c * bar;
+      cv::rectangle(img, cv::Point(x, y_of(static_cast<double>(v))), cv::Point(x + bar - 2, top + height), palette[c % 8],
+                    cv::FILLED);
+    }
+    cv::putText(img, steps[s], {left + s * group, top + height + 20}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+  for (int c = 0; c < k; ++c) {
+    const int y = top + 10 + c * 22, x = left + n * group + 15;
+    cv::rectangle(img, cv::Point(x, y), cv::Point(x + 14, y + 14), palette[c % 8], cv::FILLED);
+    cv::putText(img, classes[c], {x + 20, y + 12}, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+  cv::putText(img, "count per class after each step (log scale)", {left, top + height + 50}, cv::FONT_HERSHEY_SIMPLEX,
+              0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
   io::WritePng(img, path);
 }
 

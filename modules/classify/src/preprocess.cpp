@@ -42,9 +42,13 @@ std::vector<Trajectory> Split(const Trajectory& t, const PreprocessOptions& o) {
   CheckPoints(t);
   std::vector<Trajectory> out;
   for (size_t i = 0; i < t.points.size(); ++i) {
-    const bool cut = i == 0 || t.points[i].t_s - t.points[i - 1].t_s > o.max_gap_s ||
-                     std::pow(t.points[i].x - t.points[i - 1].x, 2) + std::pow(t.points[i].y - t.points[i - 1].y, 2) >
-                         o.max_jump_sq;
+    bool cut = i == 0;
+    if (!cut) {
+      const double dt = t.points[i].t_s - t.points[i - 1].t_s;
+      const double d2 = std::pow(t.points[i].x - t.points[i - 1].x, 2) + std::pow(t.points[i].y - t.points[i - 1].y, 2);
+      cut = dt > o.max_gap_s ||
+            (d2 > o.max_jump_sq && (o.max_jump_speed <= 0 || d2 > std::pow(o.max_jump_speed * dt, 2)));
+    }
     if (cut) out.push_back({t.object_id, t.label, {}});
     out.back().points.push_back(t.points[i]);
   }

@@ -4,6 +4,7 @@
 //   macro F1 = mean over classes present in the truth; weighted F1 = Σ support_c F1_c / N
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -27,5 +28,12 @@ Scores Score(const std::vector<int>& truth, const std::vector<int>& predicted, i
 // normalised to its support, counts written in the cells), like the paper's Fig. 6.
 void WriteConfusionPng(const Scores& s, const std::vector<std::string>& classes, const std::string& title,
                        const std::string& path);
+
+// Counts per class after each preprocessing step as grouped bars on a log scale
+// (the vessel paper's Figure 3): `counts` is step → class → count, drawn in the
+// order of `steps`.
+void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>& counts,
+                        const std::vector<std::string>& steps, const std::vector<std::string>& classes,
+                        const std::string& title, const std::string& path);
 
 }  // namespace specht::classify

@@ -4,7 +4,9 @@
 // source (tracker output, AIS):
 //   1. split a trajectory where the time between samples exceeds max_gap_s or the
 //      squared distance between them exceeds max_jump_sq (position units²: m² for
-//      map tracks, squared degrees for AIS);
+//      map tracks, squared degrees for AIS); with max_jump_speed > 0 a long step
+//      is only a jump if it also implies a faster speed (so the test holds for
+//      any sampling interval, and position noise over short intervals is no jump);
 //   2. cut each piece into windows of `length` points; a leftover shorter than
 //      min_fill · length is dropped, a longer one zero-padded (after normalisation);
 //   3. drop stationary windows: α = Σ|P_i − P_{i−1}| / n below stationary_threshold;
@@ -40,6 +42,7 @@ struct Trajectory {
 struct PreprocessOptions {
   double max_gap_s = 2.0;
   double max_jump_sq = 25.0;
+  double max_jump_speed = 0.0;
   int length = 60;
   double min_fill = 0.8;
   double stationary_threshold = 0.02;
@@ -59,6 +62,8 @@ struct PreprocessOptions {
     v.Param("max_gap_s", max_gap_s, "split a trajectory where samples are further apart in time",
             Range::Of(0.01, 1e6).Log());
     v.Param("max_jump_sq", max_jump_sq, "…or in squared distance (position units²)", Range::Of(1e-12, 1e12).Log());
+    v.Param("max_jump_speed", max_jump_speed, "…and (when > 0) implies a faster speed (units/s)",
+            Range::Of(0.0, 1e9));
     v.Param("length", length, "points per window", Range::Of(4, 100000));
     v.Param("min_fill", min_fill, "a leftover shorter than this fraction of a window is dropped", Range::Of(0.0, 1.0));
     v.Param("stationary_threshold", stationary_threshold, "windows whose mean step is below are dropped",

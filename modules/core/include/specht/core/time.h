@@ -26,6 +26,10 @@ struct Stamp {
 // Seconds from a to b.
 inline double SecondsBetween(Stamp a, Stamp b) { return static_cast<double>(b.ns - a.ns) * 1e-9; }
 
+// Seconds since the UNIX epoch of a UTC calendar time (proleptic Gregorian; no
+// range check: the caller validates the fields).
+int64_t UnixSecondsFromUtc(int64_t year, int64_t month, int64_t day, int64_t hour, int64_t minute, int64_t second);
+
 // Exact conversions to and from MRPT's clock (100 ns ticks since 1601-01-01).
 Stamp FromMrpt(mrpt::Clock::time_point t);
 mrpt::Clock::time_point ToMrpt(Stamp s);

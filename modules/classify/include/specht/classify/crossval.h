@@ -1,0 +1,48 @@
+// specht/classify/crossval.h: k-fold cross-validation with folds disjoint by object
+// (no vessel or track in both training and test), stratified by class: each
+// class's objects, in a seeded hash order, are dealt round-robin to the folds.
+//
+// Per fold: every network of `networks` is trained on the other folds (with its own
+// validation split by object for early stopping) and tested on the fold; the
+// random-forest baseline too when `forest` is set. Scores are reported per fold and
+// as mean ± std over folds; confusion matrices are summed over folds.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "specht/classify/dataset_io.h"
+#include "specht/classify/metrics.h"
+#include "specht/classify/model.h"
+
+namespace specht::classify {
+
+// Fold index (0 … folds−1) of every window.
+std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const std::vector<int>& labels, int folds,
+                               int seed);
+
+struct CrossValidationOptions {
+  int folds = 5;
+  int seed = 1;
+  std::vector<std::pair<std::string, ModelOptions>> networks;  // name → options
+  bool forest = true;
+};
+
+struct CrossValidationResult {
+  std::vector<std::string> models;                      // in report order
+  std::vector<std::map<std::string, Scores>> per_fold;  // fold → model → scores
+  std::map<std::string, Scores> pooled;                 // summed confusion over folds
+  // Per model: macro/weighted F1 mean ± std over folds, per-class F1 mean ± std,
+  // pooled confusion, per-fold figures.
+  nlohmann::json ToJson(const std::vector<std::string>& classes) const;
+};
+
+// `log` (may be empty) receives one line per trained model and fold.
+CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
+                                    const std::function<void(const std::string&)>& log = {});
+
+}  // namespace specht::classify

@@ -1,0 +1,144 @@
+#include "specht/classify/crossval.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "specht/classify/baseline.h"
+#include "specht/core/error.h"
+
+namespace specht::classify {
+namespace {
+
+uint64_t Fnv(const std::string& s, int seed) {
+  uint64_t h = 1469598103934665603ULL ^ static_cast<uint64_t>(seed);
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
+std::vector<float> Rows(const std::vector<float>& x, int width, const std::vector<size_t>& rows) {
+  std::vector<float> out;
+  out.reserve(rows.size() * width);
+  for (size_t r : rows) out.insert(out.end(), x.begin() + r * width, x.begin() + (r + 1) * width);
+  return out;
+}
+
+std::pair<double, double> MeanStd(const std::vector<double>& v) {
+  double m = 0, s = 0;
+  for (double x : v) m += x;
+  m /= std::max<size_t>(1, v.size());
+  for (double x : v) s += (x - m) * (x - m);
+  return {m, v.size() > 1 ? std::sqrt(s / (v.size() - 1)) : 0.0};
+}
+
+Scores Pool(const std::vector<Scores>& folds, int k) {
+  std::vector<int> truth, predicted;
+  for (const auto& s : folds)
+    for (int t = 0; t < k; ++t)
+      for (int p = 0; p < k; ++p) {
+        truth.insert(truth.end(), s.confusion[t][p], t);
+        predicted.insert(predicted.end(), s.confusion[t][p], p);
+      }
+  return Score(truth, predicted, k);
+}
+
+}  // namespace
+
+std::vector<int> FoldsByObject(const std::vector<std::string>& ids, const std::vector<int>& labels, int folds,
+                               int seed) {
+  if (folds < 2) throw InputError("cross-validation needs at least 2 folds");
+  // Each object's class (its first window's) and a seeded order within the class.
+  std::map<int, std::vector<std::pair<uint64_t, std::string>>> by_class;
+  std::set<std::string> seen;
+  for (size_t i = 0; i < ids.size(); ++i)
+    if (seen.insert(ids[i]).second) by_class[labels[i]].push_back({Fnv(ids[i], seed), ids[i]});
+  std::map<std::string, int> fold_of;
+  int next = 0;
+  for (auto& [cls, objects] : by_class) {
+    std::sort(objects.begin(), objects.end());
+    for (const auto& [hash, id] : objects) fold_of[id] = next++ % folds;  // continue the deal across classes
+  }
+  std::vector<int> out(ids.size());
+  for (size_t i = 0; i < ids.size(); ++i) out[i] = fold_of[ids[i]];
+  return out;
+}
+
+CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
+                                    const std::function<void(const std::string&)>& log) {
+  const int k = static_cast<int>(d.classes.size());
+  const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed);
+  CrossValidationResult result;
+  for (const auto& [name, options] : o.networks) result.models.push_back(name);
+  if (o.forest) result.models.push_back("forest");
+  result.per_fold.resize(o.folds);
+  const int hf = HandcraftedFeatureCount();
+  char line[256];
+  for (int f = 0; f < o.folds; ++f) {
+    std::vector<size_t> train_rows, test_rows;
+    for (size_t i = 0; i < fold.size(); ++i) (fold[i] == f ? test_rows : train_rows).push_back(i);
+    const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
+    for (const auto& [name, options] : o.networks) {
+      std::vector<size_t> fit, val;
+      SplitByObject(train_all.object_ids, options.validation_fraction, options.seed + f, fit, val);
+      Classifier model(options, d.windows.features, d.windows.length, d.classes);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto epochs = model.Train(train_all.Subset(fit), train_all.Subset(val));
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const Scores sc = Score(test.y, model.PredictClasses(test), k);
+      result.per_fold[f][name] = sc;
+      std::snprintf(line, sizeof(line), "fold %d/%d %-8s macro F1 %.3f weighted %.3f (%zu train, %zu test windows, %zu epochs, %.0f s)",
+                    f + 1, o.folds, name.c_str(), sc.macro_f1, sc.weighted_f1, train_all.size(), test.size(),
+                    epochs.size(), s);
+      if (log) log(line);
+    }
+    if (o.forest) {
+      ForestBaseline forest(200, 12, o.seed);
+      forest.Train(Rows(d.handcrafted, hf, train_rows), train_all.y);
+      const Scores sc = Score(test.y, forest.Predict(Rows(d.handcrafted, hf, test_rows)), k);
+      result.per_fold[f]["forest"] = sc;
+      std::snprintf(line, sizeof(line), "fold %d/%d %-8s macro F1 %.3f weighted %.3f", f + 1, o.folds, "forest",
+                    sc.macro_f1, sc.weighted_f1);
+      if (log) log(line);
+    }
+  }
+  for (const auto& name : result.models) {
+    std::vector<Scores> folds;
+    for (const auto& per : result.per_fold) folds.push_back(per.at(name));
+    result.pooled[name] = Pool(folds, k);
+  }
+  return result;
+}
+
+nlohmann::json CrossValidationResult::ToJson(const std::vector<std::string>& classes) const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& name : models) {
+    std::vector<double> macro, weighted;
+    std::vector<std::vector<double>> per_class(classes.size());
+    nlohmann::json folds = nlohmann::json::array();
+    for (const auto& per : per_fold) {
+      const Scores& s = per.at(name);
+      macro.push_back(s.macro_f1);
+      weighted.push_back(s.weighted_f1);
+      for (size_t c = 0; c < classes.size(); ++c)
+        if (s.support[c] > 0) per_class[c].push_back(s.f1[c]);
+      folds.push_back({{"macro_f1", s.macro_f1}, {"weighted_f1", s.weighted_f1}, {"accuracy", s.accuracy}});
+    }
+    const auto [mm, ms] = MeanStd(macro);
+    const auto [wm, ws] = MeanStd(weighted);
+    nlohmann::json pc = nlohmann::json::object();
+    for (size_t c = 0; c < classes.size(); ++c) {
+      const auto [m, s] = MeanStd(per_class[c]);
+      pc[classes[c]] = {{"mean", m}, {"std", s}};
+    }
+    j[name] = {{"macro_f1", {{"mean", mm}, {"std", ms}}},
+               {"weighted_f1", {{"mean", wm}, {"std", ws}}},
+               {"per_class_f1", pc},
+               {"folds", folds},
+               {"pooled", pooled.at(name).ToJson(classes)}};
+  }
+  return j;
+}
+
+}  // namespace specht::classify
