@@ -29,5 +29,8 @@ fi
 run "$build/bench/sim_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/track_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/classify_bench"
+if [[ -d "$data/ais" ]]; then
+  run "$build/bench/ais_bench" "$data"
+fi
 run "$build/bench/plan_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 echo "bench: results in $out" >&2

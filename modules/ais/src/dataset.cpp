@@ -90,6 +90,10 @@ classify::MapFeatures Geography::ForFrame(double cos_lat0) const {
   m.distance_to_poi = [this, cos_lat0](double x, double y) {
     return harbours_.DistanceKm(x / cos_lat0, y, harbour_cap_km_);
   };
+  // Longitude and latitude scaled to [0, 1].
+  m.region = [cos_lat0](double x, double y) {
+    return std::array<double, 2>{(x / cos_lat0 + 180.0) / 360.0, (y + 90.0) / 180.0};
+  };
   return m;
 }
 

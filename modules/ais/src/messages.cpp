@@ -381,8 +381,8 @@ bool DecodeMessage(const RawMessage& raw, Message& m, std::string& reason) {
   }
   for (const auto* table : tables)
     if (static_cast<int>(b.size()) < RequiredBits(*table)) {
-      reason = "type " + std::to_string(m.type) + " too short: " + std::to_string(b.size()) + " bits, needs " +
-               std::to_string(RequiredBits(*table));
+      reason = "type " + std::to_string(m.type) + " shorter than its fields (" + std::to_string(RequiredBits(*table)) +
+               " bits)";
       return false;
     }
   for (const auto* table : tables) DecodeTable(b, *table, m);

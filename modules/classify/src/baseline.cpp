@@ -29,11 +29,11 @@ double Quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
-int HandcraftedFeatureCount() { return 17; }
+int HandcraftedFeatureCount() { return 19; }
 
 std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map) {
   const auto& p = w.points;
-  std::vector<double> speed, accel, turn, ds, dp;
+  std::vector<double> speed, accel, turn, ds, dp, rx, ry;
   double path = 0, prev_course = 0;
   for (size_t i = 1; i < p.size(); ++i) {
     const double dt = p[i].t_s - p[i - 1].t_s, step = std::hypot(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y);
@@ -50,6 +50,10 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map) 
   for (const auto& q : p) {
     if (map.distance_to_static) ds.push_back(map.distance_to_static(q.x, q.y));
     if (map.distance_to_poi) dp.push_back(map.distance_to_poi(q.x, q.y));
+    if (map.region) {
+      const auto r = map.region(q.x, q.y);
+      rx.push_back(r[0]), ry.push_back(r[1]);
+    }
   }
   const double vmax = speed.empty() ? 0 : *std::max_element(speed.begin(), speed.end());
   const double stops = speed.empty() ? 0 : std::count_if(speed.begin(), speed.end(), [&](double v) { return v < 0.1 * vmax; }) /
@@ -63,7 +67,7 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map) 
           static_cast<float>(path > 0 ? net / path : 0),
           static_cast<float>(p.empty() ? 0 : p.back().t_s - p.front().t_s),
           static_cast<float>(Mean(ds)),     static_cast<float>(ds.empty() ? 0 : *std::min_element(ds.begin(), ds.end())),
-          static_cast<float>(Mean(dp))};
+          static_cast<float>(Mean(dp)),     static_cast<float>(Mean(rx)),    static_cast<float>(Mean(ry))};
 }
 
 ForestBaseline::ForestBaseline(int trees, int max_depth, int seed) : trees_(trees), max_depth_(max_depth), seed_(seed) {}

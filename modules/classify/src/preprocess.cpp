@@ -25,7 +25,8 @@ void CheckPoints(const Trajectory& t) {
 
 const std::vector<std::string>& FeatureNames() {
   static const std::vector<std::string> names = {"x",     "y",         "dt",          "speed",   "course",
-                                                 "accel", "turn_rate", "dist_static", "dist_poi"};
+                                                 "accel", "turn_rate", "dist_static", "dist_poi",
+                                                 "region_x", "region_y"};
   return names;
 }
 
@@ -188,6 +189,8 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
       else if (name == "turn_rate") v = scale(turn[i], -o.max_turn_rate, o.max_turn_rate);
       else if (name == "dist_static") v = map.distance_to_static ? scale(map.distance_to_static(raw.x, raw.y), 0, o.static_cap) : 0;
       else if (name == "dist_poi") v = map.distance_to_poi ? scale(map.distance_to_poi(raw.x, raw.y), 0, o.poi_cap) : 0;
+      else if (name == "region_x") v = map.region ? Clamp01(map.region(raw.x, raw.y)[0]) : 0;
+      else if (name == "region_y") v = map.region ? Clamp01(map.region(raw.x, raw.y)[1]) : 0;
       row[i] = static_cast<float>(v);
     }
   }

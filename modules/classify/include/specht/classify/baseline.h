@@ -3,7 +3,8 @@
 //   speed mean, std, 10/50/90th percentile, max; |acceleration| mean and std;
 //   |turn rate| mean, std, max; fraction of steps below 10 % of the window's max speed
 //   (stops); straightness (net displacement / path length); duration; distance to the
-//   static layer and to the nearest point of interest (mean, min).
+//   static layer (mean, min) and to the nearest point of interest (mean); the mean
+//   region (map position, when the map gives one; else 0).
 #pragma once
 
 #include <memory>

@@ -19,6 +19,7 @@
 //      distances by their query caps.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <map>
 #include <string>
@@ -70,7 +71,7 @@ struct PreprocessOptions {
             Range::Of(0.0, 1e6));
     v.Choice("transform", transform, {"relative_to_first", "rotate_to_zero"}, "position transform per window");
     v.Choice("normalisation", normalisation, {"local", "global"}, "position min-max over the window or the dataset");
-    v.Param("features", features, "per-point features, from: x y dt speed course accel turn_rate dist_static dist_poi");
+    v.Param("features", features, "per-point features, from: x y dt speed course accel turn_rate dist_static dist_poi region_x region_y");
     v.Param("max_speed", max_speed, "speed normalisation bound (position units per s)", Range::Of(1e-9, 1e9).Log());
     v.Param("max_accel", max_accel, "acceleration bound (units/s²)", Range::Of(1e-9, 1e9).Log());
     v.Param("max_turn_rate", max_turn_rate, "turn-rate bound (rad/s)", Range::Of(1e-6, 1e3).Log());
@@ -86,10 +87,13 @@ const std::vector<std::string>& FeatureNames();
 
 // Map features at a position: distance to the nearest occupied static cell (the
 // analogue of distance-to-coast) and to the nearest point of interest (of
-// distance-to-harbour). Unset members give 0.
+// distance-to-harbour), and where on the map the point is, normalised to [0, 1]²
+// (features region_x, region_y: the absolute position the window transforms
+// remove). Unset members give 0.
 struct MapFeatures {
   std::function<double(double x, double y)> distance_to_static;
   std::function<double(double x, double y)> distance_to_poi;
+  std::function<std::array<double, 2>(double x, double y)> region;
 };
 
 struct Window {

@@ -1,0 +1,74 @@
+// `specht ais` as a user runs it: decode a real NMEA log, prepare a slice of the
+// Brest tracks, cross-validate and train on it, predict with the model; and the
+// errors a user meets first.
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace specht {
+namespace {
+
+using ::testing::HasSubstr;
+
+nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
+
+TEST(AisCliTest, DecodeWritesMessagesPositionsAndRejectionReasons) {
+  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  const std::string out = testing::TempDir("ais_decode");
+  const auto r = testing::RunSpecht("ais decode '" + testing::DataDir() + "/ais/nmea/gpsd-sample.aivdm' '" +
+                                    testing::DataDir() + "/ais/nmea/signalk-nais400-merrimac.log' -q -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = Report(out);
+  EXPECT_EQ(j["inputs"][0]["stats"]["emitted"], 97);
+  EXPECT_GT(j["summary"]["messages"].get<int>(), 500);
+  // These logs carry no receive times for position reports: none is written, all counted.
+  EXPECT_GT(j["summary"]["positions_without_time"].get<int>(), 500);
+  EXPECT_THAT(testing::ReadFile(out + "/positions.csv"), HasSubstr("mmsi,time,lon,lat,sog,cog,heading,ship_type\n"));
+  EXPECT_THAT(r.out, HasSubstr("type 24 part B without its part A"));
+}
+
+TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
+  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  const std::string dir = testing::TempDir("ais_pipeline");
+  std::string text = testing::ReadDecompressed(testing::DataDir() + "/ais/tracks/brest-dev.csv.gz");
+  size_t cut = 0;
+  for (int i = 0; i < 40000; ++i) cut = text.find('\n', cut) + 1;
+  testing::WriteFile(dir + "/slice.csv", text.substr(0, cut));
+  const std::string data = " --data-dir '" + testing::DataDir() + "'";
+  auto r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' -q -o '" + dir + "/data'" + data);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/data/counts.png"));
+  EXPECT_THAT(r.out, HasSubstr("Pleasure Craft"));
+  const std::string quick = " --set ais_model.epochs=1 --set ais_model.variant=tiny";
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks tiny -q -o '" + dir + "/cv'" + quick);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto cv = Report(dir + "/cv");
+  EXPECT_EQ(cv["models"]["tiny"]["folds"].size(), 2u);
+  EXPECT_TRUE(cv["models"].contains("forest"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/cv/confusion_forest.png"));
+  r = testing::RunSpecht("ais train '" + dir + "/data' -q -o '" + dir + "/model'" + quick);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' -q -o '" + dir + "/pred'" + data);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(testing::ReadFile(dir + "/pred/objects.csv"), HasSubstr("mmsi,ship_type,label,windows,class"));
+}
+
+TEST(AisCliTest, BadInputIsAClearError) {
+  const std::string dir = testing::TempDir("ais_bad");
+  testing::WriteFile(dir + "/x.csv", "a,b\n1,2\n");
+  auto r = testing::RunSpecht("ais prepare '" + dir + "/x.csv' -q -o '" + dir + "/o' --set ais.coastline=/nonexistent.shp");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("/nonexistent.shp"));
+  r = testing::RunSpecht("ais eval '" + dir + "' --networks resnet50 -q -o '" + dir + "/o2'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("resnet50"));
+  if (testing::DataDir().empty()) return;
+  r = testing::RunSpecht("ais prepare '" + dir + "/x.csv' -q -o '" + dir + "/o3' --data-dir '" + testing::DataDir() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("x.csv:1: header matches no known AIS layout"));
+}
+
+}  // namespace
+}  // namespace specht
