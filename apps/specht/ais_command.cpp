@@ -248,16 +248,18 @@ int RunEval(const AisArgs& a) {
   }
   report.Write(out);
   std::printf("ais eval: %zu windows, %d folds by MMSI\n", d.windows.size(), a.folds);
-  std::printf("  %-8s %17s %17s", "model", "macro F1", "weighted F1");
-  for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
-  std::printf("\n");
-  for (const auto& name : result.models) {
-    const auto& m = j["models"][name];
-    std::printf("  %-8s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
-                m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
-                m["weighted_f1"]["std"].get<double>());
-    for (const auto& c : d.classes) std::printf(" %14.3f", m["per_class_f1"][c]["mean"].get<double>());
+  for (const char* level : {"per window", "per vessel (majority of its windows)"}) {
+    std::printf("  %-8s %17s %17s", level[4] == 'w' ? "windows" : "vessels", "macro F1", "weighted F1");
+    for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
     std::printf("\n");
+    for (const auto& name : result.models) {
+      const auto& m = level[4] == 'w' ? j["models"][name] : j["models"][name]["per_object"];
+      std::printf("  %-8s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
+                  m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
+                  m["weighted_f1"]["std"].get<double>());
+      for (const auto& c : d.classes) std::printf(" %14.3f", m["per_class_f1"][c]["mean"].get<double>());
+      std::printf("\n");
+    }
   }
   return 0;
 }

@@ -97,8 +97,9 @@ const std::vector<Field> kSarAircraft = {
     {"raim", 147, 1, K::kBool},
     {"radio", 148, 20, K::kUnsigned},
 };
-// Standard class B position report (18), 168 bits.
-const std::vector<Field> kPositionB = {
+// Class B position reports: the standard one (18, 168 bits) and the extended one
+// (19, 312 bits) share their first fields.
+const std::vector<Field> kPositionBCommon = {
     {"reserved", 38, 8, K::kUnsigned},
     {"speed", 46, 10, K::kReal, 0.1, true, 1023},
     {"accuracy", 56, 1, K::kBool},
@@ -107,6 +108,8 @@ const std::vector<Field> kPositionB = {
     {"course", 112, 12, K::kReal, 0.1, true, 3600},
     {"heading", 124, 9, K::kUnsigned, 1, true, 511},
     {"second", 133, 6, K::kUnsigned, 1, true, 60},
+};
+const std::vector<Field> kPositionBStandard = {
     {"regional", 139, 2, K::kUnsigned},
     {"cs", 141, 1, K::kBool},
     {"display", 142, 1, K::kBool},
@@ -117,16 +120,7 @@ const std::vector<Field> kPositionB = {
     {"raim", 147, 1, K::kBool},
     {"radio", 148, 20, K::kUnsigned},
 };
-// Extended class B position report (19), 312 bits.
 const std::vector<Field> kPositionBExtended = {
-    {"reserved", 38, 8, K::kUnsigned},
-    {"speed", 46, 10, K::kReal, 0.1, true, 1023},
-    {"accuracy", 56, 1, K::kBool},
-    {"lon", 57, 28, K::kSignedReal, kMin4, true, 181 * 600000},
-    {"lat", 85, 27, K::kSignedReal, kMin4, true, 91 * 600000},
-    {"course", 112, 12, K::kReal, 0.1, true, 3600},
-    {"heading", 124, 9, K::kUnsigned, 1, true, 511},
-    {"second", 133, 6, K::kUnsigned, 1, true, 60},
     {"regional", 139, 4, K::kUnsigned},
     {"shipname", 143, 120, K::kText},
     {"shiptype", 263, 8, K::kUnsigned},
@@ -355,8 +349,8 @@ bool DecodeMessage(const RawMessage& raw, Message& m, std::string& reason) {
     case 4: case 11: tables = {&kBaseStation}; break;
     case 5: tables = {&kStaticVoyage}; break;
     case 9: tables = {&kSarAircraft}; break;
-    case 18: tables = {&kPositionB}; break;
-    case 19: tables = {&kPositionBExtended}; break;
+    case 18: tables = {&kPositionBCommon, &kPositionBStandard}; break;
+    case 19: tables = {&kPositionBCommon, &kPositionBExtended}; break;
     case 27: tables = {&kLongRange}; break;
     case 24: {
       if (b.size() < 40) {

@@ -42,25 +42,21 @@ bool Digits(const std::string& s, size_t at, size_t n, int64_t& out) {
   return true;
 }
 
-// "2020-01-01T00:00:00" or "2020-01-01 00:00:00" (UTC).
-bool ParseIsoTime(const std::string& s, double& t) {
-  int64_t y, mo, d, h, mi, sec;
-  if (!Digits(s, 0, 4, y) || !Digits(s, 5, 2, mo) || !Digits(s, 8, 2, d) || !Digits(s, 11, 2, h) ||
-      !Digits(s, 14, 2, mi) || !Digits(s, 17, 2, sec) || mo < 1 || mo > 12 || d < 1 || d > 31)
+// A UTC time with fixed-position fields: a 4-digit year at `y`, 2-digit month,
+// day, hour, minute, second at the other offsets.
+bool ParseFixedTime(const std::string& s, size_t y, size_t mo, size_t d, size_t h, size_t mi, size_t sec, double& t) {
+  int64_t year, month, day, hour, minute, second;
+  if (!Digits(s, y, 4, year) || !Digits(s, mo, 2, month) || !Digits(s, d, 2, day) || !Digits(s, h, 2, hour) ||
+      !Digits(s, mi, 2, minute) || !Digits(s, sec, 2, second) || month < 1 || month > 12 || day < 1 || day > 31)
     return false;
-  t = static_cast<double>(UnixSecondsFromUtc(y, mo, d, h, mi, sec));
+  t = static_cast<double>(UnixSecondsFromUtc(year, month, day, hour, minute, second));
   return true;
 }
 
+// "2020-01-01T00:00:00" or "2020-01-01 00:00:00" (NOAA).
+bool ParseIsoTime(const std::string& s, double& t) { return ParseFixedTime(s, 0, 5, 8, 11, 14, 17, t); }
 // "31/12/2023 23:59:59" (DMA).
-bool ParseDmaTime(const std::string& s, double& t) {
-  int64_t y, mo, d, h, mi, sec;
-  if (!Digits(s, 0, 2, d) || !Digits(s, 3, 2, mo) || !Digits(s, 6, 4, y) || !Digits(s, 11, 2, h) ||
-      !Digits(s, 14, 2, mi) || !Digits(s, 17, 2, sec) || mo < 1 || mo > 12 || d < 1 || d > 31)
-    return false;
-  t = static_cast<double>(UnixSecondsFromUtc(y, mo, d, h, mi, sec));
-  return true;
-}
+bool ParseDmaTime(const std::string& s, double& t) { return ParseFixedTime(s, 6, 3, 0, 11, 14, 17, t); }
 
 std::string Lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

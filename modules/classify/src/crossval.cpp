@@ -46,6 +46,21 @@ Scores Pool(const std::vector<Scores>& folds, int k) {
 
 }  // namespace
 
+void VoteByObject(const std::vector<std::string>& ids, const std::vector<int>& truth, const std::vector<int>& predicted,
+                  int classes, std::vector<int>& object_truth, std::vector<int>& object_predicted) {
+  std::map<std::string, std::pair<int, std::vector<int>>> votes;  // id → (truth, votes per class)
+  for (size_t i = 0; i < ids.size(); ++i) {
+    auto& v = votes[ids[i]];
+    if (v.second.empty()) v = {truth[i], std::vector<int>(classes, 0)};
+    if (predicted[i] >= 0 && predicted[i] < classes) ++v.second[predicted[i]];
+  }
+  object_truth.clear(), object_predicted.clear();
+  for (const auto& [id, v] : votes) {
+    object_truth.push_back(v.first);
+    object_predicted.push_back(static_cast<int>(std::max_element(v.second.begin(), v.second.end()) - v.second.begin()));
+  }
+}
+
 std::vector<int> FoldsByObject(const std::vector<std::string>& ids, const std::vector<int>& labels, int folds,
                                int seed) {
   if (folds < 2) throw InputError("cross-validation needs at least 2 folds");
@@ -73,12 +88,20 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   for (const auto& [name, options] : o.networks) result.models.push_back(name);
   if (o.forest) result.models.push_back("forest");
   result.per_fold.resize(o.folds);
+  result.per_fold_objects.resize(o.folds);
   const int hf = HandcraftedFeatureCount();
   char line[256];
   for (int f = 0; f < o.folds; ++f) {
     std::vector<size_t> train_rows, test_rows;
     for (size_t i = 0; i < fold.size(); ++i) (fold[i] == f ? test_rows : train_rows).push_back(i);
     const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
+    auto record = [&](const std::string& name, const std::vector<int>& predicted) {
+      result.per_fold[f][name] = Score(test.y, predicted, k);
+      std::vector<int> ot, op;
+      VoteByObject(test.object_ids, test.y, predicted, k, ot, op);
+      result.per_fold_objects[f][name] = Score(ot, op, k);
+      return result.per_fold[f][name];
+    };
     for (const auto& [name, options] : o.networks) {
       std::vector<size_t> fit, val;
       SplitByObject(train_all.object_ids, options.validation_fraction, options.seed + f, fit, val);
@@ -86,8 +109,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
       const auto t0 = std::chrono::steady_clock::now();
       const auto epochs = model.Train(train_all.Subset(fit), train_all.Subset(val));
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const Scores sc = Score(test.y, model.PredictClasses(test), k);
-      result.per_fold[f][name] = sc;
+      const Scores sc = record(name, model.PredictClasses(test));
       std::snprintf(line, sizeof(line), "fold %d/%d %-8s macro F1 %.3f weighted %.3f (%zu train, %zu test windows, %zu epochs, %.0f s)",
                     f + 1, o.folds, name.c_str(), sc.macro_f1, sc.weighted_f1, train_all.size(), test.size(),
                     epochs.size(), s);
@@ -96,8 +118,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
     if (o.forest) {
       ForestBaseline forest(200, 12, o.seed);
       forest.Train(Rows(d.handcrafted, hf, train_rows), train_all.y);
-      const Scores sc = Score(test.y, forest.Predict(Rows(d.handcrafted, hf, test_rows)), k);
-      result.per_fold[f]["forest"] = sc;
+      const Scores sc = record("forest", forest.Predict(Rows(d.handcrafted, hf, test_rows)));
       std::snprintf(line, sizeof(line), "fold %d/%d %-8s macro F1 %.3f weighted %.3f", f + 1, o.folds, "forest",
                     sc.macro_f1, sc.weighted_f1);
       if (log) log(line);
@@ -111,32 +132,42 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   return result;
 }
 
+namespace {
+
+nlohmann::json Summary(const std::vector<std::map<std::string, Scores>>& per_fold, const std::string& name,
+                       const std::vector<std::string>& classes) {
+  std::vector<double> macro, weighted;
+  std::vector<std::vector<double>> per_class(classes.size());
+  nlohmann::json folds = nlohmann::json::array();
+  for (const auto& per : per_fold) {
+    const Scores& s = per.at(name);
+    macro.push_back(s.macro_f1);
+    weighted.push_back(s.weighted_f1);
+    for (size_t c = 0; c < classes.size(); ++c)
+      if (s.support[c] > 0) per_class[c].push_back(s.f1[c]);
+    folds.push_back({{"macro_f1", s.macro_f1}, {"weighted_f1", s.weighted_f1}, {"accuracy", s.accuracy}});
+  }
+  const auto [mm, ms] = MeanStd(macro);
+  const auto [wm, ws] = MeanStd(weighted);
+  nlohmann::json pc = nlohmann::json::object();
+  for (size_t c = 0; c < classes.size(); ++c) {
+    const auto [m, s] = MeanStd(per_class[c]);
+    pc[classes[c]] = {{"mean", m}, {"std", s}};
+  }
+  return {{"macro_f1", {{"mean", mm}, {"std", ms}}},
+          {"weighted_f1", {{"mean", wm}, {"std", ws}}},
+          {"per_class_f1", pc},
+          {"folds", folds}};
+}
+
+}  // namespace
+
 nlohmann::json CrossValidationResult::ToJson(const std::vector<std::string>& classes) const {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& name : models) {
-    std::vector<double> macro, weighted;
-    std::vector<std::vector<double>> per_class(classes.size());
-    nlohmann::json folds = nlohmann::json::array();
-    for (const auto& per : per_fold) {
-      const Scores& s = per.at(name);
-      macro.push_back(s.macro_f1);
-      weighted.push_back(s.weighted_f1);
-      for (size_t c = 0; c < classes.size(); ++c)
-        if (s.support[c] > 0) per_class[c].push_back(s.f1[c]);
-      folds.push_back({{"macro_f1", s.macro_f1}, {"weighted_f1", s.weighted_f1}, {"accuracy", s.accuracy}});
-    }
-    const auto [mm, ms] = MeanStd(macro);
-    const auto [wm, ws] = MeanStd(weighted);
-    nlohmann::json pc = nlohmann::json::object();
-    for (size_t c = 0; c < classes.size(); ++c) {
-      const auto [m, s] = MeanStd(per_class[c]);
-      pc[classes[c]] = {{"mean", m}, {"std", s}};
-    }
-    j[name] = {{"macro_f1", {{"mean", mm}, {"std", ms}}},
-               {"weighted_f1", {{"mean", wm}, {"std", ws}}},
-               {"per_class_f1", pc},
-               {"folds", folds},
-               {"pooled", pooled.at(name).ToJson(classes)}};
+    j[name] = Summary(per_fold, name, classes);
+    j[name]["pooled"] = pooled.at(name).ToJson(classes);
+    j[name]["per_object"] = Summary(per_fold_objects, name, classes);
   }
   return j;
 }

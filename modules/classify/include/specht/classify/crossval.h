@@ -5,7 +5,9 @@
 // Per fold: every network of `networks` is trained on the other folds (with its own
 // validation split by object for early stopping) and tested on the fold; the
 // random-forest baseline too when `forest` is set. Scores are reported per fold and
-// as mean ± std over folds; confusion matrices are summed over folds.
+// as mean ± std over folds; confusion matrices are summed over folds. Besides the
+// per-window scores (the paper's), each object is classified by the majority of
+// its windows' predictions (ties: the lower class index) and scored per object.
 #pragma once
 
 #include <functional>
@@ -21,6 +23,11 @@
 
 namespace specht::classify {
 
+// Majority vote of each object's window predictions: (truth, predicted) per object.
+void VoteByObject(const std::vector<std::string>& object_ids, const std::vector<int>& truth,
+                  const std::vector<int>& predicted, int classes, std::vector<int>& object_truth,
+                  std::vector<int>& object_predicted);
+
 // Fold index (0 … folds−1) of every window.
 std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const std::vector<int>& labels, int folds,
                                int seed);
@@ -34,10 +41,11 @@ struct CrossValidationOptions {
 
 struct CrossValidationResult {
   std::vector<std::string> models;                      // in report order
-  std::vector<std::map<std::string, Scores>> per_fold;  // fold → model → scores
-  std::map<std::string, Scores> pooled;                 // summed confusion over folds
+  std::vector<std::map<std::string, Scores>> per_fold;  // fold → model → scores per window
+  std::vector<std::map<std::string, Scores>> per_fold_objects;  // … per object (majority vote)
+  std::map<std::string, Scores> pooled;                 // summed confusion over folds (windows)
   // Per model: macro/weighted F1 mean ± std over folds, per-class F1 mean ± std,
-  // pooled confusion, per-fold figures.
+  // pooled confusion, per-fold figures; the same per object under "per_object".
   nlohmann::json ToJson(const std::vector<std::string>& classes) const;
 };
 
