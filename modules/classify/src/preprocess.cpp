@@ -174,25 +174,30 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
     turn[i] = std::remainder(course[i] - course[i - 1], 2 * M_PI) / dt[i];
   }
   std::vector<float> out(o.features.size() * n, 0.0f);
+  // One row per feature; the name is resolved once per row, not per point.
   for (size_t f = 0; f < o.features.size(); ++f) {
     const std::string& name = o.features[f];
     float* row = out.data() + f * n;
-    for (int i = 0; i < valid; ++i) {
-      double v = 0;
-      const auto& raw = w.points[i];
-      if (name == "x") v = scale(pos[i].x, b.min_x, b.max_x);
-      else if (name == "y") v = scale(pos[i].y, b.min_y, b.max_y);
-      else if (name == "dt") v = scale(dt[i], 0, o.max_gap_s);
-      else if (name == "speed") v = scale(speed[i], 0, o.max_speed);
-      else if (name == "course") v = scale(course[i], 0, 2 * M_PI);
-      else if (name == "accel") v = scale(accel[i], -o.max_accel, o.max_accel);
-      else if (name == "turn_rate") v = scale(turn[i], -o.max_turn_rate, o.max_turn_rate);
-      else if (name == "dist_static") v = map.distance_to_static ? scale(map.distance_to_static(raw.x, raw.y), 0, o.static_cap) : 0;
-      else if (name == "dist_poi") v = map.distance_to_poi ? scale(map.distance_to_poi(raw.x, raw.y), 0, o.poi_cap) : 0;
-      else if (name == "region_x") v = map.region ? Clamp01(map.region(raw.x, raw.y)[0]) : 0;
-      else if (name == "region_y") v = map.region ? Clamp01(map.region(raw.x, raw.y)[1]) : 0;
-      row[i] = static_cast<float>(v);
-    }
+    auto fill = [&](auto value_at) {
+      for (int i = 0; i < valid; ++i) row[i] = static_cast<float>(value_at(i));
+    };
+    auto fill_map = [&](const std::function<double(double, double)>& fn, double cap) {
+      if (fn) fill([&](int i) { return scale(fn(w.points[i].x, w.points[i].y), 0, cap); });
+    };
+    auto fill_region = [&](int axis) {
+      if (map.region) fill([&](int i) { return Clamp01(map.region(w.points[i].x, w.points[i].y)[axis]); });
+    };
+    if (name == "x") fill([&](int i) { return scale(pos[i].x, b.min_x, b.max_x); });
+    else if (name == "y") fill([&](int i) { return scale(pos[i].y, b.min_y, b.max_y); });
+    else if (name == "dt") fill([&](int i) { return scale(dt[i], 0, o.max_gap_s); });
+    else if (name == "speed") fill([&](int i) { return scale(speed[i], 0, o.max_speed); });
+    else if (name == "course") fill([&](int i) { return scale(course[i], 0, 2 * M_PI); });
+    else if (name == "accel") fill([&](int i) { return scale(accel[i], -o.max_accel, o.max_accel); });
+    else if (name == "turn_rate") fill([&](int i) { return scale(turn[i], -o.max_turn_rate, o.max_turn_rate); });
+    else if (name == "dist_static") fill_map(map.distance_to_static, o.static_cap);
+    else if (name == "dist_poi") fill_map(map.distance_to_poi, o.poi_cap);
+    else if (name == "region_x") fill_region(0);
+    else if (name == "region_y") fill_region(1);
   }
   return out;
 }
