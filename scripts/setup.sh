@@ -16,7 +16,9 @@ PACKAGES=(
   libompl-dev        # Reeds-Shepp paths (hybrid A*), RRT baseline
   libopencv-dev      # images, PNG output, drawing
   libeigen3-dev
-  zlib1g-dev         # reading gzip CARMEN logs
+  zlib1g-dev         # reading gzip CARMEN logs, AIS files
+  libshp-dev         # coastline shapefile (AIS distance to coast)
+  libnanoflann-dev   # k-d tree (AIS nearest coast vertex / harbour)
   # configuration, CLI, output
   libyaml-cpp-dev    # parameter files
   libcli11-dev       # command line
