@@ -53,7 +53,9 @@ AisPreprocessOptions::AisPreprocessOptions() {
   stationary_threshold = 1e-4;  // ≈ 11 m per report on average
   transform = "relative_to_first";
   normalisation = "local";
-  features = {"x", "y", "dt", "speed", "course", "dist_static", "dist_poi"};
+  features = {"x",         "y",           "dt",       "speed",    "course",  "accel",
+              "turn_rate", "dist_static", "dist_poi", "region_x", "region_y"};
+  log_scaled = {"dt", "dist_static", "dist_poi"};
   max_speed = 30 * kKnot / kMetresPerDegree;  // 30 kn in degrees of latitude per second
   max_accel = 1 * kKnot / kMetresPerDegree;   // 1 kn/s
   max_turn_rate = 0.5;                        // rad/s
@@ -66,6 +68,7 @@ AisModelOptions::AisModelOptions() {
   epochs = 60;
   batch_size = 64;
   learning_rate = 2e-3;  // the paper doubles 1e-3 with batch normalisation
+  input_noise = 0.0;     // the paper found no gain; σ 0.01 would drown Δt and the turn rate
 }
 
 Geography::Geography(std::vector<GeoPoint> coast, std::vector<GeoPoint> harbours, double coast_cap_km,

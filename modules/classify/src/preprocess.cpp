@@ -36,6 +36,9 @@ std::vector<std::string> PreprocessOptions::Relations() const {
   for (const auto& f : features)
     if (std::find(FeatureNames().begin(), FeatureNames().end(), f) == FeatureNames().end())
       problems.push_back("features: unknown feature \"" + f + "\"");
+  for (const auto& f : log_scaled)
+    if (f != "dt" && f != "dist_static" && f != "dist_poi")
+      problems.push_back("log_scaled: \"" + f + "\" cannot be log-scaled (dt, dist_static, dist_poi can)");
   return problems;
 }
 
@@ -158,6 +161,8 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
   }
   // X' = (X − Xmin) / (Xmax − Xmin); a degenerate range maps to 0.
   auto scale = [](double v, double lo, double hi) { return hi > lo ? Clamp01((v - lo) / (hi - lo)) : 0.0; };
+  // Log-scaled features: log(1 + v) / log(1 + cap), for values spread over decades.
+  auto log_scale = [](double v, double cap) { return cap > 0 ? Clamp01(std::log1p(std::max(0.0, v)) / std::log1p(cap)) : 0.0; };
   std::vector<double> dt(valid, 0), speed(valid, 0), course(valid, 0), accel(valid, 0), turn(valid, 0);
   for (int i = 1; i < valid; ++i) {
     const auto &a = w.points[i - 1], &c = w.points[i];
@@ -177,19 +182,23 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
   // One row per feature; the name is resolved once per row, not per point.
   for (size_t f = 0; f < o.features.size(); ++f) {
     const std::string& name = o.features[f];
+    const bool log = std::find(o.log_scaled.begin(), o.log_scaled.end(), name) != o.log_scaled.end();
     float* row = out.data() + f * n;
     auto fill = [&](auto value_at) {
       for (int i = 0; i < valid; ++i) row[i] = static_cast<float>(value_at(i));
     };
     auto fill_map = [&](const std::function<double(double, double)>& fn, double cap) {
-      if (fn) fill([&](int i) { return scale(fn(w.points[i].x, w.points[i].y), 0, cap); });
+      if (fn) fill([&](int i) {
+        const double d = fn(w.points[i].x, w.points[i].y);
+        return log ? log_scale(d, cap) : scale(d, 0, cap);
+      });
     };
     auto fill_region = [&](int axis) {
       if (map.region) fill([&](int i) { return Clamp01(map.region(w.points[i].x, w.points[i].y)[axis]); });
     };
     if (name == "x") fill([&](int i) { return scale(pos[i].x, b.min_x, b.max_x); });
     else if (name == "y") fill([&](int i) { return scale(pos[i].y, b.min_y, b.max_y); });
-    else if (name == "dt") fill([&](int i) { return scale(dt[i], 0, o.max_gap_s); });
+    else if (name == "dt") fill([&](int i) { return log ? log_scale(dt[i], o.max_gap_s) : scale(dt[i], 0, o.max_gap_s); });
     else if (name == "speed") fill([&](int i) { return scale(speed[i], 0, o.max_speed); });
     else if (name == "course") fill([&](int i) { return scale(course[i], 0, 2 * M_PI); });
     else if (name == "accel") fill([&](int i) { return scale(accel[i], -o.max_accel, o.max_accel); });

@@ -61,7 +61,10 @@ struct AisOptions {
 // 1.9 km). So the gap stays at 2 h, and a step longer than the paper's 1 km is a
 // jump only when it also implies more than 50 kn (max_jump_speed). Windows are 60 reports by default
 // (≈ 10 min to 5 h here): a fishing vessel has ≈ 190 reports in this data, so
-// 360-point windows leave 14 fishing vessels in all (README).
+// 360-point windows leave 14 fishing vessels in all (README). Features: the
+// paper's (position, Δt, speed, course, distance to coast and harbour) plus
+// acceleration, turn rate and the region (longitude, latitude); Δt and the
+// distances log-scaled.
 struct AisPreprocessOptions : classify::PreprocessOptions {
   AisPreprocessOptions();
 };

@@ -16,7 +16,9 @@
 //      "global" (bounds fitted on the training set and stored with the model); the
 //      other features with fixed bounds: Δt by max_gap_s, speed by max_speed, course
 //      by 2π, acceleration and turn rate symmetric around 0.5 by their caps, map
-//      distances by their query caps.
+//      distances by their query caps. Features in log_scaled (Δt, map distances)
+//      map by log(1 + v) / log(1 + cap) instead, for values spread over decades
+//      (AIS reports 2 s to hours apart).
 #pragma once
 
 #include <array>
@@ -51,6 +53,7 @@ struct PreprocessOptions {
   std::string normalisation = "local";
   std::vector<std::string> features = {"x", "y", "dt", "speed", "course", "accel", "turn_rate", "dist_static",
                                        "dist_poi"};
+  std::vector<std::string> log_scaled;
   double max_speed = 15.0;
   double max_accel = 10.0;
   double max_turn_rate = 3.0;
@@ -72,6 +75,7 @@ struct PreprocessOptions {
     v.Choice("transform", transform, {"relative_to_first", "rotate_to_zero"}, "position transform per window");
     v.Choice("normalisation", normalisation, {"local", "global"}, "position min-max over the window or the dataset");
     v.Param("features", features, "per-point features, from: x y dt speed course accel turn_rate dist_static dist_poi region_x region_y");
+    v.Param("log_scaled", log_scaled, "features scaled by log(1 + v) / log(1 + cap): any of dt dist_static dist_poi");
     v.Param("max_speed", max_speed, "speed normalisation bound (position units per s)", Range::Of(1e-9, 1e9).Log());
     v.Param("max_accel", max_accel, "acceleration bound (units/s²)", Range::Of(1e-9, 1e9).Log());
     v.Param("max_turn_rate", max_turn_rate, "turn-rate bound (rad/s)", Range::Of(1e-6, 1e3).Log());
