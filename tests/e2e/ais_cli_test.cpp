@@ -41,6 +41,11 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir + "/data/counts.png"));
   EXPECT_THAT(r.out, HasSubstr("Pleasure Craft"));
+  // Same inputs → the same dataset files, byte for byte.
+  r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' -q -o '" + dir + "/data2'" + data);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"windows.npy", "handcrafted.npy", "windows.csv"})
+    EXPECT_EQ(testing::ReadFile(dir + "/data/" + f), testing::ReadFile(dir + "/data2/" + f)) << f;
   const std::string quick = " --set ais_model.epochs=1 --set ais_model.variant=tiny";
   r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks tiny -q -o '" + dir + "/cv'" + quick);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -50,6 +55,10 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   EXPECT_TRUE(std::filesystem::exists(dir + "/cv/confusion_forest.png"));
   r = testing::RunSpecht("ais train '" + dir + "/data' -q -o '" + dir + "/model'" + quick);
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Same dataset and seed → the same model.
+  r = testing::RunSpecht("ais train '" + dir + "/data' -q -o '" + dir + "/model2'" + quick);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(testing::ReadFile(dir + "/model/model.pt"), testing::ReadFile(dir + "/model2/model.pt"));
   r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' -q -o '" + dir + "/pred'" + data);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(testing::ReadFile(dir + "/pred/objects.csv"), HasSubstr("mmsi,ship_type,label,windows,class"));
