@@ -114,8 +114,8 @@ classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, 
                                          const classify::PreprocessOptions& o, const Geography& geo,
                                          PrepareReport& report,
                                          const std::function<void(long, double)>& on_progress) {
-  if (o.normalisation != "local")
-    throw InputError("ais_classify.normalisation: AIS preparation streams vessels and supports \"local\" only");
+  if (o.normalisation == "global")
+    throw InputError("ais_classify.normalisation: AIS preparation streams vessels; use \"local\" or \"fixed\"");
   classify::PreparedDataset d;
   d.classes = VesselClasses();
   d.windows.features = static_cast<int>(o.features.size());

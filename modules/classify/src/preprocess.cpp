@@ -155,7 +155,11 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
   const int n = o.length, valid = std::min(w.valid, n);
   const std::vector<TrajectoryPoint> pos = Transformed(w, o);
   PositionBounds b = global;
-  if (o.normalisation == "local") {
+  if (o.normalisation == "fixed") {
+    // Positions are relative to the first point: ±position_extent maps to [0, 1], so
+    // the window's size survives (min-max over the window removes it).
+    b = {-o.position_extent, o.position_extent, -o.position_extent, o.position_extent};
+  } else if (o.normalisation == "local") {
     b = kEmptyBounds;
     Extend(b, pos, static_cast<size_t>(valid));
   }

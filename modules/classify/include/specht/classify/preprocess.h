@@ -12,8 +12,9 @@
 //   3. drop stationary windows: α = Σ|P_i − P_{i−1}| / n below stationary_threshold;
 //   4. features per point (see FeatureNames), positions relative to the first point
 //      or also rotated so the last point lies on the +x axis (rotate_to_zero);
-//   5. min-max normalisation to [0, 1]: positions "local" (over the window) or
-//      "global" (bounds fitted on the training set and stored with the model); the
+//   5. min-max normalisation to [0, 1]: positions "local" (over the window),
+//      "global" (bounds fitted on the training set and stored with the model) or
+//      "fixed" (±position_extent around the first point, keeping the size); the
 //      other features with fixed bounds: Δt by max_gap_s, speed by max_speed, course
 //      by 2π, acceleration and turn rate symmetric around 0.5 by their caps, map
 //      distances by their query caps. Features in log_scaled (Δt, map distances)
@@ -51,6 +52,7 @@ struct PreprocessOptions {
   double stationary_threshold = 0.02;
   std::string transform = "relative_to_first";
   std::string normalisation = "local";
+  double position_extent = 50.0;
   std::vector<std::string> features = {"x", "y", "dt", "speed", "course", "accel", "turn_rate", "dist_static",
                                        "dist_poi"};
   std::vector<std::string> log_scaled;
@@ -73,7 +75,10 @@ struct PreprocessOptions {
     v.Param("stationary_threshold", stationary_threshold, "windows whose mean step is below are dropped",
             Range::Of(0.0, 1e6));
     v.Choice("transform", transform, {"relative_to_first", "rotate_to_zero"}, "position transform per window");
-    v.Choice("normalisation", normalisation, {"local", "global"}, "position min-max over the window or the dataset");
+    v.Choice("normalisation", normalisation, {"local", "global", "fixed"},
+             "positions: min-max over the window, over the dataset, or ±position_extent");
+    v.Param("position_extent", position_extent, "half-width of the fixed normalisation (position units)",
+            Range::Of(1e-9, 1e9).Log());
     v.Param("features", features, "per-point features, from: x y dt speed course accel turn_rate dist_static dist_poi region_x region_y");
     v.Param("log_scaled", log_scaled, "features scaled by log(1 + v) / log(1 + cap): any of dt dist_static dist_poi");
     v.Param("max_speed", max_speed, "speed normalisation bound (position units per s)", Range::Of(1e-9, 1e9).Log());
