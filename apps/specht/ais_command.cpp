@@ -9,7 +9,7 @@
 //       the paper's Figure 3), dataset files as classify writes them.
 //   train <dataset> -o DIR [--resume]   the 1D ResNet (section "ais_model") and the
 //       random forest, as `classify train`.
-//   eval <dataset> -o DIR [--folds 5] [--networks shallow,mlp]   cross-validation
+//   eval <dataset> -o DIR [--folds 5] [--networks tiny,mlp]   cross-validation
 //       with folds disjoint by MMSI: per model macro/weighted F1 mean ± std,
 //       per-class F1, pooled confusion matrices (PNG). A trained model is scored on
 //       a dataset with `specht classify eval`.
@@ -43,7 +43,7 @@ namespace {
 struct AisArgs {
   CommonArgs common;
   std::vector<std::string> inputs;
-  std::string dataset, model_dir, networks = "shallow,mlp";
+  std::string dataset, model_dir, networks = "tiny,mlp";
   int folds = 5;
   bool resume = false, no_forest = false;
 };

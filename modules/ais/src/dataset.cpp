@@ -70,7 +70,7 @@ AisPreprocessOptions::AisPreprocessOptions() {
 }
 
 AisModelOptions::AisModelOptions() {
-  variant = "shallow";
+  variant = "tiny";  // measured here; the paper's "shallow" is 6× slower to train and was not cross-validated
   epochs = 60;
   batch_size = 64;
   learning_rate = 2e-3;  // the paper doubles 1e-3 with batch normalisation

@@ -69,7 +69,8 @@ struct AisPreprocessOptions : classify::PreprocessOptions {
   AisPreprocessOptions();
 };
 
-// Section "ais_model": the classifier with the paper's best network.
+// Section "ais_model": the classifier. Default variant "tiny", the one
+// cross-validated here (README); the paper's best, "shallow", is one --set away.
 struct AisModelOptions : classify::ModelOptions {
   AisModelOptions();
 };
