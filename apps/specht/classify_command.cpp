@@ -276,19 +276,13 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   model.Save(out + "/model", d.info);
   io::WriteTextAtomically(out + "/training.csv", log);
 
-  auto rows_of = [&](const std::vector<size_t>& rows) {
-    std::vector<float> x;
-    const int f = classify::HandcraftedFeatureCount();
-    for (size_t r : rows) x.insert(x.end(), d.handcrafted.begin() + r * f, d.handcrafted.begin() + (r + 1) * f);
-    return x;
-  };
   classify::ForestBaseline forest(200, 12, o.seed);
-  forest.Train(rows_of(train_rows), train.y);
+  forest.Train(classify::HandcraftedRows(d, train_rows), train.y);
   forest.Save(out + "/forest.yml");
 
   const int k = static_cast<int>(d.classes.size());
   const auto resnet = classify::Score(val.y, model.PredictClasses(val), k);
-  const auto rf = classify::Score(val.y, forest.Predict(rows_of(val_rows)), k);
+  const auto rf = classify::Score(val.y, forest.Predict(classify::HandcraftedRows(d, val_rows)), k);
   io::RunReport report(label);
   auto& j = report.json();
   j["dataset"] = dataset;

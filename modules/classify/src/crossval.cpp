@@ -9,21 +9,10 @@
 #include "specht/classify/baseline.h"
 #include "specht/core/error.h"
 
+#include "internal/object_hash.h"
+
 namespace specht::classify {
 namespace {
-
-uint64_t Fnv(const std::string& s, int seed) {
-  uint64_t h = 1469598103934665603ULL ^ static_cast<uint64_t>(seed);
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ULL;
-  return h;
-}
-
-std::vector<float> Rows(const std::vector<float>& x, int width, const std::vector<size_t>& rows) {
-  std::vector<float> out;
-  out.reserve(rows.size() * width);
-  for (size_t r : rows) out.insert(out.end(), x.begin() + r * width, x.begin() + (r + 1) * width);
-  return out;
-}
 
 std::pair<double, double> MeanStd(const std::vector<double>& v) {
   double m = 0, s = 0;
@@ -68,7 +57,7 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& ids, const std::v
   std::map<int, std::vector<std::pair<uint64_t, std::string>>> by_class;
   std::set<std::string> seen;
   for (size_t i = 0; i < ids.size(); ++i)
-    if (seen.insert(ids[i]).second) by_class[labels[i]].push_back({Fnv(ids[i], seed), ids[i]});
+    if (seen.insert(ids[i]).second) by_class[labels[i]].push_back({internal::ObjectHash(ids[i], seed), ids[i]});
   std::map<std::string, int> fold_of;
   int next = 0;
   for (auto& [cls, objects] : by_class) {
@@ -89,7 +78,6 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   if (o.forest) result.models.push_back("forest");
   result.per_fold.resize(o.folds);
   result.per_fold_objects.resize(o.folds);
-  const int hf = HandcraftedFeatureCount();
   char line[256];
   for (int f = 0; f < o.folds; ++f) {
     std::vector<size_t> train_rows, test_rows;
@@ -117,8 +105,8 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
     }
     if (o.forest) {
       ForestBaseline forest(200, 12, o.seed);
-      forest.Train(Rows(d.handcrafted, hf, train_rows), train_all.y);
-      const Scores sc = record("forest", forest.Predict(Rows(d.handcrafted, hf, test_rows)));
+      forest.Train(HandcraftedRows(d, train_rows), train_all.y);
+      const Scores sc = record("forest", forest.Predict(HandcraftedRows(d, test_rows)));
       std::snprintf(line, sizeof(line), "fold %d/%d %-8s macro F1 %.3f weighted %.3f", f + 1, o.folds, "forest",
                     sc.macro_f1, sc.weighted_f1);
       if (log) log(line);

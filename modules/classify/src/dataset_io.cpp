@@ -106,4 +106,12 @@ PreparedDataset ReadPrepared(const std::string& dir) {
   return d;
 }
 
+std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<size_t>& rows) {
+  const size_t width = static_cast<size_t>(HandcraftedFeatureCount());
+  std::vector<float> out;
+  out.reserve(rows.size() * width);
+  for (size_t r : rows) out.insert(out.end(), d.handcrafted.begin() + r * width, d.handcrafted.begin() + (r + 1) * width);
+  return out;
+}
+
 }  // namespace specht::classify

@@ -1,5 +1,7 @@
 #include "specht/classify/model.h"
 
+#include "internal/object_hash.h"
+
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -131,9 +133,7 @@ void SplitByObject(const std::vector<std::string>& ids, double fraction, int see
                    std::vector<size_t>& held_out) {
   kept.clear(), held_out.clear();
   for (size_t i = 0; i < ids.size(); ++i) {
-    // FNV-1a of seed and id: stable across runs and platforms (std::hash is not).
-    uint64_t h = 1469598103934665603ULL ^ static_cast<uint64_t>(seed);
-    for (unsigned char c : ids[i]) h = (h ^ c) * 1099511628211ULL;
+    const uint64_t h = internal::ObjectHash(ids[i], seed);
     ((h % 1000003) / 1000003.0 < fraction ? held_out : kept).push_back(i);
   }
 }

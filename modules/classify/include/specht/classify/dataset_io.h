@@ -23,6 +23,9 @@ struct PreparedDataset {
   nlohmann::json info;  // dataset.json
 };
 
+// The handcrafted (baseline) feature rows of the windows in `rows`.
+std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<size_t>& rows);
+
 void WriteNpy(const std::string& path, const std::vector<float>& data, const std::vector<size_t>& shape);
 // Throws InputError naming the file on a bad header, dtype or truncated data.
 std::vector<float> ReadNpy(const std::string& path, std::vector<size_t>& shape);
