@@ -92,15 +92,14 @@ int RunDecode(const AisArgs& a) {
   };
   io::RunReport report("ais decode");
   nlohmann::json files = nlohmann::json::array();
-  ais::DecoderStats total;
-  int64_t emitted = 0, rejected = 0;
+  int64_t emitted = 0, rejected = 0, sentences = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (const auto& path : a.inputs) {
     const ais::DecoderStats s = ais::DecodeFile(path, o, on_message);
     files.push_back({{"file", path}, {"stats", s.ToJson()}});
     emitted += s.emitted;
     rejected += s.RejectedTotal();
-    total.sentences.sentences += s.sentences.sentences;
+    sentences += s.sentences.sentences;
     std::printf("ais decode: %s: %lld sentences → %lld messages, %lld rejected\n", path.c_str(),
                 static_cast<long long>(s.sentences.sentences), static_cast<long long>(s.emitted),
                 static_cast<long long>(s.RejectedTotal()));
@@ -127,13 +126,13 @@ int RunDecode(const AisArgs& a) {
                   {"positions", positions.size()},
                   {"positions_without_time", without_time},
                   {"vessels_with_ship_type", ship_type.size()},
-                  {"sentences_per_s", total.sentences.sentences / std::max(1e-9, seconds)}};
+                  {"sentences_per_s", sentences / std::max(1e-9, seconds)}};
   report.AddOutput("messages.jsonl");
   report.AddOutput("positions.csv");
   report.Write(out);
   std::printf("ais decode: %lld messages, %zu timed positions (%lld without a receive time), %.0f sentences/s\n",
               static_cast<long long>(emitted), positions.size(), static_cast<long long>(without_time),
-              total.sentences.sentences / std::max(1e-9, seconds));
+              sentences / std::max(1e-9, seconds));
   return 0;
 }
 

@@ -13,9 +13,6 @@
 namespace specht::ais {
 namespace {
 
-constexpr double kMetresPerDegree = 111195.08;  // R·π/180, R = 6 371 008.8 m
-constexpr double kKnot = 1852.0 / 3600.0;
-
 std::string UnderDataDir(const std::string& path, const std::string& data_dir) {
   return std::filesystem::path(path).is_absolute() || data_dir.empty() ? path : data_dir + "/" + path;
 }

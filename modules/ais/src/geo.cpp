@@ -15,16 +15,14 @@
 namespace specht::ais {
 namespace {
 
-constexpr double kEarthRadiusKm = 6371.0088;
-constexpr double kDeg = M_PI / 180.0;
 
 struct Unit {
   double x, y, z;
 };
 
 Unit ToUnit(double lon, double lat) {
-  const double cl = std::cos(lat * kDeg);
-  return {cl * std::cos(lon * kDeg), cl * std::sin(lon * kDeg), std::sin(lat * kDeg)};
+  const double cl = std::cos(lat * kDegree);
+  return {cl * std::cos(lon * kDegree), cl * std::sin(lon * kDegree), std::sin(lat * kDegree)};
 }
 
 struct Cloud {
@@ -66,7 +64,7 @@ double NearestGeoPoint::DistanceKm(double lon, double lat, double cap_km) const 
   double chord_sq = 0;
   index_->tree->knnSearch(query, 1, &index, &chord_sq);
   const double theta = 2 * std::asin(std::min(1.0, std::sqrt(chord_sq) / 2));
-  return std::min(cap_km, theta * kEarthRadiusKm);
+  return std::min(cap_km, theta * kEarthRadiusM / 1000.0);
 }
 
 std::vector<GeoPoint> ReadShapefileVertices(const std::string& shp_path) {

@@ -10,14 +10,12 @@
 #include "specht/core/csv.h"
 #include "specht/core/error.h"
 #include "specht/core/time.h"
+#include "specht/ais/geo.h"
 #include "specht/io/line_reader.h"
 
 namespace specht::ais {
 namespace {
 
-constexpr double kEarthRadiusM = 6371008.8;
-constexpr double kDeg = M_PI / 180.0;
-constexpr double kKnot = 1852.0 / 3600.0;  // m/s
 
 bool ParseDouble(const std::string& s, double& out) {
   if (s.empty()) return false;
@@ -132,16 +130,16 @@ int ShipTypeOfDmaText(const std::string& text) {
 
 double GreatCircleMetres(double lon1, double lat1, double lon2, double lat2) {
   // Haversine: well conditioned for the short steps between reports.
-  const double dlat = (lat2 - lat1) * kDeg, dlon = (lon2 - lon1) * kDeg;
+  const double dlat = (lat2 - lat1) * kDegree, dlon = (lon2 - lon1) * kDegree;
   const double a = std::sin(dlat / 2) * std::sin(dlat / 2) +
-                   std::cos(lat1 * kDeg) * std::cos(lat2 * kDeg) * std::sin(dlon / 2) * std::sin(dlon / 2);
+                   std::cos(lat1 * kDegree) * std::cos(lat2 * kDegree) * std::sin(dlon / 2) * std::sin(dlon / 2);
   return 2 * kEarthRadiusM * std::asin(std::min(1.0, std::sqrt(a)));
 }
 
 double InitialBearingDeg(double lon1, double lat1, double lon2, double lat2) {
-  const double p1 = lat1 * kDeg, p2 = lat2 * kDeg, dl = (lon2 - lon1) * kDeg;
+  const double p1 = lat1 * kDegree, p2 = lat2 * kDegree, dl = (lon2 - lon1) * kDegree;
   const double b = std::atan2(std::sin(dl) * std::cos(p2), std::cos(p1) * std::sin(p2) - std::sin(p1) * std::cos(p2) * std::cos(dl));
-  return std::fmod(b / kDeg + 360.0, 360.0);
+  return std::fmod(b / kDegree + 360.0, 360.0);
 }
 
 void DeriveSpeedAndCourse(std::vector<PositionReport>& r) {
