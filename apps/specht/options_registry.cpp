@@ -6,6 +6,7 @@
 #include "specht/io/replay.h"
 #include "specht/decide/closed_loop.h"
 #include "specht/plan/hybrid_astar.h"
+#include "specht/plan/kinodynamic.h"
 #include "specht/plan/smoother.h"
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
@@ -49,6 +50,7 @@ const params::Registry& AllOptions() {
     r.Add<ais::AisModelOptions>("ais_model", "AIS vessel classifier: 1D ResNet variant and training");
     r.Add<plan::CarOptions>("car", "the car: bicycle model limits and footprint");
     r.Add<plan::HybridAStarOptions>("hybrid_astar", "global search: hybrid A* over (x, y, heading)");
+    r.Add<plan::KinodynamicOptions>("kinodynamic", "kinodynamic planner: OMPL SST / RRT / KPIECE1 over the bicycle model");
     r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
     r.Add<plan::TrackerOptions>("tracker", "path tracking: pure pursuit and speed profile");
     r.Add<decide::ClosedLoopOptions>("closed_loop", "mission state machine: margins, waiting, tolerances");
@@ -68,7 +70,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"track.yaml", {"track", "synthetic_detections"}},
       {"classify.yaml", {"classify", "classify_model"}},
       {"ais.yaml", {"ais_decoder", "ais", "ais_classify", "ais_model"}},
-      {"plan.yaml", {"car", "hybrid_astar", "smoother", "tracker"}},
+      {"plan.yaml", {"car", "hybrid_astar", "kinodynamic", "smoother", "tracker"}},
       {"decide.yaml", {"closed_loop"}},
   };
   return files;

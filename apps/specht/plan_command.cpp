@@ -1,5 +1,7 @@
-// `specht plan <map> [--start x,y,deg] --goal x,y,deg|bay:NAME -o DIR`: the global
-// planner alone (hybrid A*, then the Ceres smoother) on a map: a ROS map_server
+// `specht plan <map> [--start x,y,deg] --goal x,y,deg|bay:NAME [--planner P] -o DIR`:
+// a planner alone on a map — hybrid A* then the Ceres smoother (default), or the
+// kinodynamic planner (OMPL SST, RRT or KPIECE1; section "kinodynamic", its path
+// as planned). The map is a ROS map_server
 // YAML, an MRPT .gridmap, or a simulator scenario (its true static grid at 0.1 m;
 // the start defaults to its ego's, the car is its ego's, and `bay:NAME` parks in a
 // marked bay: the car's footprint centred on the bay, nose along the bay's
@@ -20,6 +22,7 @@
 #include "specht/io/report.h"
 #include "specht/plan/draw.h"
 #include "specht/plan/hybrid_astar.h"
+#include "specht/plan/kinodynamic.h"
 #include "specht/plan/smoother.h"
 #include "specht/sim/world.h"
 
@@ -28,11 +31,18 @@ namespace {
 
 struct PlanArgs {
   CommonArgs common;
-  std::string map, start, goal;
+  std::string map, start, goal, planner = "hybrid_astar";
+  bool guided = false;
 };
 
 bool EndsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::string Fixed(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
 }
 
 plan::Pose ParsePose(const std::string& text, const char* what) {
@@ -91,49 +101,77 @@ int RunPlan(const PlanArgs& a) {
 
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
-  plan::HybridAStar search(search_options, car, map);
-  const plan::PlanResult found = search.Plan(start, goal);
   io::RunReport report("plan");
   auto& j = report.json();
   j["inputs"] = {{"map", a.map},
+                 {"planner", a.planner},
                  {"start", {start.x, start.y, start.theta * 180 / M_PI}},
                  {"goal", {goal.x, goal.y, goal.theta * 180 / M_PI}}};
-  j["timing"] = {{"heuristic_ms", found.heuristic_milliseconds}, {"search_ms", found.milliseconds}};
-  plan::Path path = found.path;
+  plan::PlanResult found;
+  plan::Path path;
+  std::string detail;  // the planner's own figures for the summary line
+  if (a.planner == "hybrid_astar") {
+    plan::HybridAStar search(search_options, car, map);
+    found = search.Plan(start, goal);
+    j["timing"] = {{"heuristic_ms", found.heuristic_milliseconds}, {"search_ms", found.milliseconds}};
+    j["metrics"] = {{"expansions", found.expansions}};
+    path = found.path;
+    if (found.found) {
+      const plan::SmoothResult smooth = plan::SmoothPath(found.path, *map, car, smoother);
+      path = smooth.path;
+      j["metrics"]["smoothed"] = smooth.accepted;
+      j["metrics"]["smoothing_note"] = smooth.note;
+      j["timing"]["smoothing_ms"] = smooth.milliseconds;
+      j["timing"]["total_ms"] = found.milliseconds + smooth.milliseconds;
+      detail = std::to_string(found.expansions) + " expansions; search " + Fixed(found.milliseconds) +
+               " ms (+ heuristic " + Fixed(found.heuristic_milliseconds) + "), smoothing " +
+               Fixed(smooth.milliseconds) + " ms" + (smooth.accepted ? "" : " (not smoothed: " + smooth.note + ")");
+    }
+  } else {
+    plan::KinodynamicOptions options = params.Get<plan::KinodynamicOptions>("kinodynamic");
+    options.planner = a.planner;
+    plan::KinodynamicPlanner planner(options, car, map);
+    plan::PlanResult guide;
+    if (a.guided) guide = plan::HybridAStar(search_options, car, map).Plan(start, goal);
+    const plan::KinodynamicResult k = planner.Plan(start, goal, {}, guide.found ? &guide.path : nullptr);
+    found = k;
+    path = k.path;
+    j["timing"] = {{"total_ms", k.milliseconds}, {"budget_ms", options.time_budget_ms}};
+    if (a.guided) j["timing"]["guide_ms"] = guide.milliseconds + guide.heuristic_milliseconds;
+    j["metrics"] = {{"iterations", k.expansions},
+                    {"approximate", k.approximate},
+                    {"goal_distance_m", k.goal_distance_m},
+                    {"cost", k.cost},
+                    {"duration_s", k.duration_s}};
+    detail = std::to_string(k.expansions) + " iterations of " + options.planner + " in " + Fixed(k.milliseconds) +
+             " ms (budget " + Fixed(options.time_budget_ms) + "), driving time " + Fixed(k.duration_s) + " s" +
+             (!a.guided ? "" : guide.found ? ", guided by hybrid A* (" + Fixed(guide.milliseconds) + " ms)"
+                                           : ", unguided (hybrid A*: " + guide.failure + ")");
+  }
+  j["metrics"]["found"] = found.found;
   if (found.found) {
-    const plan::SmoothResult smooth = plan::SmoothPath(found.path, *map, car, smoother);
-    path = smooth.path;
     double clearance = INFINITY;
     for (const auto& p : path.points) clearance = std::min(clearance, map->Clearance(car, p.pose));
-    j["metrics"] = {{"found", true},
-                    {"length_m", path.Length()},
-                    {"gear_changes", path.GearChanges()},
-                    {"min_clearance_m", clearance},
-                    {"max_curvature_per_m", path.MaxCurvature()},
-                    {"curvature_limit_per_m", 1.0 / car.MinTurningRadius()},
-                    {"expansions", found.expansions},
-                    {"smoothed", smooth.accepted},
-                    {"smoothing_note", smooth.note}};
-    j["timing"]["smoothing_ms"] = smooth.milliseconds;
-    j["timing"]["total_ms"] = found.milliseconds + smooth.milliseconds;
+    j["metrics"]["length_m"] = path.Length();
+    j["metrics"]["gear_changes"] = path.GearChanges();
+    j["metrics"]["min_clearance_m"] = clearance;
+    j["metrics"]["max_curvature_per_m"] = path.MaxCurvature();
+    j["metrics"]["curvature_limit_per_m"] = 1.0 / car.MinTurningRadius();
     io::WriteTextAtomically(out + "/path.csv", path.ToCsv());
     report.AddOutput("path.csv");
   } else {
-    j["metrics"] = {{"found", false}, {"failure", found.failure}, {"expansions", found.expansions}};
+    j["metrics"]["failure"] = found.failure;
   }
   io::WritePng(plan::DrawPlan(*map, car, path, start, goal), out + "/plan.png");
   report.AddOutput("plan.png");
   report.Write(out);
   if (!found.found) {
-    std::printf("plan: no path (%s) after %ld expansions, %.1f ms\n", found.failure.c_str(), found.expansions,
-                found.milliseconds);
+    std::printf("plan: no path (%s) after %ld %s, %.1f ms\n", found.failure.c_str(), found.expansions,
+                a.planner == "hybrid_astar" ? "expansions" : "iterations", found.milliseconds);
     return 1;
   }
-  std::printf("plan: %.1f m, %d gear changes, clearance %.2f m, %ld expansions; search %.1f ms (+ heuristic %.1f), "
-              "smoothing %.1f ms%s\n",
-              path.Length(), path.GearChanges(), j["metrics"]["min_clearance_m"].get<double>(), found.expansions,
-              found.milliseconds, found.heuristic_milliseconds, j["timing"]["smoothing_ms"].get<double>(),
-              j["metrics"]["smoothed"].get<bool>() ? "" : (" (not smoothed: " + j["metrics"]["smoothing_note"].get<std::string>() + ")").c_str());
+  std::printf("plan: %.1f m, %d gear changes, clearance %.2f m; %s\n", path.Length(), path.GearChanges(),
+              j["metrics"]["min_clearance_m"].get<double>(), detail.c_str());
   return 0;
 }
 
@@ -141,10 +179,14 @@ int RunPlan(const PlanArgs& a) {
 
 void AddPlanCommand(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<PlanArgs>();
-  CLI::App* cmd = app.add_subcommand("plan", "plan a path for the car on a map (hybrid A* + smoothing)");
+  CLI::App* cmd = app.add_subcommand("plan", "plan a path for the car on a map (hybrid A* + smoothing, or OMPL SST/RRT/KPIECE1)");
   cmd->add_option("map", args->map, "ROS map YAML, MRPT .gridmap, or a scenario YAML")->required();
   cmd->add_option("--start", args->start, "x,y,heading_deg of the rear axle (default: a scenario's ego start)");
   cmd->add_option("--goal", args->goal, "x,y,heading_deg, or bay:NAME in a scenario")->required();
+  cmd->add_option("--planner", args->planner, "hybrid_astar (then smoothing), or OMPL's sst, rrt, kpiece")
+      ->check(CLI::IsMember({"hybrid_astar", "sst", "rrt", "kpiece"}))
+      ->capture_default_str();
+  cmd->add_flag("--guided", args->guided, "kinodynamic planners: sample around hybrid A*'s path (guide_bias)");
   AddCommonOptions(*cmd, args->common, "specht-out/plan");
   cmd->callback([args, &exit_code] { exit_code = RunPlan(*args); });
 }

@@ -36,6 +36,29 @@ TEST(PlanCliTest, ParksInAScenarioBay) {
   EXPECT_NEAR(theta, M_PI / 2, 0.01);
 }
 
+TEST(PlanCliTest, KinodynamicPlannerReachesTheGoalWithinTolerance) {
+  // OMPL RRT guided by hybrid A*, bounded by iterations (reproducible), to the
+  // middle bay of the parking lot; the path ends within the goal tolerances, and
+  // runs twice alike.
+  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
+  std::string csv[2];
+  for (int run = 0; run < 2; ++run) {
+    const std::string out = testing::TempDir("plan_cli_kino") + "/out" + std::to_string(run);
+    const auto r = testing::RunSpecht("plan '" + scenario + "' --goal bay:middle-14 --planner rrt --guided -q " +
+                                      "--set kinodynamic.time_budget_ms=60000 --set kinodynamic.max_iterations=100000 " +
+                                      "-o '" + out + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+    EXPECT_TRUE(report["metrics"]["found"].get<bool>());
+    EXPECT_EQ(report["inputs"]["planner"], "rrt");
+    EXPECT_LE(report["metrics"]["goal_distance_m"].get<double>(), 0.3);
+    EXPECT_LE(report["metrics"]["max_curvature_per_m"].get<double>(),
+              1.05 * report["metrics"]["curvature_limit_per_m"].get<double>());
+    csv[run] = testing::ReadFile(out + "/path.csv");
+  }
+  EXPECT_EQ(csv[0], csv[1]);  // a replay is deterministic
+}
+
 TEST(PlanCliTest, BadInputNamesTheProblem) {
   const std::string out = testing::TempDir("plan_cli_bad") + "/out";
   const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
@@ -48,6 +71,12 @@ TEST(PlanCliTest, BadInputNamesTheProblem) {
   r = testing::RunSpecht("plan '" + scenario + "' --start 0.5,0.5,0 --goal bay:south-13 -q -o '" + out + "'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("collides at the start"));
+  r = testing::RunSpecht("plan '" + scenario + "' --goal bay:south-13 --planner prm -q -o '" + out + "'");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("prm"));
+  r = testing::RunSpecht("plan '" + scenario + "' --start 90,5,0 --goal bay:south-13 --planner sst -q -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("start is outside the map"));
 }
 
 }  // namespace

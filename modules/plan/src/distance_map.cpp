@@ -45,6 +45,18 @@ double DistanceMap::Distance(double x, double y) const {
   return distance_.at<float>(r, c);
 }
 
+bool DistanceMap::Contains(double x, double y) const {
+  const double c = (x - origin_x_) / resolution_, r = (y - origin_y_) / resolution_;
+  return c >= 0 && r >= 0 && c < distance_.cols && r < distance_.rows;
+}
+
+void CheckEndpoint(const DistanceMap& map, const CarOptions& car, const Pose& p, const std::string& what) {
+  if (!map.Contains(p.x, p.y)) throw InputError("plan: the " + what + " is outside the map");
+  if (!map.Free(car, p))
+    throw InputError("plan: the car collides at the " + what + " (clearance " + std::to_string(map.Clearance(car, p)) +
+                     " m, needs " + std::to_string(car.safety_margin_m) + ")");
+}
+
 // Smallest obstacle distance over samples of the footprint rectangle at the map's
 // resolution (edges included); stops once a sample is at or below `stop_at`.
 double DistanceMap::RectangleClearance(const DiscCover& discs, const Pose& p, double stop_at) const {

@@ -195,13 +195,8 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
   const Pose goal{goal_in.x, goal_in.y, std::remainder(goal_in.theta, 2 * M_PI)};
   const auto t0 = Clock::now();
   PlanResult result;
-  for (const auto& [name, p] : {std::pair<const char*, Pose>{"start", start}, {"goal", goal}}) {
-    if (m.KeyOf(p) < 0) throw InputError(std::string("plan: the ") + name + " is outside the map");
-    if (!m.map->Free(m.discs, p))
-      throw InputError(std::string("plan: the car collides at the ") + name + " (clearance " +
-                       std::to_string(m.map->Clearance(m.car, p)) + " m, needs " +
-                       std::to_string(m.car.safety_margin_m) + ")");
-  }
+  CheckEndpoint(*m.map, m.car, start, "start");
+  CheckEndpoint(*m.map, m.car, goal, "goal");
   const int goal_cell = m.CellOf(goal.x, goal.y);
   if (goal_cell != m.cached_goal) {
     const auto th = Clock::now();

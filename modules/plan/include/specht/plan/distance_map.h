@@ -8,6 +8,8 @@
 // as obstacles unless told otherwise (a car should not plan through the unseen).
 #pragma once
 
+#include <string>
+
 #include <opencv2/core.hpp>
 
 #include "specht/plan/car.h"
@@ -31,6 +33,7 @@ class DistanceMap {
   // Metres to the nearest obstacle from the cell containing (x, y); 0 outside the map
   // (the map's edge is a wall).
   double Distance(double x, double y) const;
+  bool Contains(double x, double y) const;
   // Whether the car's footprint is free at `pose` with the safety margin: the disc
   // cover first (a few lookups), the rectangle itself where the discs say no.
   bool Free(const DiscCover& discs, const Pose& pose) const;
@@ -53,5 +56,9 @@ class DistanceMap {
   cv::Mat obstacle_, distance_;
   double origin_x_, origin_y_, resolution_;
 };
+
+// A planner's start or goal must lie on the map with the footprint free: throws
+// InputError naming `what` ("start", "goal") and the clearance found otherwise.
+void CheckEndpoint(const DistanceMap& map, const CarOptions& car, const Pose& pose, const std::string& what);
 
 }  // namespace specht::plan
