@@ -1,4 +1,4 @@
-// plan_bench [scenario.yaml]...: planning time on a 60 m × 60 m map at 0.1 m (600 ×
+// plan_bench [--quick] [scenario.yaml]...: planning time on a 60 m × 60 m map at 0.1 m (600 ×
 // 600 cells): a seeded clutter field of 45 parked cars (2 m × 4.5 m, random
 // headings) and 6 walls, 50 start/goal pairs drawn in free space at least 20 m
 // apart (many goals sit in pockets: a hard set); then each scenario's marked bays
@@ -7,6 +7,18 @@
 // plain OMPL RRT (geometric, Reeds-Shepp state space, same collision check, 1 s
 // limit, first solution simplified by OMPL's default shortcutting) on the same
 // problems. JSON: p50/p90/max ms, success rate, mean path length.
+//
+// The kinodynamic planner (plan/kinodynamic.h, OMPL control SST / RRT / KPIECE1
+// over the bicycle model):
+//   slalom     a 30 m × 10 m corridor with three walls from alternate sides (4 m
+//              gaps, 9 m apart), start to goal 25 m: 20 seeds per planner to the
+//              first solution (budget 10 s), SST within 250 ms, hybrid A* +
+//              smoothing for reference;
+//   quality    the length of hybrid A* + smoothing against the best path SST finds
+//              in 10 s (3 seeds on the slalom, 5 clutter problems): the ratio;
+//   clutter    SST and RRT with the default 250 ms budget, guided by hybrid A*'s
+//              path and unguided, on the clutter field's problems.
+// --quick skips the 10 s quality runs.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,7 +31,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench_support.h"
+#include "specht/decide/closed_loop.h"
+#include "specht/decide/mission.h"
 #include "specht/plan/hybrid_astar.h"
+#include "specht/plan/kinodynamic.h"
 #include "specht/plan/smoother.h"
 #include "specht/sim/scenario.h"
 #include "specht/sim/world.h"
@@ -136,11 +151,104 @@ void Compare(const std::string& name, const std::shared_ptr<specht::plan::Distan
   specht::bench::Emit(rrt.Json("plan/ompl_rrt_reeds_shepp/" + name));
 }
 
+// The kinodynamic planner on `problems`, `runs` times each (each call draws new
+// random numbers), optionally guided by hybrid A*'s path (its time included).
+Stats Kinodynamic(const std::shared_ptr<specht::plan::DistanceMap>& map, const specht::plan::CarOptions& car,
+                  const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems,
+                  const specht::plan::KinodynamicOptions& options, bool guided, int runs = 1) {
+  using namespace specht::plan;
+  Stats stats;
+  KinodynamicPlanner planner(options, car, map);
+  HybridAStar search(HybridAStarOptions{}, car, map);
+  for (const auto& [start, goal] : problems)
+    for (int run = 0; run < runs; ++run) {
+      const auto t0 = Clock::now();
+      PlanResult guide;
+      if (guided) guide = search.Plan(start, goal);
+      const KinodynamicResult r = planner.Plan(start, goal, {}, guide.found ? &guide.path : nullptr);
+      const double ms = Ms(t0);
+      ++stats.problems;
+      if (r.found) ++stats.solved, stats.ms.push_back(ms), stats.length.push_back(r.path.Length());
+    }
+  return stats;
+}
+
+specht::plan::KinodynamicOptions KinoOptions(const std::string& planner, double budget_ms, bool first) {
+  specht::plan::KinodynamicOptions o;
+  o.planner = planner, o.time_budget_ms = budget_ms, o.stop_at_first_solution = first;
+  return o;
+}
+
+double HybridLength(const std::shared_ptr<specht::plan::DistanceMap>& map, const specht::plan::CarOptions& car,
+                    const specht::plan::Pose& start, const specht::plan::Pose& goal) {
+  using namespace specht::plan;
+  const PlanResult r = HybridAStar(HybridAStarOptions{}, car, map).Plan(start, goal);
+  return r.found ? SmoothPath(r.path, *map, car, SmootherOptions{}).path.Length() : NAN;
+}
+
+// Hybrid A* + smoothing's length over the best SST finds in 10 s, per problem.
+void Quality(const std::string& name, const std::shared_ptr<specht::plan::DistanceMap>& map,
+             const specht::plan::CarOptions& car,
+             const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems, int seeds) {
+  using namespace specht::plan;
+  KinodynamicPlanner sst(KinoOptions("sst", 10000, false), car, map);
+  std::vector<double> ratios;
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& [start, goal] : problems) {
+    double best = INFINITY;
+    for (int seed = 0; seed < seeds; ++seed) {
+      const KinodynamicResult r = sst.Plan(start, goal);
+      if (r.found) best = std::min(best, r.path.Length());
+    }
+    const double hybrid = HybridLength(map, car, start, goal);
+    rows.push_back({{"hybrid_astar_smoothed_m", hybrid}, {"sst_10s_best_m", std::isfinite(best) ? best : -1.0}});
+    if (std::isfinite(best) && std::isfinite(hybrid)) ratios.push_back(hybrid / best);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  specht::bench::Emit({{"name", "plan/quality/" + name},
+                       {"problems", rows},
+                       {"length_ratio_max", ratios.empty() ? -1.0 : ratios.back()},
+                       {"length_ratio_median", ratios.empty() ? -1.0 : ratios[ratios.size() / 2]},
+                       {"machine", specht::bench::MachineNotes()}});
+}
+
+void Slalom(bool quick) {
+  using namespace specht::plan;
+  cv::Mat m(100, 300, CV_8U, cv::Scalar(0));
+  cv::rectangle(m, {0, 0}, {299, 99}, cv::Scalar(1), 1);
+  for (const auto& [x, y] : {std::pair{60, 0}, {150, 40}, {240, 0}})
+    cv::rectangle(m, cv::Point(x, y), cv::Point(x + 4, y + 59), cv::Scalar(1), cv::FILLED);
+  auto map = std::make_shared<DistanceMap>(m, 0.0, 0.0, 0.1);
+  const CarOptions car;
+  const std::vector<std::pair<Pose, Pose>> problem = {{{2, 2, 0}, {27, 8, 0}}};
+  for (const std::string planner : {"rrt", "kpiece", "sst"})
+    specht::bench::Emit(Kinodynamic(map, car, problem, KinoOptions(planner, 10000, true), false, 20)
+                            .Json("plan/kinodynamic/" + planner + "-first-solution/slalom-30x10m"));
+  specht::bench::Emit(
+      Kinodynamic(map, car, problem, KinoOptions("sst", 250, false), false, 20).Json("plan/kinodynamic/sst-250ms/slalom-30x10m"));
+  Stats astar;
+  for (int run = 0; run < 20; ++run) {
+    const auto t0 = Clock::now();
+    const double length = HybridLength(map, car, problem[0].first, problem[0].second);
+    ++astar.problems;
+    if (std::isfinite(length)) ++astar.solved, astar.ms.push_back(Ms(t0)), astar.length.push_back(length);
+  }
+  specht::bench::Emit(astar.Json("plan/hybrid_astar+smoothing/slalom-30x10m"));
+  if (!quick) Quality("slalom-30x10m", map, car, problem, 3);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace specht::plan;
   ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
+  bool quick = false;
+  std::vector<std::string> scenarios;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--quick") quick = true;
+    else scenarios.push_back(argv[i]);
+  }
+  Slalom(quick);
   std::mt19937 rng(11);
   {  // the clutter field
     const cv::Mat field = Field(rng);
@@ -156,24 +264,26 @@ int main(int argc, char** argv) {
         problems.push_back({a, b});
     }
     Compare("clutter-60m-0.1m", map, car, problems);
+    for (const std::string planner : {"sst", "rrt"})
+      for (const bool guided : {false, true})
+        specht::bench::Emit(Kinodynamic(map, car, problems, KinoOptions(planner, 250, false), guided)
+                                .Json("plan/kinodynamic/" + planner + "-250ms" + (guided ? "-guided" : "") +
+                                      "/clutter-60m-0.1m"));
+    if (!quick) Quality("clutter-60m-0.1m", map, car, {problems.begin(), problems.begin() + 5}, 1);
   }
   // Scenario maps: from 25 random free poses to each marked bay (the car centred in
   // the bay, nose along it), with the scenario's own car.
-  for (int i = 1; i < argc; ++i) {
-    const specht::sim::Scenario s = specht::sim::LoadScenario(argv[i]);
+  for (const std::string& path : scenarios) {
+    const specht::sim::Scenario s = specht::sim::LoadScenario(path);
     if (s.bays.empty()) continue;
     auto map = std::make_shared<DistanceMap>(DistanceMap::FromGrid(specht::sim::World(s).TrueGrid(0.1)));
-    CarOptions car;
-    car.wheelbase_m = s.ego.model.wheelbase_m, car.max_steer_deg = s.ego.model.max_steer_rad * 180 / M_PI;
-    car.length_m = s.ego.model.length_m, car.width_m = s.ego.model.width_m;
+    const CarOptions car = specht::decide::ScenarioCar(s, CarOptions{});
     const cv::Mat labels = Components(*map, car);
     std::vector<std::pair<Pose, Pose>> problems;
     std::uniform_real_distribution<double> x(map->origin_x(), map->origin_x() + map->cols() * 0.1),
         y(map->origin_y(), map->origin_y() + map->rows() * 0.1), heading(-M_PI, M_PI);
     for (const auto& bay : s.bays) {
-      const double back = car.length_m / 2 - car.rear_overhang_m;
-      const Pose goal{bay.pose.x - back * std::cos(bay.pose.yaw_rad), bay.pose.y - back * std::sin(bay.pose.yaw_rad),
-                      std::remainder(bay.pose.yaw_rad, 2 * M_PI)};
+      const Pose goal = specht::decide::BayPose(bay, car);
       if (!map->Free(car, goal)) continue;
       for (int k = 0; k < 25;) {
         const Pose a{x(rng), y(rng), heading(rng)};

@@ -17,6 +17,8 @@
 #include "commands.h"
 #include "run_setup.h"
 #include "specht/core/error.h"
+#include "specht/decide/closed_loop.h"
+#include "specht/decide/mission.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
@@ -76,15 +78,10 @@ int RunPlan(const PlanArgs& a) {
       map = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(*scenario).TrueGrid(0.1)));
     }
   }
-  if (scenario) {  // plan for the scenario's own car
-    const sim::VehicleModel& v = scenario->ego.model;
-    car.wheelbase_m = v.wheelbase_m, car.max_steer_deg = v.max_steer_rad * 180 / M_PI;
-    car.length_m = v.length_m, car.width_m = v.width_m;
-    car.max_speed_mps = v.max_speed_mps, car.max_accel_mps2 = v.max_accel_mps2;
-  }
+  if (scenario) car = decide::ScenarioCar(*scenario, car);  // plan for the scenario's own car
   plan::Pose start;
   if (!a.start.empty()) start = ParsePose(a.start, "start");
-  else if (scenario) start = {scenario->ego.start.x, scenario->ego.start.y, scenario->ego.start.yaw_rad};
+  else if (scenario) start = decide::EgoRearAxle(*scenario, scenario->ego.start);
   else throw InputError("--start is needed with a map (only a scenario has a default start)");
   plan::Pose goal;
   if (a.goal.rfind("bay:", 0) == 0) {
@@ -92,9 +89,7 @@ int RunPlan(const PlanArgs& a) {
     const std::string name = a.goal.substr(4);
     const auto bay = std::find_if(scenario->bays.begin(), scenario->bays.end(), [&](auto& b) { return b.name == name; });
     if (bay == scenario->bays.end()) throw InputError("--goal: the scenario has no bay \"" + name + "\"");
-    const double back = car.length_m / 2 - car.rear_overhang_m;  // footprint centre ahead of the rear axle
-    goal = {bay->pose.x - back * std::cos(bay->pose.yaw_rad), bay->pose.y - back * std::sin(bay->pose.yaw_rad),
-            bay->pose.yaw_rad};
+    goal = decide::BayPose(*bay, car);
   } else {
     goal = ParsePose(a.goal, "goal");
   }

@@ -25,14 +25,14 @@ TEST(PlanCliTest, ParksInAScenarioBay) {
   EXPECT_LE(report["metrics"]["max_curvature_per_m"].get<double>(),
             1.05 * report["metrics"]["curvature_limit_per_m"].get<double>());
   // The last row of path.csv is the goal: the footprint centred in the bay (13.5,
-  // 3.75, heading 90°): the rear axle 0.85 m behind the centre for the scenario's
-  // 2.6 m car with a 0.45 m overhang.
+  // 3.75, heading 90°): the scenario's car turns about its box centre (no
+  // ego.rear_overhang_m), so its reference point is the bay centre itself.
   const std::string csv = testing::ReadFile(out + "/path.csv");
   const std::string last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
   double x = 0, y = 0, theta = 0;
   ASSERT_EQ(std::sscanf(last.c_str(), "%lf,%lf,%lf", &x, &y, &theta), 3) << last;
   EXPECT_NEAR(x, 13.5, 0.01);
-  EXPECT_NEAR(y, 3.75 - 0.85, 0.01);
+  EXPECT_NEAR(y, 3.75, 0.01);
   EXPECT_NEAR(theta, M_PI / 2, 0.01);
 }
 

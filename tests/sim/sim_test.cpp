@@ -175,6 +175,34 @@ std::string ErrorOf(const std::string& yaml) {
   return "";
 }
 
+// A commanded ego at constant speed and steering drives a circle: its rear axle
+// (rear_overhang_m from the rear bumper) on radius R = L / tan δ, its box centre
+// (the reported pose, a = length/2 − rear_overhang ahead) on √(R² + a²).
+TEST(SimulatorTest, CommandedEgoTurnsAboutItsRearAxle) {
+  Scenario s = LoadScenario(ScenarioPath("course-loop"));
+  ASSERT_NEAR(s.ego.model.rear_overhang_m, 0.5, 1e-12);
+  s.agents.clear();
+  Simulator sim(s, 1);
+  const double steer = 0.3, radius = s.ego.model.wheelbase_m / std::tan(steer), ahead = s.ego.model.PivotAhead();
+  sim.CommandEgo({1.0, steer, 10.0});
+  const auto ignore = [](Stamp, const mrpt::obs::CObservation::Ptr&) {};
+  for (int i = 0; i < 200; ++i) sim.Step(ignore);  // reach the speed and steering
+  std::vector<std::pair<double, double>> rear, centre;
+  for (int i = 0; i < 400; ++i) {
+    sim.Step(ignore);
+    const Pose2& p = sim.ego().pose;
+    centre.push_back({p.x, p.y});
+    rear.push_back({p.x - ahead * std::cos(p.yaw_rad), p.y - ahead * std::sin(p.yaw_rad)});
+  }
+  // The circle's centre: left of the rear axle by R.
+  const Pose2& p = sim.ego().pose;
+  const double cx = rear.back().first - radius * std::sin(p.yaw_rad), cy = rear.back().second + radius * std::cos(p.yaw_rad);
+  for (size_t i = 0; i < rear.size(); i += 20) {
+    EXPECT_NEAR(std::hypot(rear[i].first - cx, rear[i].second - cy), radius, 0.02) << i;
+    EXPECT_NEAR(std::hypot(centre[i].first - cx, centre[i].second - cy), std::hypot(radius, ahead), 0.02) << i;
+  }
+}
+
 TEST(ScenarioTest, BadFilesNameFileLineKeyAndReason) {
   EXPECT_EQ(ErrorOf("name: x\nduraton_s: 10\n"), "bad.yaml:2: duraton_s: unknown key (did you mean 'duration_s'?)");
   EXPECT_EQ(ErrorOf("world:\n  objects:\n    - {type: wall, polygon: [[0, 0], [4, 4], [4, 0], [0, 4]]}\n"),

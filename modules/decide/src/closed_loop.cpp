@@ -218,10 +218,15 @@ class Machine {
 
 }  // namespace
 
+plan::Pose EgoRearAxle(const sim::Scenario& s, const sim::Pose2& centre) {
+  const double back = s.ego.model.PivotAhead();
+  return {centre.x - back * std::cos(centre.yaw_rad), centre.y - back * std::sin(centre.yaw_rad), centre.yaw_rad};
+}
+
 plan::CarOptions ScenarioCar(const sim::Scenario& s, plan::CarOptions car) {
   const sim::VehicleModel& v = s.ego.model;
   car.wheelbase_m = v.wheelbase_m, car.max_steer_deg = v.max_steer_rad * 180 / M_PI;
-  car.length_m = v.length_m, car.width_m = v.width_m, car.rear_overhang_m = v.length_m / 2;
+  car.length_m = v.length_m, car.width_m = v.width_m, car.rear_overhang_m = v.rear_overhang_m;
   car.max_speed_mps = std::min(car.max_speed_mps, v.max_speed_mps);
   car.max_accel_mps2 = v.max_accel_mps2;
   return car;
@@ -245,7 +250,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
       break;
     }
     const auto& ego = sim.ego();
-    const plan::Pose pose{ego.pose.x, ego.pose.y, ego.pose.yaw_rad};
+    const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     const auto agents = sim.agents();
     const plan::Command cmd = machine.Step(t, pose, ego.speed_mps, agents);
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
@@ -254,7 +259,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     for (int k = 0; k < substeps; ++k) {
       sim.Step(ignore);
       const auto& e = sim.ego();
-      const Box car = CarBox(config.car, {e.pose.x, e.pose.y, e.pose.yaw_rad});
+      const Box car = CarBox(config.car, EgoRearAxle(scenario, e.pose));
       const bool moving = std::abs(e.speed_mps) > 0.05;
       const double clearance = OutlineClearance(machine.static_map(), car);
       r.min_clearance_m = std::min(r.min_clearance_m, clearance);

@@ -10,6 +10,17 @@ constexpr double kDeg = M_PI / 180.0;
 
 double Wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
+// One step of motion with the speed and yaw rate set: the rear axle, `pivot_ahead`
+// behind the pose point, moves along the heading and the body turns about it (a
+// car's kinematics); with pivot_ahead 0 the pose point itself does.
+void Advance(MoverState& s, double dt, double pivot_ahead) {
+  const double rear_x = s.pose.x - pivot_ahead * std::cos(s.pose.yaw_rad) + s.speed_mps * std::cos(s.pose.yaw_rad) * dt;
+  const double rear_y = s.pose.y - pivot_ahead * std::sin(s.pose.yaw_rad) + s.speed_mps * std::sin(s.pose.yaw_rad) * dt;
+  s.pose.yaw_rad = Wrap(s.pose.yaw_rad + s.yaw_rate * dt);
+  s.pose.x = rear_x + pivot_ahead * std::cos(s.pose.yaw_rad);
+  s.pose.y = rear_y + pivot_ahead * std::sin(s.pose.yaw_rad);
+}
+
 double Clip(double v, double lo, double hi) { return std::min(hi, std::max(lo, v)); }
 
 }  // namespace
@@ -47,6 +58,7 @@ MotionParams EgoMotion(const Ego& ego) {
   p.cruise_mps = ego.cruise_speed_mps;
   p.accel_mps2 = ego.model.max_accel_mps2, p.decel_mps2 = 2 * ego.model.max_accel_mps2;
   p.bicycle = true, p.wheelbase_m = ego.model.wheelbase_m, p.max_steer_rad = ego.model.max_steer_rad;
+  p.pivot_ahead_m = ego.model.PivotAhead();
   p.stop_s = 2.0, p.reach_m = 1.5;
   p.length_m = ego.model.length_m, p.width_m = ego.model.width_m;
   return p;
@@ -156,9 +168,7 @@ void RouteFollower::Step(double dt, std::mt19937_64& rng) {
   s.accel_mps2 = dv / dt;
   s.speed_mps += dv;
   if (p.bicycle) s.yaw_rate = std::abs(s.speed_mps) < 1e-6 ? 0.0 : s.yaw_rate;
-  s.pose.x += s.speed_mps * std::cos(s.pose.yaw_rad) * dt;
-  s.pose.y += s.speed_mps * std::sin(s.pose.yaw_rad) * dt;
-  s.pose.yaw_rad = Wrap(s.pose.yaw_rad + s.yaw_rate * dt);
+  Advance(s, dt, p.bicycle ? p.pivot_ahead_m : 0.0);
 }
 
 void RouteFollower::StepCommanded(double dt, double speed_mps, double steer_rad, double steer_rate_rad_s) {
@@ -174,9 +184,7 @@ void RouteFollower::StepCommanded(double dt, double speed_mps, double steer_rad,
   s.accel_mps2 = dv / dt;
   s.speed_mps += dv;
   s.yaw_rate = s.speed_mps * std::tan(s.steer_rad) / p.wheelbase_m;
-  s.pose.x += s.speed_mps * std::cos(s.pose.yaw_rad) * dt;
-  s.pose.y += s.speed_mps * std::sin(s.pose.yaw_rad) * dt;
-  s.pose.yaw_rad = Wrap(s.pose.yaw_rad + s.yaw_rate * dt);
+  Advance(s, dt, p.bicycle ? p.pivot_ahead_m : 0.0);
 }
 
 }  // namespace specht::sim

@@ -298,7 +298,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
   // ego
   if (const YAML::Node e = root["ego"];
       e && r.Map(e, "ego", {"wheelbase_m", "max_steer_deg", "max_speed_mps", "max_accel_mps2", "length_m", "width_m",
-                            "start", "route", "cruise_speed_mps", "loop"})) {
+                            "rear_overhang_m", "start", "route", "cruise_speed_mps", "loop"})) {
     VehicleModel& m = s.ego.model;
     m.wheelbase_m = r.Number(e, "ego", "wheelbase_m", m.wheelbase_m, 0.2, 10);
     m.max_steer_rad = r.Number(e, "ego", "max_steer_deg", 30, 1, 80) * kDeg;
@@ -306,6 +306,9 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
     m.max_accel_mps2 = r.Number(e, "ego", "max_accel_mps2", m.max_accel_mps2, 0.1, 20);
     m.length_m = r.Number(e, "ego", "length_m", m.length_m, 0.3, 20);
     m.width_m = r.Number(e, "ego", "width_m", m.width_m, 0.2, 5);
+    m.rear_overhang_m = r.Number(e, "ego", "rear_overhang_m", m.length_m / 2, 0, 10);
+    if (m.rear_overhang_m >= m.length_m)
+      r.Error(e["rear_overhang_m"], "ego.rear_overhang_m", "must be shorter than length_m");
     s.ego.start = r.Pose(e, "ego", "start", {});
     s.ego.route = Route(r, e["route"], "ego.route");
     s.ego.cruise_speed_mps = r.Number(e, "ego", "cruise_speed_mps", 3, 0, 60);

@@ -20,8 +20,9 @@
 // velocity, as a safety layer below the planner would.
 //
 // Localisation and the static map are ground truth here (the scenario's grid at
-// 0.1 m); agents are seen as they are. The car is the scenario's ego (its box is
-// centred on its kinematic reference point, so rear_overhang = length / 2).
+// 0.1 m); agents are seen as they are. The car is the scenario's ego; the
+// simulator reports its box centre, the planner and tracker work on its rear axle
+// (the point it turns about, ego.rear_overhang_m from the rear bumper).
 #pragma once
 
 #include <functional>
@@ -106,8 +107,10 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
                                const ClosedLoopConfig& config,
                                const std::function<void(double, const std::string&, const plan::Pose&)>& on_step = nullptr);
 
-// The car the closed loop drives: the scenario's ego dimensions and limits over
-// `base` (steering rate, reverse speed, margins).
+// The car the closed loop drives: the scenario's ego dimensions, rear overhang and
+// limits over `base` (steering rate, reverse speed, margins).
 plan::CarOptions ScenarioCar(const sim::Scenario& scenario, plan::CarOptions base);
+// The ego's rear axle (the planner's pose) from its box centre (the simulator's).
+plan::Pose EgoRearAxle(const sim::Scenario& scenario, const sim::Pose2& centre);
 
 }  // namespace specht::decide

@@ -32,6 +32,7 @@ struct MotionParams {
   double max_turn_rate = 2.0;  // rad/s, for non-bicycle movers
   bool bicycle = false;
   double wheelbase_m = 2.7, max_steer_rad = 0.6;
+  double pivot_ahead_m = 0.0;  // bicycle movers: the pose point's distance ahead of the rear axle
   double heading_noise = 0.0;  // rad/s std. dev. of a random turn-rate disturbance
   double pause_probability = 0.0, pause_min_s = 0.5, pause_max_s = 3.0;
   double stop_s = 0.0;         // wait at 'stop' waypoints

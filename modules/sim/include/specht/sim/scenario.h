@@ -54,6 +54,13 @@ struct VehicleModel {
   double max_speed_mps = 5.0;
   double max_accel_mps2 = 1.5;
   double length_m = 2.5, width_m = 1.3;
+  // Rear bumper behind the point the car turns about (its rear axle); the pose is
+  // the box centre, length/2 − rear_overhang ahead of it. Default length/2: the
+  // car turns about its box centre (the scenarios before this key were tuned so);
+  // a real car's is (length − wheelbase)/2 or so, which lets it tuck into a
+  // parallel slot.
+  double rear_overhang_m = 1.25;
+  double PivotAhead() const { return length_m / 2 - rear_overhang_m; }
 };
 
 struct Waypoint {
