@@ -15,7 +15,8 @@
 //              first solution (budget 10 s), SST within 250 ms, hybrid A* +
 //              smoothing for reference;
 //   quality    the length of hybrid A* + smoothing against the best path SST finds
-//              in 10 s (3 seeds on the slalom, 5 clutter problems): the ratio;
+//              in 10 s: 3 seeds on the slalom; 5 clutter problems, SST guided by
+//              hybrid A*'s path (unguided it rarely solves them): the ratio;
 //   clutter    SST and RRT with the default 250 ms budget, guided by hybrid A*'s
 //              path and unguided, on the clutter field's problems.
 // --quick skips the 10 s quality runs.
@@ -189,15 +190,17 @@ double HybridLength(const std::shared_ptr<specht::plan::DistanceMap>& map, const
 // Hybrid A* + smoothing's length over the best SST finds in 10 s, per problem.
 void Quality(const std::string& name, const std::shared_ptr<specht::plan::DistanceMap>& map,
              const specht::plan::CarOptions& car,
-             const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems, int seeds) {
+             const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems, int seeds, bool guided) {
   using namespace specht::plan;
   KinodynamicPlanner sst(KinoOptions("sst", 10000, false), car, map);
+  HybridAStar search(HybridAStarOptions{}, car, map);
   std::vector<double> ratios;
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& [start, goal] : problems) {
     double best = INFINITY;
+    const PlanResult guide = guided ? search.Plan(start, goal) : PlanResult{};
     for (int seed = 0; seed < seeds; ++seed) {
-      const KinodynamicResult r = sst.Plan(start, goal);
+      const KinodynamicResult r = sst.Plan(start, goal, {}, guide.found ? &guide.path : nullptr);
       if (r.found) best = std::min(best, r.path.Length());
     }
     const double hybrid = HybridLength(map, car, start, goal);
@@ -205,7 +208,7 @@ void Quality(const std::string& name, const std::shared_ptr<specht::plan::Distan
     if (std::isfinite(best) && std::isfinite(hybrid)) ratios.push_back(hybrid / best);
   }
   std::sort(ratios.begin(), ratios.end());
-  specht::bench::Emit({{"name", "plan/quality/" + name},
+  specht::bench::Emit({{"name", "plan/quality/" + name + (guided ? "/sst-guided" : "/sst")},
                        {"problems", rows},
                        {"length_ratio_max", ratios.empty() ? -1.0 : ratios.back()},
                        {"length_ratio_median", ratios.empty() ? -1.0 : ratios[ratios.size() / 2]},
@@ -234,7 +237,7 @@ void Slalom(bool quick) {
     if (std::isfinite(length)) ++astar.solved, astar.ms.push_back(Ms(t0)), astar.length.push_back(length);
   }
   specht::bench::Emit(astar.Json("plan/hybrid_astar+smoothing/slalom-30x10m"));
-  if (!quick) Quality("slalom-30x10m", map, car, problem, 3);
+  if (!quick) Quality("slalom-30x10m", map, car, problem, 3, false);
 }
 
 }  // namespace
@@ -269,7 +272,7 @@ int main(int argc, char** argv) {
         specht::bench::Emit(Kinodynamic(map, car, problems, KinoOptions(planner, 250, false), guided)
                                 .Json("plan/kinodynamic/" + planner + "-250ms" + (guided ? "-guided" : "") +
                                       "/clutter-60m-0.1m"));
-    if (!quick) Quality("clutter-60m-0.1m", map, car, {problems.begin(), problems.begin() + 5}, 1);
+    if (!quick) Quality("clutter-60m-0.1m", map, car, {problems.begin(), problems.begin() + 5}, 1, true);
   }
   // Scenario maps: from 25 random free poses to each marked bay (the car centred in
   // the bay, nose along it), with the scenario's own car.

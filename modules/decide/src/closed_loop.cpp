@@ -69,37 +69,48 @@ class Machine {
     search_ = std::make_unique<plan::HybridAStar>(c.search, c.car, static_map_);
   }
 
-  const std::string& state() const { return state_; }
+  MissionState state() const { return machine_.state(); }
+  bool Final() const { return machine_.Final(); }
+  const std::vector<Transition>& transitions() const { return machine_.transitions(); }
   const plan::DistanceMap& static_map() const { return *static_map_; }
 
   plan::Command Step(double t, const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) {
-    if (state_ == "plan") return Plan(t, pose, agents, false);
-    if (state_ == "drive") {
-      if (tracker_->finished()) return GoalReached(t, pose);
-      if (Blocked(pose, speed, agents)) {
-        Go(t, "wait", "an agent in the way");
-        blocked_since_ = t, clear_since_ = -1;
-        return {};
-      }
-      return tracker_->Update(pose, speed);
-    }
-    if (state_ == "wait") {
-      if (!Blocked(pose, speed, agents)) {
-        if (clear_since_ < 0) clear_since_ = t;
-        if (t - clear_since_ >= c_.loop.clear_s) Go(t, "drive", "the way is clear");
-      } else {
-        clear_since_ = -1;
-        if (t - blocked_since_ > c_.loop.replan_after_s) return Plan(t, pose, agents, true);
-      }
+    if (machine_.Final()) return {};
+    // The emergency check first: it overrides whatever the machine is doing.
+    if (const std::string what = Imminent(pose, speed, agents); !what.empty()) {
+      Handle(MissionEvent::kCollisionImminent, t, what);
+      estop_clear_since_ = -1;
       return {};
     }
-    return {};  // done, failed
+    switch (machine_.state()) {
+      case MissionState::kPlan: return Plan(t, pose, agents, false);
+      case MissionState::kDrive:
+        if (tracker_->finished()) return GoalReached(t, pose);
+        if (Blocked(pose, speed, agents)) {
+          Handle(MissionEvent::kAgentInWay, t, "an agent in the way");
+          blocked_since_ = t, clear_since_ = -1;
+          return {};
+        }
+        return tracker_->Update(pose, speed);
+      case MissionState::kWait:
+        if (!Blocked(pose, speed, agents)) {
+          if (clear_since_ < 0) clear_since_ = t;
+          if (t - clear_since_ >= c_.loop.clear_s) Handle(MissionEvent::kWayClear, t, "the way is clear");
+        } else {
+          clear_since_ = -1;
+          if (t - blocked_since_ > c_.loop.replan_after_s) return Plan(t, pose, agents, true);
+        }
+        return {};
+      case MissionState::kEmergencyStop:
+        if (estop_clear_since_ < 0) estop_clear_since_ = t;
+        if (t - estop_clear_since_ >= c_.loop.clear_s)
+          Handle(MissionEvent::kCollisionCleared, t, "nothing within the stopping distance");
+        return {};
+      default: return {};  // done, failed
+    }
   }
 
-  void Go(double t, const std::string& to, const std::string& reason) {
-    r_.transitions.push_back({t, state_, to, reason});
-    state_ = to;
-  }
+  void Handle(MissionEvent event, double t, const std::string& reason) { machine_.Handle(event, t, reason); }
 
  private:
   plan::Command Plan(double t, const plan::Pose& pose, const std::vector<sim::AgentTruth>& agents, bool around_agents) {
@@ -135,14 +146,14 @@ class Machine {
         return {};
       }
       r_.failure = "no path to " + goal.name + ": " + found.failure;
-      Go(t, "failed", r_.failure);
+      Handle(MissionEvent::kNoPath, t, r_.failure);
       return {};
     }
     const plan::SmoothResult smooth = plan::SmoothPath(found.path, *map, c_.car, c_.smoother);
     r_.plan_ms.back() += smooth.milliseconds;
     r_.paths.push_back(smooth.path);
     tracker_.emplace(c_.tracker, c_.car, smooth.path);
-    Go(t, "drive", "path to " + goal.name + (around_agents ? " around the agents" : ""));
+    Handle(MissionEvent::kPathFound, t, "path to " + goal.name + (around_agents ? " around the agents" : ""));
     return {};
   }
 
@@ -158,21 +169,36 @@ class Machine {
     if (!ok) {
       if (corrections_ < c_.loop.max_corrections) {  // a short manoeuvre from where the car stands
         ++corrections_;
-        Go(t, "plan", std::string("correcting: ") + note);
+        Handle(MissionEvent::kGoalMissed, t, std::string("correcting: ") + note);
         return {};
       }
       r_.failure = std::string("missed ") + note;
-      Go(t, "failed", r_.failure);
+      Handle(MissionEvent::kGoalMissedFinal, t, r_.failure);
       return {};
     }
     corrections_ = 0;
     if (++goal_ < mission_.size()) {
-      Go(t, "plan", std::string("reached ") + note);
+      Handle(MissionEvent::kGoalReached, t, std::string("reached ") + note);
       return {};
     }
     r_.success = true;
-    Go(t, "done", std::string("reached ") + note);
+    Handle(MissionEvent::kMissionComplete, t, std::string("reached ") + note);
     return {};
+  }
+
+  // The emergency check, independent of the path, the planner and the margins:
+  // the car's box stretched in its direction of travel by the braking distance
+  // v²/(2 a) + emergency_buffer_m, against the agents' true boxes now. Returns
+  // what it would hit ("" when nothing). A stopped car needs no check.
+  std::string Imminent(const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) const {
+    if (std::abs(speed) < c_.tracker.stop_speed_mps) return "";
+    const double reach = speed * speed / (2 * c_.car.max_accel_mps2) + c_.loop.emergency_buffer_m;
+    Box box = CarBox(c_.car, pose);
+    const double shift = (speed > 0 ? 1 : -1) * reach / 2;
+    box.x += shift * std::cos(pose.theta), box.y += shift * std::sin(pose.theta), box.hl += reach / 2;
+    for (const auto& a : agents)
+      if (BoxToBox(box, AgentBox(a)) <= 0) return std::string("emergency stop: ") + sim::Name(a.cls) + " " + std::to_string(a.id) + " within the stopping distance";
+    return "";
   }
 
   // The independent check: the car's box at the path poses within the stopping
@@ -210,10 +236,10 @@ class Machine {
   std::shared_ptr<plan::DistanceMap> static_map_;
   std::unique_ptr<plan::HybridAStar> search_;
   std::optional<plan::PathTracker> tracker_;
-  std::string state_ = "plan";
+  MissionStateMachine machine_;
   size_t goal_ = 0;
   int corrections_ = 0;
-  double blocked_since_ = 0, clear_since_ = -1;
+  double blocked_since_ = 0, clear_since_ = -1, estop_clear_since_ = -1;
 };
 
 }  // namespace
@@ -242,11 +268,11 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (config.loop.control_hz * sim::Simulator::kStepS))));
   const auto ignore = [](Stamp, const mrpt::obs::CObservation::Ptr&) {};
   bool touching = false;
-  while (machine.state() != "done" && machine.state() != "failed") {
+  while (!machine.Final()) {
     const double t = sim.time_s();
     if (t > config.loop.time_limit_s) {
       r.failure = "time limit of " + std::to_string(config.loop.time_limit_s) + " s";
-      machine.Go(t, "failed", r.failure);
+      machine.Handle(MissionEvent::kTimeLimit, t, r.failure);
       break;
     }
     const auto& ego = sim.ego();
@@ -255,7 +281,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     const plan::Command cmd = machine.Step(t, pose, ego.speed_mps, agents);
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     r.trajectory.push_back(pose);
-    if (on_step) on_step(t, machine.state(), pose);
+    if (on_step) on_step(t, Name(machine.state()), pose);
     for (int k = 0; k < substeps; ++k) {
       sim.Step(ignore);
       const auto& e = sim.ego();
@@ -280,6 +306,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     }
   }
   r.time_s = sim.time_s();
+  r.transitions = machine.transitions();
   return r;
 }
 

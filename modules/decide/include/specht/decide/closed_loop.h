@@ -1,23 +1,28 @@
 // specht/decide/closed_loop.h: the mission state machine driving the simulated car.
 //
-// States and transitions (each logged with its time and reason):
-//   plan     → drive     a path to the current goal was found (hybrid A* + smoothing)
-//   plan     → failed    no path (the reason is the planner's)
-//   drive    → wait      the independent check sees an agent in the swept footprint
-//                        ahead (pedestrians with pedestrian_margin_m, others with
-//                        agent_margin_m): stop
-//   wait     → drive     clear for clear_s
-//   wait     → plan      blocked longer than replan_after_s: plan again with the
-//                        blocking agents as obstacles
-//   drive    → plan      the goal is reached and another follows, or the path ended
-//                        outside the goal's tolerance (up to max_corrections times:
-//                        a short manoeuvre from where the car stands)
-//   drive    → done      the last goal is reached
-//   any      → failed    the time limit passed
-// The independent check does not use the planner's data: it tests the car's
-// rectangle at the path poses within the stopping distance (+ 1.5 m) against the
-// agents' true boxes, now and every 0.5 s up to prediction_s ahead at constant
-// velocity, as a safety layer below the planner would.
+// The states and their transition table are in mission_state.h; here is when each
+// event fires (every transition is logged with its time and reason):
+//   path_found          hybrid A* + smoothing found a path to the current goal (in
+//                       wait: a path around the blocking agents, tried once they
+//                       block longer than replan_after_s, with them as obstacles
+//                       inflated by their margins; no such path: keep waiting)
+//   no_path             no path to the goal (the planner's reason)
+//   agent_in_way        the path check sees an agent in the swept footprint ahead
+//                       (pedestrians with pedestrian_margin_m, others agent_margin_m)
+//   way_clear           that check has been clear for clear_s
+//   goal_reached / mission_complete / goal_missed / goal_missed_final
+//                       the path is driven; the car is within the goal's tolerance
+//                       (another goal follows, or none), or not (a correction from
+//                       where it stands, up to max_corrections times, then failure)
+//   collision_imminent  the emergency check, whatever the state
+//   collision_cleared   the emergency check has been clear for clear_s
+//   time_limit          time_limit_s passed
+// The path check does not use the planner's data: it tests the car's rectangle at
+// the path poses within the stopping distance (+ 1.5 m) against the agents' true
+// boxes, now and every 0.5 s up to prediction_s ahead at constant velocity, as a
+// safety layer below the planner would. The emergency check uses neither path nor
+// margins: the car's box stretched along its motion by the braking distance +
+// emergency_buffer_m against the agents' boxes now.
 //
 // Localisation and the static map are ground truth here (the scenario's grid at
 // 0.1 m); agents are seen as they are. The car is the scenario's ego; the
@@ -32,6 +37,7 @@
 #include <nlohmann/json.hpp>
 
 #include "specht/decide/mission.h"
+#include "specht/decide/mission_state.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/smoother.h"
 #include "specht/plan/tracker.h"
@@ -51,6 +57,7 @@ struct ClosedLoopOptions {
   double park_tolerance_deg = 5.0;
   double waypoint_tolerance_m = 0.5;
   int max_corrections = 3;
+  double emergency_buffer_m = 0.3;
 
   template <class V>
   void Visit(V& v) {
@@ -70,12 +77,9 @@ struct ClosedLoopOptions {
             Range::Of(0.01, 10.0));
     v.Param("max_corrections", max_corrections, "replans from where the car stopped when it missed a goal",
             Range::Of(0, 100));
+    v.Param("emergency_buffer_m", emergency_buffer_m,
+            "emergency stop when an agent is within the braking distance plus this", Range::Of(0.0, 10.0));
   }
-};
-
-struct Transition {
-  double t_s = 0;
-  std::string from, to, reason;
 };
 
 struct ClosedLoopResult {
