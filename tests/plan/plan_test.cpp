@@ -170,5 +170,19 @@ TEST(PathTrackerTest, FollowsAParkingManoeuvreToTheGoal) {
   EXPECT_GT(worst, 0.0);  // never touched an obstacle (disc cover, conservative)
 }
 
+TEST(PathTrackerTest, HeadingNoiseOnAStraightDoesNotHoldTheSpeedDown) {
+  // A 40 m straight at 0.1 m spacing whose headings jitter by ±2 mrad (what a
+  // smoother leaves): mid-path the car may drive at full speed; differentiated
+  // point to point the jitter reads as a curvature rate that would cap it at a
+  // crawl.
+  Path path;
+  for (int i = 0; i <= 400; ++i) path.points.push_back({{0.1 * i, 0.0, (i % 2 ? 0.002 : -0.002)}, 1});
+  const CarOptions car;
+  PathTracker tracker(TrackerOptions{}, car, path);
+  const Command c = tracker.Update({10.0, 0.0, 0.0}, car.max_speed_mps);
+  EXPECT_NEAR(c.speed_mps, car.max_speed_mps, 1e-9);
+  EXPECT_NEAR(c.steer_rad, 0.0, 0.01);
+}
+
 }  // namespace
 }  // namespace specht::plan

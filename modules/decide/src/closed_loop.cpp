@@ -86,14 +86,14 @@ class Machine {
       case MissionState::kPlan: return Plan(t, pose, agents, false);
       case MissionState::kDrive:
         if (tracker_->finished()) return GoalReached(t, pose);
-        if (Blocked(pose, speed, agents)) {
-          Handle(MissionEvent::kAgentInWay, t, "an agent in the way");
+        if (const std::string who = Blocking(pose, speed, agents); !who.empty()) {
+          Handle(MissionEvent::kAgentInWay, t, who + " in the way");
           blocked_since_ = t, clear_since_ = -1;
           return {};
         }
-        return tracker_->Update(pose, speed);
+        return Limited(tracker_->Update(pose, speed), pose, speed, agents);
       case MissionState::kWait:
-        if (!Blocked(pose, speed, agents)) {
+        if (Blocking(pose, speed, agents).empty()) {
           if (clear_since_ < 0) clear_since_ = t;
           if (t - clear_since_ >= c_.loop.clear_s) Handle(MissionEvent::kWayClear, t, "the way is clear");
         } else {
@@ -152,7 +152,11 @@ class Machine {
     const plan::SmoothResult smooth = plan::SmoothPath(found.path, *map, c_.car, c_.smoother);
     r_.plan_ms.back() += smooth.milliseconds;
     r_.paths.push_back(smooth.path);
-    tracker_.emplace(c_.tracker, c_.car, smooth.path);
+    // The slow final approach is for parking precision; a waypoint is passed within
+    // waypoint_tolerance_m and needs none.
+    plan::TrackerOptions tracking = c_.tracker;
+    if (!goal.park) tracking.approach_distance_m = 0;
+    tracker_.emplace(tracking, c_.car, smooth.path);
     Handle(MissionEvent::kPathFound, t, "path to " + goal.name + (around_agents ? " around the agents" : ""));
     return {};
   }
@@ -186,6 +190,58 @@ class Machine {
     return {};
   }
 
+  // Class-dependent speed below the tracker's: near a pedestrian (now or where it
+  // walks within prediction_s, closer than pedestrian_slow_radius_m to the path
+  // ahead) at most pedestrian_slow_speed_mps — they turn without warning, and a
+  // slow car stops within the margin; behind a cyclist or car going our way
+  // (heading within 45° of ours) follow it: v = v_lead + follow_gain · (gap −
+  // wanted), wanted = stopping distance + 1.5 m + the car's front + the lead's half
+  // length + its margin + follow_gap_m, so the path check (which stops the car at
+  // a gap a little short of that) rarely has to.
+  plan::Command Limited(plan::Command cmd, const plan::Pose& pose, double speed,
+                        const std::vector<sim::AgentTruth>& agents) {
+    const auto& points = tracker_->path().points;
+    const int direction = cmd.speed_mps < 0 ? -1 : 1;
+    std::vector<std::pair<plan::Pose, double>> ahead = {{pose, 0.0}};  // path poses and their distance along
+    double along = 0;
+    for (size_t i = tracker_->progress_index() + 1; i < points.size() && along < c_.loop.look_ahead_m; ++i) {
+      along += std::hypot(points[i].pose.x - points[i - 1].pose.x, points[i].pose.y - points[i - 1].pose.y);
+      if (points[i].direction != direction) break;
+      if (along - ahead.back().second >= 0.5) ahead.push_back({points[i].pose, along});
+    }
+    const double heading = direction > 0 ? pose.theta : pose.theta + M_PI;
+    const double front = c_.car.length_m - c_.car.rear_overhang_m;
+    double limit = INFINITY;
+    std::string why;
+    for (const auto& a : agents) {
+      const double vx = a.speed_mps * std::cos(a.pose.yaw_rad), vy = a.speed_mps * std::sin(a.pose.yaw_rad);
+      if (a.cls == sim::AgentClass::kPedestrian) {
+        for (double dt = 0; dt <= c_.loop.prediction_s + 1e-9; dt += 0.5)
+          for (const auto& [q, s] : ahead)
+            if (std::hypot(a.pose.x + vx * dt - q.x, a.pose.y + vy * dt - q.y) < c_.loop.pedestrian_slow_radius_m &&
+                c_.loop.pedestrian_slow_speed_mps < limit)
+              limit = c_.loop.pedestrian_slow_speed_mps, why = "slow: pedestrian " + std::to_string(a.id);
+        continue;
+      }
+      const double cos_rel = std::cos(a.pose.yaw_rad - heading);
+      if (cos_rel < std::cos(M_PI / 4) || a.speed_mps * cos_rel < 0.3) continue;
+      const double reach = c_.car.width_m / 2 + a.width_m / 2 + c_.loop.agent_margin_m;
+      for (const auto& [q, s] : ahead) {
+        if (std::hypot(a.pose.x - q.x, a.pose.y - q.y) > reach) continue;
+        const double wanted = speed * speed / (2 * c_.car.max_accel_mps2) + 1.5 + front + a.length_m / 2 +
+                              c_.loop.agent_margin_m + c_.loop.follow_gap_m;
+        const double v = std::max(0.0, a.speed_mps * cos_rel + c_.loop.follow_gain * (s - wanted));
+        if (v < limit) limit = v, why = std::string("follow: ") + sim::Name(a.cls) + " " + std::to_string(a.id);
+        break;
+      }
+    }
+    if (!why.empty() && std::abs(cmd.speed_mps) > limit) {
+      cmd.speed_mps = direction * limit;
+      r_.limited_s[why.substr(0, why.find(':'))] += 1.0 / c_.loop.control_hz;
+    }
+    return cmd;
+  }
+
   // The emergency check, independent of the path, the planner and the margins:
   // the car's box stretched in its direction of travel by the braking distance
   // v²/(2 a) + emergency_buffer_m, against the agents' true boxes now. Returns
@@ -204,7 +260,8 @@ class Machine {
   // The independent check: the car's box at the path poses within the stopping
   // distance (+ 1.5 m), and where it stands, against the agents' true boxes now
   // and predicted at constant velocity.
-  bool Blocked(const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) const {
+  // Returns the first agent in the way ("" when none).
+  std::string Blocking(const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) const {
     const auto& points = tracker_->path().points;
     const double reach = speed * speed / (2 * c_.car.max_accel_mps2) + 1.5;
     std::vector<Box> swept = {CarBox(c_.car, pose)};
@@ -222,10 +279,10 @@ class Machine {
         b.x += a.speed_mps * std::cos(a.pose.yaw_rad) * dt, b.y += a.speed_mps * std::sin(a.pose.yaw_rad) * dt;
         if (std::hypot(b.x - pose.x, b.y - pose.y) > reach + c_.car.length_m + margin + 5) continue;
         for (const auto& box : swept)
-          if (BoxToBox(box, b) < margin) return true;
+          if (BoxToBox(box, b) < margin) return std::string(sim::Name(a.cls)) + " " + std::to_string(a.id);
       }
     }
-    return false;
+    return "";
   }
 
   const sim::Scenario& s_;
@@ -329,6 +386,7 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"park_error_m", park_error_m},
           {"park_error_deg", park_error_deg},
           {"planning_ms", {{"count", t.size()}, {"p50", q(0.5)}, {"p90", q(0.9)}, {"max", t.empty() ? 0.0 : t.back()}}},
+          {"speed_limited_s", limited_s},
           {"states_visited", visited},
           {"transitions", states}};
 }

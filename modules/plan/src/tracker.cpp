@@ -5,6 +5,8 @@
 
 namespace specht::plan {
 
+constexpr double kCurvatureWindow = 0.5;  // m
+
 PathTracker::PathTracker(const TrackerOptions& options, const CarOptions& car, Path path)
     : o_(options), car_(car), path_(std::move(path)) {
   const auto& p = path_.points;
@@ -64,14 +66,19 @@ Command PathTracker::Update(const Pose& pose, double speed) {
   // Curvature κ and its change per metre dκ/ds over the next metres: the steering
   // angle follows dκ/dt = dκ/ds · v at a limited rate (κ = tan δ / L, so
   // dδ/dt ≈ L · dκ/ds · v near straight), which bounds v through S-bends.
+  // Both over windows of kCurvatureWindow metres: a path's headings carry
+  // millimetre noise that, differentiated twice point to point, reads as steering
+  // rates no car needs and would hold the speed at a crawl.
   double kappa = 0, kappa_rate = 0, previous = NAN;
+  size_t from = index_;
   for (size_t i = index_ + 1; i <= end && along_[i] - along_[index_] < 3.0 + lookahead; ++i) {
-    const Pose &a = p[i - 1].pose, &b = p[i].pose;
-    const double ds = std::max(1e-3, std::hypot(b.x - a.x, b.y - a.y));
-    const double k = std::remainder(b.theta - a.theta, 2 * M_PI) / ds;
+    const double ds = along_[i] - along_[from];
+    if (ds < kCurvatureWindow && i < end) continue;
+    if (ds < 1e-3) break;
+    const double k = std::remainder(p[i].pose.theta - p[from].pose.theta, 2 * M_PI) / ds;
     kappa = std::max(kappa, std::abs(k));
     if (!std::isnan(previous)) kappa_rate = std::max(kappa_rate, std::abs(k - previous) / ds);
-    previous = k;
+    previous = k, from = i;
   }
   const double steer_rate = car_.max_steer_rate_deg_s * M_PI / 180;
   const double v_max = direction > 0 ? car_.max_speed_mps : car_.max_reverse_mps;

@@ -31,6 +31,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,11 @@ struct ClosedLoopOptions {
   double waypoint_tolerance_m = 0.5;
   int max_corrections = 3;
   double emergency_buffer_m = 0.3;
+  double pedestrian_slow_radius_m = 4.0;
+  double pedestrian_slow_speed_mps = 1.0;
+  double look_ahead_m = 15.0;
+  double follow_gap_m = 2.0;
+  double follow_gain = 0.5;
 
   template <class V>
   void Visit(V& v) {
@@ -79,6 +85,17 @@ struct ClosedLoopOptions {
             Range::Of(0, 100));
     v.Param("emergency_buffer_m", emergency_buffer_m,
             "emergency stop when an agent is within the braking distance plus this", Range::Of(0.0, 10.0));
+    v.Param("pedestrian_slow_radius_m", pedestrian_slow_radius_m,
+            "slow down when a pedestrian is (or walks within prediction_s) this close to the path ahead "
+            "(about the margin + the braking distance from 3 m/s)",
+            Range::Of(0.0, 50.0));
+    v.Param("pedestrian_slow_speed_mps", pedestrian_slow_speed_mps, "the speed limit near pedestrians",
+            Range::Of(0.1, 20.0));
+    v.Param("look_ahead_m", look_ahead_m, "how far along the path the speed decisions look", Range::Of(1.0, 200.0));
+    v.Param("follow_gap_m", follow_gap_m, "gap kept to a lead cyclist or car beyond what the path check needs",
+            Range::Of(0.0, 50.0));
+    v.Param("follow_gain", follow_gain, "speed change per metre of gap error when following (1/s)",
+            Range::Of(0.0, 10.0));
   }
 };
 
@@ -92,6 +109,7 @@ struct ClosedLoopResult {
   double time_s = 0;
   double park_error_m = -1, park_error_deg = -1;  // of the last parking goal
   std::vector<double> plan_ms;
+  std::map<std::string, double> limited_s;  // time driven below the tracker's speed, by decision (slow, follow)
   std::vector<Transition> transitions;
   std::vector<plan::Pose> trajectory;  // at the control rate
   std::vector<plan::Path> paths;       // every plan made
