@@ -52,6 +52,26 @@ const double* Values(const ob::State* s, int part) {
 double* Values(ob::State* s, int part) { return s->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(part)->values; }
 Pose PoseOf(const ob::State* s) { return {Se2(s).getX(), Se2(s).getY(), Se2(s).getYaw()}; }
 
+// The compound space with its distance written out: OMPL's generic compound
+// distance would also compute the log's, weighted 0, on every nearest-neighbour
+// query (more than half the planning time). Same value, same order of operations:
+//   d = 1·(|Δxy| + ½·|Δθ|) + drive_weight·|Δ(δ, v)|
+class CarStateSpace : public ob::CompoundStateSpace {
+ public:
+  static constexpr double kDriveWeight = 0.2;
+  double distance(const ob::State* a, const ob::State* b) const override {
+    const auto &pa = Se2(a), &pb = Se2(b);
+    double turn = std::abs(pa.getYaw() - pb.getYaw());
+    if (turn > M_PI) turn = 2 * M_PI - turn;
+    const double dx = pa.getX() - pb.getX(), dy = pa.getY() - pb.getY();
+    const double se2 = std::sqrt(dx * dx + dy * dy) + 0.5 * turn;
+    const double* da = Values(a, 1);
+    const double* db = Values(b, 1);
+    const double drive = std::sqrt((da[0] - db[0]) * (da[0] - db[0]) + (da[1] - db[1]) * (da[1] - db[1]));
+    return se2 + kDriveWeight * drive;
+  }
+};
+
 // The bicycle model of the header, integrated in sub-steps.
 class BicyclePropagator : public oc::StatePropagator {
  public:
@@ -240,7 +260,7 @@ struct KinodynamicPlanner::Impl {
   KinodynamicOptions o;
   CarOptions car;
   std::shared_ptr<const DistanceMap> map;
-  std::shared_ptr<ob::CompoundStateSpace> space;
+  std::shared_ptr<CarStateSpace> space;
   std::shared_ptr<oc::RealVectorControlSpace> controls;
 };
 
@@ -263,12 +283,12 @@ KinodynamicPlanner::KinodynamicPlanner(const KinodynamicOptions& options, const 
   drive->setBounds(drive_bounds);
   auto log = std::make_shared<ob::RealVectorStateSpace>(kLogSize);
   log->setBounds(-1, 1e9);
-  m.space = std::make_shared<ob::CompoundStateSpace>();
+  m.space = std::make_shared<CarStateSpace>();
   // Distances: position and heading (SE2's own weighting), steering and speed a
   // little (nearby states that could not follow each other are not near), the log
   // not at all.
   m.space->addSubspace(se2, 1.0);
-  m.space->addSubspace(drive, 0.2);
+  m.space->addSubspace(drive, CarStateSpace::kDriveWeight);
   m.space->addSubspace(log, 0.0);
   m.space->registerDefaultProjection(std::make_shared<XYProjection>(m.space.get(), 1.0));
   m.controls = std::make_shared<oc::RealVectorControlSpace>(m.space, 2);
