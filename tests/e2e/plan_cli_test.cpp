@@ -71,6 +71,14 @@ TEST(PlanCliTest, BadInputNamesTheProblem) {
   r = testing::RunSpecht("plan '" + scenario + "' --start 0.5,0.5,0 --goal bay:south-13 -q -o '" + out + "'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("collides at the start"));
+  // An empty map (a 0 × 0 image): named, before any planning.
+  const std::string dir = testing::TempDir("plan_cli_empty");
+  testing::WriteFile(dir + "/empty.pgm", "P5\n0 0\n255\n");
+  testing::WriteFile(dir + "/empty.yaml", "image: empty.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
+                                          "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  r = testing::RunSpecht("plan '" + dir + "/empty.yaml' --start 1,1,0 --goal 2,2,0 -q -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("empty.pgm"));
   r = testing::RunSpecht("plan '" + scenario + "' --goal bay:south-13 --planner prm -q -o '" + out + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.err, HasSubstr("prm"));
