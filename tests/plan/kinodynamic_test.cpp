@@ -45,6 +45,14 @@ TEST(KinodynamicTest, PassesBehindACrossingObstacle) {
   EXPECT_FALSE(frozen_planner.Plan(start, goal, {frozen}).found);
 }
 
+TEST(KinodynamicTest, StartInsideAMovingObstacleFailsWithAReason) {
+  KinodynamicPlanner planner(KinodynamicOptions{}, CarOptions{},
+                             std::make_shared<DistanceMap>(Map(30, 30), 0.0, 0.0, kRes));
+  const KinodynamicResult r = planner.Plan({5, 5, 0}, {25, 25, 0}, {{5.5, 5.0, 1.0, 0.0, 0.5}});
+  EXPECT_FALSE(r.found);
+  EXPECT_EQ(r.failure, "the start lies within a moving obstacle");
+}
+
 TEST(KinodynamicTest, UnreachableGoalEndsWithinTheBudget) {
   cv::Mat m = Map(30, 30);
   cv::rectangle(m, cv::Point(180, 100), cv::Point(280, 200), cv::Scalar(1), 2);  // a closed room

@@ -327,6 +327,13 @@ KinodynamicResult KinodynamicPlanner::Plan(const Pose& start, const Pose& goal,
   Se2(s.get()).setXY(start.x, start.y), Se2(s.get()).setYaw(std::remainder(start.theta, 2 * M_PI));
   std::fill(Values(s.get(), 1), Values(s.get(), 1) + 2, 0.0);
   std::fill(Values(s.get(), 2), Values(s.get(), 2) + kLogSize, 0.0);
+  // The static map passed CheckEndpoint; a moving obstacle may still cover the
+  // start (OMPL would only log an error and return nothing).
+  if (!si->isValid(s.get())) {
+    result.failure = "the start lies within a moving obstacle";
+    result.milliseconds = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    return result;
+  }
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   pdef->addStartState(s);
   pdef->setGoal(std::make_shared<PoseGoal>(si, Pose{goal.x, goal.y, std::remainder(goal.theta, 2 * M_PI)}, m.o));
