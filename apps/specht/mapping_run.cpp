@@ -123,7 +123,13 @@ void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyG
   keyframes.Close();
 }
 
-std::pair<std::vector<slam::Keyframe>, mrpt::maps::COccupancyGridMap2D> ReadMapArtefact(const std::string& dir) {
+struct SavedMap {
+  std::vector<slam::Keyframe> keyframes;  // poses from the graph
+  PoseGraph2D graph;
+  mrpt::maps::COccupancyGridMap2D grid;
+};
+
+SavedMap ReadMapArtefact(const std::string& dir) {
   for (const char* f : {"graph.g2o", "keyframes.rawlog", "map.gridmap"}) {
     if (!std::filesystem::is_regular_file(dir + "/" + f)) {
       throw InputError(dir + ": not a specht map (missing " + f + "; write one with `specht slam -o DIR`)");
@@ -142,7 +148,7 @@ std::pair<std::vector<slam::Keyframe>, mrpt::maps::COccupancyGridMap2D> ReadMapA
                      " keyframe scans in keyframes.rawlog but " + std::to_string(poses.size()) +
                      " nodes in graph.g2o");
   }
-  return {slam::KeyframesFromGraph(scans, poses), io::ReadMrptGridmap(dir + "/map.gridmap")};
+  return {slam::KeyframesFromGraph(scans, poses), graph.graph, io::ReadMrptGridmap(dir + "/map.gridmap")};
 }
 
 }  // namespace
@@ -157,6 +163,10 @@ void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& defa
                  "or the corrected poses of a CARMEN log");
   cmd.add_option("--map", args.map_dir,
                  "localize on the map artefact in this directory (written by `specht slam`) instead of mapping");
+  cmd.add_option("--continue", args.continue_dir,
+                 "continue the map artefact in this directory: localize the first scan on it, then map on, "
+                 "closing loops against it (writes the extended map)")
+      ->excludes("--map");
   cmd.add_option("--rate", args.rate, "pace at R x real time (same as --set replay.rate=R)");
   cmd.add_option("--from", args.from_s, "start S seconds into the data (replay.from_s)");
   cmd.add_option("--to", args.to_s, "stop S seconds into the data (replay.to_s)");
@@ -241,20 +251,22 @@ int RunMapping(MappingArgs a, const std::string& command) {
   const std::string gt_path =
       a.ground_truth.empty() ? io::DefaultReferencePath(dataset, source->Format()) : a.ground_truth;
   const Trajectory reference = gt_path.empty() ? Trajectory{} : io::ReadReference(gt_path);
-  std::vector<slam::Keyframe> saved;
-  mrpt::maps::COccupancyGridMap2D saved_grid;
-  if (!a.map_dir.empty()) std::tie(saved, saved_grid) = ReadMapArtefact(a.map_dir);
+  SavedMap saved;
+  if (!a.map_dir.empty()) saved = ReadMapArtefact(a.map_dir);
+  if (!a.continue_dir.empty()) saved = ReadMapArtefact(a.continue_dir);
   PrepareOutputDir(common, params);
 
-  spdlog::info("{}: {} -> {}{}", command, dataset, common.out_dir,
-               a.map_dir.empty() ? "" : " (localization on " + a.map_dir + ")");
+  spdlog::info("{}: {} -> {}{}{}", command, dataset, common.out_dir,
+               a.map_dir.empty() ? "" : " (localization on " + a.map_dir + ")",
+               a.continue_dir.empty() ? "" : " (continuing " + a.continue_dir + ")");
   TransformTree frames(frames_options);
   io::ReplayClock clock(replay_options);
   io::StageTimer timer;
   io::RunReport report(command);
   auto& j = report.json();
   j["inputs"] = {{"dataset", dataset}, {"format", source->Format()}, {"ground_truth", gt_path},
-                 {"map", a.map_dir}, {"params_files", common.param_files}, {"overrides", common.overrides}};
+                 {"map", a.map_dir}, {"continue", a.continue_dir}, {"params_files", common.param_files},
+                 {"overrides", common.overrides}};
   int exit_code = 0;
   const std::string out = common.out_dir;
   PerceptionStage perception(params, data_dir);
@@ -263,8 +275,8 @@ int RunMapping(MappingArgs a, const std::string& command) {
   mrpt::maps::COccupancyGridMap2D grid;
   DriveResult run;
   slam::MappingStats fe;
-  if (!saved.empty()) {
-    slam::Localizer localizer(saved, params.Get<slam::LocalizationOptions>("localization"),
+  if (!a.map_dir.empty()) {
+    slam::Localizer localizer(saved.keyframes, params.Get<slam::LocalizationOptions>("localization"),
                               params.Get<slam::ScanMatchingOptions>("scan_matching"), &frames,
                               frames_options.base_frame);
     run = Drive(*source, clock,
@@ -277,13 +289,28 @@ int RunMapping(MappingArgs a, const std::string& command) {
     trajectory = localizer.trajectory();
     fe = localizer.stats();
     if (localizer.global_score()) j["metrics"]["global_search_score"] = *localizer.global_score();
-    grid = saved_grid;
+    grid = saved.grid;
   } else {
     slam::GraphSlam slam(params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
                          params.Get<slam::LoopClosureOptions>("loop_closure"),
                          params.Get<slam::PoseGraphOptions>("pose_graph"), &frames, frames_options.base_frame);
+    // Continuing: observations go to a localizer on the saved map until it has placed
+    // the first scan; that scan then starts the new keyframes at its pose.
+    std::unique_ptr<slam::Localizer> locate;
+    if (!a.continue_dir.empty())
+      locate = std::make_unique<slam::Localizer>(saved.keyframes, params.Get<slam::LocalizationOptions>("localization"),
+                                                 params.Get<slam::ScanMatchingOptions>("scan_matching"), &frames,
+                                                 frames_options.base_frame);
     run = Drive(*source, clock,
                 [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
+                  if (locate) {
+                    locate->Add(t, o);
+                    if (locate->trajectory().empty()) return std::make_pair(0L, std::string("locating"));
+                    const mrpt::poses::CPose3D& p = locate->trajectory().front().pose;
+                    slam.Continue(saved.keyframes, saved.graph, mrpt::poses::CPose2D(p.x(), p.y(), p.yaw()));
+                    if (locate->global_score()) j["metrics"]["continue_global_search_score"] = *locate->global_score();
+                    locate.reset();
+                  }
                   slam.Add(t, o);
                   perception.Add(t, o, [&] { return LatestPose(slam.trajectory()); });
                   return std::make_pair(slam.front_end_stats().scans,

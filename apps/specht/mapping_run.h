@@ -15,7 +15,8 @@ struct MappingArgs {
   CommonArgs common;
   std::string dataset;
   std::string ground_truth;
-  std::string map_dir;  // localization on a saved map when set
+  std::string map_dir;       // localization on a saved map when set
+  std::string continue_dir;  // continuing a saved map when set
   std::optional<double> rate, from_s, to_s;
 };
 

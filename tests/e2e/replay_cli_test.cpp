@@ -1,8 +1,11 @@
 // `specht replay` as a user runs it: outputs, determinism, exit codes, bad input.
+#include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "specht/io/trajectory_io.h"
 #include "test_support.h"
 
 namespace specht {
@@ -128,6 +131,47 @@ TEST(SlamCliTest, MapArtefactReloadsForLocalization) {
   const auto bad = testing::RunSpecht("slam -q --map '" + dir + "/map' -o '" + dir + "/loc2'");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_FALSE(fs::exists(dir + "/loc2"));
+}
+
+// Continuing a map: the built-in log mapped to 30 s, then continued from 30 s on
+// the saved map. The continuation is placed by a whole-map search and stays in the
+// saved map's frame: scan for scan it lies on the uninterrupted run of the whole
+// log (the same frame: both start at the first scan), and the extended graph
+// holds the saved nodes and the new ones.
+TEST(SlamCliTest, ContinuesASavedMapInItsFrame) {
+  SPECHT_REQUIRE_FILE(testing::BuiltInRawlog());
+  const std::string dir = testing::TempDir("slam_continue");
+  ASSERT_EQ(testing::RunSpecht("slam -q -o '" + dir + "/full'").exit_code, 0);
+  ASSERT_EQ(testing::RunSpecht("slam -q --to 30 -o '" + dir + "/first'").exit_code, 0);
+  const auto r = testing::RunSpecht("slam -q --from 30 --continue '" + dir + "/first' -o '" + dir + "/rest'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(Report(dir + "/rest")["metrics"]["continue_global_search_score"].get<double>(), 0.7);
+
+  const Trajectory full = io::ReadTum(dir + "/full/trajectory.tum");
+  const Trajectory first = io::ReadTum(dir + "/first/trajectory.tum");
+  const Trajectory rest = io::ReadTum(dir + "/rest/trajectory.tum");
+  ASSERT_EQ(first.size() + rest.size(), full.size());
+  double sum = 0, worst = 0;
+  for (size_t i = 0; i < rest.size(); ++i) {
+    const auto& a = rest[i].pose;
+    const auto& b = full[first.size() + i].pose;
+    const double d = std::hypot(a.x() - b.x(), a.y() - b.y());
+    sum += d, worst = std::max(worst, d);
+  }
+  EXPECT_LT(sum / rest.size(), 0.1);  // measured 0.026 m
+  EXPECT_LT(worst, 0.3);              // measured 0.09 m
+
+  const auto vertices = [](const std::string& g2o) {
+    std::istringstream in(testing::ReadFile(g2o));
+    int n = 0;
+    for (std::string line; std::getline(in, line);) n += line.rfind("VERTEX_SE2", 0) == 0;
+    return n;
+  };
+  EXPECT_EQ(vertices(dir + "/rest/graph.g2o"),
+            vertices(dir + "/first/graph.g2o") + Report(dir + "/rest")["counts"]["keyframes"].get<int>());
+  // --continue and --map exclude each other.
+  EXPECT_NE(testing::RunSpecht("slam -q --map '" + dir + "/first' --continue '" + dir + "/first' -o '" + dir +
+                               "/both'").exit_code, 0);
 }
 
 TEST(ReplayCliTest, HelpListsEveryOption) {

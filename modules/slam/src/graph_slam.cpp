@@ -59,12 +59,30 @@ void GraphSlam::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation
   if (front_end_.keyframes().size() > before) OnKeyframe(front_end_.keyframes().size() - 1);
 }
 
+void GraphSlam::Continue(const std::vector<Keyframe>& saved, const PoseGraph2D& saved_graph, const CPose2D& start) {
+  front_end_.Seed(saved, start);
+  graph_ = saved_graph;
+  seeded_ = saved.size();
+  if (slam_.method != "graph" || !loops_.enabled) return;
+  for (size_t k = 0; k < seeded_; ++k) {
+    open_submap_.push_back(k);
+    if (static_cast<int>(open_submap_.size()) >= loops_.keyframes_per_submap) FinishSubmap();
+  }
+  if (!open_submap_.empty()) FinishSubmap();  // the new keyframes start their own
+}
+
 void GraphSlam::OnKeyframe(size_t k) {
   const auto& kfs = front_end_.keyframes();
   graph_.nodes[static_cast<int>(k)] = kfs[k].pose;
-  if (k > 0) {
+  if (k > 0 && k != seeded_) {
     graph_.edges.push_back({static_cast<int>(k - 1), static_cast<int>(k), kfs[k].pose - kfs[k - 1].pose,
                             Information(slam_.odometry_sigma_m, slam_.odometry_sigma_deg), false});
+  } else if (k > 0) {  // the first keyframe on a saved map: tied to the nearest saved one
+    size_t nearest = 0;
+    for (size_t i = 1; i < seeded_; ++i)
+      if (kfs[i].pose.distanceTo(kfs[k].pose) < kfs[nearest].pose.distanceTo(kfs[k].pose)) nearest = i;
+    graph_.edges.push_back({static_cast<int>(nearest), static_cast<int>(k), kfs[k].pose - kfs[nearest].pose,
+                            Information(slam_.loop_sigma_m, slam_.loop_sigma_deg), true});
   }
   if (slam_.method != "graph" || !loops_.enabled) return;
   open_submap_.push_back(k);

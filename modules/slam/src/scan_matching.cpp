@@ -58,8 +58,13 @@ void ScanMatchingMapper::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& ob
   }
 }
 
+void ScanMatchingMapper::Seed(std::vector<Keyframe> saved, const CPose2D& start) {
+  keyframes_ = std::move(saved);
+  start_ = start;
+}
+
 CPose2D ScanMatchingMapper::LastPose() const {
-  if (scans_.empty()) return CPose2D();
+  if (scans_.empty()) return start_;
   const ScanPose& last = scans_.back();
   return keyframes_[last.keyframe].pose + last.from_keyframe;
 }
@@ -69,11 +74,11 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   const auto scan = internal::PrepareScan(raw, options_, frames_, base_frame_);
   const CSimplePointsMap points = ScanToPoints(*scan);
 
-  // The map frame starts at the first scan.
+  // The map frame starts at the first scan (or at start_ in a seeded map).
   const CPose2D predicted = m.motion.Predict(LastPose(), options_.use_odometry, options_.use_imu);
-  const CPose2D guess = scans_.empty() ? CPose2D() : predicted;
+  const CPose2D guess = scans_.empty() ? start_ : predicted;
   CPose2D pose = guess;
-  if (!keyframes_.empty() && !points.empty()) {
+  if (!m.keyframe_points.empty() && !points.empty()) {
     const internal::MatchResult match = internal::MatchWithRecovery(m.icp, m.submap, points, guess, options_, stats_);
     pose = match.pose;
     // Where the scan leaves a direction unconstrained (a corridor), the odometry decides it.
@@ -85,7 +90,7 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   if (!scans_.empty()) m.motion.SetLastStep(pose - LastPose());
   ++stats_.scans;
 
-  const bool first = keyframes_.empty();
+  const bool first = m.keyframe_points.empty();
   const CPose2D since = first ? CPose2D() : pose - keyframes_.back().pose;
   if (first || since.norm() >= options_.keyframe_translation_m ||
       std::abs(since.phi()) >= mrpt::DEG2RAD(options_.keyframe_rotation_deg)) {

@@ -107,6 +107,13 @@ class GraphSlam {
   GraphSlam(const GraphSlam&) = delete;
   GraphSlam& operator=(const GraphSlam&) = delete;
 
+  // Continuing a saved map (`specht slam --continue`): its keyframes and pose graph
+  // (node i = keyframe i) are taken over and cut into loop-closure submaps; the
+  // first new keyframe is placed at `start` (the saved map's frame) and tied to the
+  // nearest saved node with a loop-closure edge, so later loops against the saved
+  // submaps pull the new part into the old. Call before the first Add.
+  void Continue(const std::vector<Keyframe>& saved, const PoseGraph2D& saved_graph, const mrpt::poses::CPose2D& start);
+
   void Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation);
   // Final optimisation (when there are loops); call once after the last observation.
   void Finish();
@@ -133,6 +140,7 @@ class GraphSlam {
   std::vector<std::unique_ptr<Submap>> submaps_;
   std::vector<size_t> open_submap_;  // keyframes of the submap being filled
   int loops_since_optimize_ = 0;
+  size_t seeded_ = 0;  // keyframes taken over from a saved map
   GraphSlamStats stats_;
 };
 

@@ -167,6 +167,11 @@ class ScanMatchingMapper {
   // matched against the corrected local submap.
   void CorrectKeyframes(const std::vector<mrpt::poses::CPose2D>& poses);
 
+  // Continuing a saved map: its keyframes come first (indices 0..n−1), the next
+  // scan is placed at `start` (in the saved map's frame, e.g. from localization)
+  // and the local submap starts afresh from it. Call before the first Add.
+  void Seed(std::vector<Keyframe> saved, const mrpt::poses::CPose2D& start);
+
  private:
   struct ScanPose {
     Stamp stamp;
@@ -184,6 +189,7 @@ class ScanMatchingMapper {
   std::string base_frame_;
   std::vector<ScanPose> scans_;
   std::vector<Keyframe> keyframes_;
+  mrpt::poses::CPose2D start_;  // where the first scan is placed (the origin unless seeded)
   MappingStats stats_;
 };
 
