@@ -275,10 +275,15 @@ int RunMapping(MappingArgs a, const std::string& command) {
   mrpt::maps::COccupancyGridMap2D grid;
   DriveResult run;
   slam::MappingStats fe;
+  // Localization on the saved map: the whole run with --map, the first scan with --continue.
+  const auto localizer_on_saved = [&] {
+    return std::make_unique<slam::Localizer>(saved.keyframes, params.Get<slam::LocalizationOptions>("localization"),
+                                             params.Get<slam::ScanMatchingOptions>("scan_matching"), &frames,
+                                             frames_options.base_frame);
+  };
   if (!a.map_dir.empty()) {
-    slam::Localizer localizer(saved.keyframes, params.Get<slam::LocalizationOptions>("localization"),
-                              params.Get<slam::ScanMatchingOptions>("scan_matching"), &frames,
-                              frames_options.base_frame);
+    const auto located = localizer_on_saved();
+    slam::Localizer& localizer = *located;
     run = Drive(*source, clock,
                 [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
                   localizer.Add(t, o);
@@ -297,10 +302,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
     // Continuing: observations go to a localizer on the saved map until it has placed
     // the first scan; that scan then starts the new keyframes at its pose.
     std::unique_ptr<slam::Localizer> locate;
-    if (!a.continue_dir.empty())
-      locate = std::make_unique<slam::Localizer>(saved.keyframes, params.Get<slam::LocalizationOptions>("localization"),
-                                                 params.Get<slam::ScanMatchingOptions>("scan_matching"), &frames,
-                                                 frames_options.base_frame);
+    if (!a.continue_dir.empty()) locate = localizer_on_saved();
     run = Drive(*source, clock,
                 [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
                   if (locate) {

@@ -212,7 +212,7 @@ class Machine {
     const double heading = direction > 0 ? pose.theta : pose.theta + M_PI;
     const double front = c_.car.length_m - c_.car.rear_overhang_m;
     double limit = INFINITY;
-    std::string why;
+    const char* kind = nullptr;  // the decision that sets the limit
     for (const auto& a : agents) {
       const double vx = a.speed_mps * std::cos(a.pose.yaw_rad), vy = a.speed_mps * std::sin(a.pose.yaw_rad);
       if (a.cls == sim::AgentClass::kPedestrian) {
@@ -220,7 +220,7 @@ class Machine {
           for (const auto& [q, s] : ahead)
             if (std::hypot(a.pose.x + vx * dt - q.x, a.pose.y + vy * dt - q.y) < c_.loop.pedestrian_slow_radius_m &&
                 c_.loop.pedestrian_slow_speed_mps < limit)
-              limit = c_.loop.pedestrian_slow_speed_mps, why = "slow: pedestrian " + std::to_string(a.id);
+              limit = c_.loop.pedestrian_slow_speed_mps, kind = "slow";
         continue;
       }
       const double cos_rel = std::cos(a.pose.yaw_rad - heading);
@@ -231,13 +231,13 @@ class Machine {
         const double wanted = speed * speed / (2 * c_.car.max_accel_mps2) + 1.5 + front + a.length_m / 2 +
                               c_.loop.agent_margin_m + c_.loop.follow_gap_m;
         const double v = std::max(0.0, a.speed_mps * cos_rel + c_.loop.follow_gain * (s - wanted));
-        if (v < limit) limit = v, why = std::string("follow: ") + sim::Name(a.cls) + " " + std::to_string(a.id);
+        if (v < limit) limit = v, kind = "follow";
         break;
       }
     }
-    if (!why.empty() && std::abs(cmd.speed_mps) > limit) {
+    if (kind && std::abs(cmd.speed_mps) > limit) {
       cmd.speed_mps = direction * limit;
-      r_.limited_s[why.substr(0, why.find(':'))] += 1.0 / c_.loop.control_hz;
+      r_.limited_s[kind] += 1.0 / c_.loop.control_hz;
     }
     return cmd;
   }
