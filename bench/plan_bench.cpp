@@ -1,9 +1,10 @@
-// plan_bench [--quick] [scenario.yaml]...: planning time on a 60 m × 60 m map at 0.1 m (600 ×
+// plan_bench [--quick] [--hybrid-only] [--per-problem] [scenario.yaml]...: planning time on a 60 m × 60 m map at 0.1 m (600 ×
 // 600 cells): a seeded clutter field of 45 parked cars (2 m × 4.5 m, random
 // headings) and 6 walls, 50 start/goal pairs drawn in free space at least 20 m
 // apart (many goals sit in pockets: a hard set); then each scenario's marked bays
 // from 25 random free poses each. Pairs not in one free component are left out. Per problem: hybrid A*
-// (grid heuristic computed fresh, as for a new goal) + the Ceres smoother, and
+// (grid heuristic computed fresh, as for a new goal; the fine search where the
+// default finds no path, `fine_search_share`) + the Ceres smoother, and
 // plain OMPL RRT (geometric, Reeds-Shepp state space, same collision check, 1 s
 // limit, first solution simplified by OMPL's default shortcutting) on the same
 // problems. JSON: p50/p90/max ms, success rate, mean path length.
@@ -19,10 +20,13 @@
 //              hybrid A*'s path (unguided it rarely solves them): the ratio;
 //   clutter    SST and RRT with the default 250 ms budget, guided by hybrid A*'s
 //              path and unguided, on the clutter field's problems.
-// --quick skips the 10 s quality runs.
+// --quick skips the 10 s quality runs; --hybrid-only runs hybrid A* + smoothing
+// alone (no slalom, RRT or kinodynamic runs); --per-problem prints, per hybrid A*
+// problem, the heuristic, search and smoothing times and the expansions to stderr.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <ompl/base/spaces/ReedsSheppStateSpace.h>
@@ -43,6 +47,9 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+struct Flags {
+  bool quick = false, hybrid_only = false, per_problem = false;
+};
 double Ms(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 cv::Mat Field(std::mt19937& rng) {
@@ -106,21 +113,34 @@ bool Connected(const cv::Mat& labels, const specht::plan::DistanceMap& map, cons
 
 // Hybrid A* + smoothing and plain OMPL RRT on the same problems; two JSON lines.
 void Compare(const std::string& name, const std::shared_ptr<specht::plan::DistanceMap>& map,
-             const specht::plan::CarOptions& car, const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems) {
+             const specht::plan::CarOptions& car, const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems,
+             const Flags& flags) {
   using namespace specht::plan;
   const HybridAStarOptions search_options;
   const SmootherOptions smoother;
   Stats astar, rrt;
+  int fine = 0;
   for (const auto& [start, goal] : problems) {
-    HybridAStar search(search_options, car, map);  // fresh: the heuristic is computed per problem
+    // Fresh: the heuristic is computed per problem. The fine search where the
+    // default finds no path, as the closed loop does.
+    SearchWithFallback search(search_options, FineSearchDefaults(), car, map);
     const auto t0 = Clock::now();
     const PlanResult r = search.Plan(start, goal);
-    double length = 0;
-    if (r.found) length = SmoothPath(r.path, *map, car, smoother).path.Length();
+    fine += search.last_used_fine();
+    SmoothResult smoothed;
+    if (r.found) smoothed = SmoothPath(r.path, *map, car, smoother);
+    const double length = smoothed.path.Length();
+    if (flags.per_problem)
+      std::fprintf(stderr, "%s #%d: %s, heuristic %.1f ms, search %.1f ms, %ld expansions, smoothing %.1f ms, %.1f m\n",
+                   name.c_str(), astar.problems, r.found ? "found" : r.failure.c_str(), r.heuristic_milliseconds,
+                   r.milliseconds, r.expansions, smoothed.milliseconds, length);
     ++astar.problems;
     if (r.found) astar.ms.push_back(Ms(t0)), astar.length.push_back(length), ++astar.solved;
   }
-  specht::bench::Emit(astar.Json("plan/hybrid_astar+smoothing/" + name));
+  nlohmann::json j = astar.Json("plan/hybrid_astar+smoothing/" + name);
+  j["fine_search_share"] = static_cast<double>(fine) / problems.size();
+  specht::bench::Emit(j);
+  if (flags.hybrid_only) return;
 
   auto space = std::make_shared<ompl::base::ReedsSheppStateSpace>(car.MinTurningRadius());
   ompl::base::RealVectorBounds bounds(2);
@@ -245,13 +265,16 @@ void Slalom(bool quick) {
 int main(int argc, char** argv) {
   using namespace specht::plan;
   ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
-  bool quick = false;
+  Flags flags;
   std::vector<std::string> scenarios;
   for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--quick") quick = true;
-    else scenarios.push_back(argv[i]);
+    const std::string arg = argv[i];
+    if (arg == "--quick") flags.quick = true;
+    else if (arg == "--hybrid-only") flags.hybrid_only = true;
+    else if (arg == "--per-problem") flags.per_problem = true;
+    else scenarios.push_back(arg);
   }
-  Slalom(quick);
+  if (!flags.hybrid_only) Slalom(flags.quick);
   std::mt19937 rng(11);
   {  // the clutter field
     const cv::Mat field = Field(rng);
@@ -266,13 +289,15 @@ int main(int argc, char** argv) {
           Connected(labels, *map, a, b))
         problems.push_back({a, b});
     }
-    Compare("clutter-60m-0.1m", map, car, problems);
-    for (const std::string planner : {"sst", "rrt"})
+    Compare("clutter-60m-0.1m", map, car, problems, flags);
+    for (const std::string planner : {"sst", "rrt"}) {
+      if (flags.hybrid_only) break;
       for (const bool guided : {false, true})
         specht::bench::Emit(Kinodynamic(map, car, problems, KinoOptions(planner, 250, false), guided)
                                 .Json("plan/kinodynamic/" + planner + "-250ms" + (guided ? "-guided" : "") +
                                       "/clutter-60m-0.1m"));
-    if (!quick) Quality("clutter-60m-0.1m", map, car, {problems.begin(), problems.begin() + 5}, 1, true);
+    }
+    if (!flags.quick && !flags.hybrid_only) Quality("clutter-60m-0.1m", map, car, {problems.begin(), problems.begin() + 5}, 1, true);
   }
   // Scenario maps: from 25 random free poses to each marked bay (the car centred in
   // the bay, nose along it), with the scenario's own car.
@@ -294,7 +319,7 @@ int main(int argc, char** argv) {
       }
     }
     const int w = static_cast<int>(std::lround(map->cols() * 0.1)), h = static_cast<int>(std::lround(map->rows() * 0.1));
-    Compare(s.name + "-bays-" + std::to_string(w) + "x" + std::to_string(h) + "m-0.1m", map, car, problems);
+    Compare(s.name + "-bays-" + std::to_string(w) + "x" + std::to_string(h) + "m-0.1m", map, car, problems, flags);
   }
   return 0;
 }

@@ -50,6 +50,9 @@ const params::Registry& AllOptions() {
     r.Add<ais::AisModelOptions>("ais_model", "AIS vessel classifier: 1D ResNet variant and training");
     r.Add<plan::CarOptions>("car", "the car: bicycle model limits and footprint");
     r.Add<plan::HybridAStarOptions>("hybrid_astar", "global search: hybrid A* over (x, y, heading)");
+    r.Add<plan::HybridAStarOptions>("hybrid_astar_fine",
+                                    "the fallback search where hybrid_astar finds no path (tight bays)",
+                                    plan::FineSearchDefaults());
     r.Add<plan::KinodynamicOptions>("kinodynamic", "kinodynamic planner: OMPL SST / RRT / KPIECE1 over the bicycle model");
     r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
     r.Add<plan::TrackerOptions>("tracker", "path tracking: pure pursuit and speed profile");
@@ -70,7 +73,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"track.yaml", {"track", "synthetic_detections"}},
       {"classify.yaml", {"classify", "classify_model"}},
       {"ais.yaml", {"ais_decoder", "ais", "ais_classify", "ais_model"}},
-      {"plan.yaml", {"car", "hybrid_astar", "kinodynamic", "smoother", "tracker"}},
+      {"plan.yaml", {"car", "hybrid_astar", "hybrid_astar_fine", "kinodynamic", "smoother", "tracker"}},
       {"decide.yaml", {"closed_loop"}},
   };
   return files;

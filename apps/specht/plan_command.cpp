@@ -106,10 +106,10 @@ int RunPlan(const PlanArgs& a) {
   plan::Path path;
   std::string detail;  // the planner's own figures for the summary line
   if (a.planner == "hybrid_astar") {
-    plan::HybridAStar search(search_options, car, map);
+    plan::SearchWithFallback search(search_options, params.Get<plan::HybridAStarOptions>("hybrid_astar_fine"), car, map);
     found = search.Plan(start, goal);
     j["timing"] = {{"heuristic_ms", found.heuristic_milliseconds}, {"search_ms", found.milliseconds}};
-    j["metrics"] = {{"expansions", found.expansions}};
+    j["metrics"] = {{"expansions", found.expansions}, {"fine_search", search.last_used_fine()}};
     path = found.path;
     if (found.found) {
       const plan::SmoothResult smooth = plan::SmoothPath(found.path, *map, car, smoother);
@@ -118,7 +118,8 @@ int RunPlan(const PlanArgs& a) {
       j["metrics"]["smoothing_note"] = smooth.note;
       j["timing"]["smoothing_ms"] = smooth.milliseconds;
       j["timing"]["total_ms"] = found.milliseconds + smooth.milliseconds;
-      detail = std::to_string(found.expansions) + " expansions; search " + Fixed(found.milliseconds) +
+      detail = std::to_string(found.expansions) + " expansions" + (search.last_used_fine() ? " (fine search)" : "") +
+               "; search " + Fixed(found.milliseconds) +
                " ms (+ heuristic " + Fixed(found.heuristic_milliseconds) + "), smoothing " +
                Fixed(smooth.milliseconds) + " ms" + (smooth.accepted ? "" : " (not smoothed: " + smooth.note + ")");
     }

@@ -32,6 +32,7 @@ int RunRun(const RunArgs& a) {
   decide::ClosedLoopConfig config;
   config.car = decide::ScenarioCar(scenario, params.Get<plan::CarOptions>("car"));
   config.search = params.Get<plan::HybridAStarOptions>("hybrid_astar");
+  config.fine_search = params.Get<plan::HybridAStarOptions>("hybrid_astar_fine");
   config.smoother = params.Get<plan::SmootherOptions>("smoother");
   config.tracker = params.Get<plan::TrackerOptions>("tracker");
   config.loop = params.Get<decide::ClosedLoopOptions>("closed_loop");

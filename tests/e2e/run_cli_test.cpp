@@ -34,6 +34,22 @@ TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
 }
 
+// bay-a on the course: a parallel slot 1.5 car lengths long between two parked cars
+// and the fence. The default search finds no path; the fine search does, and the
+// tracker, driving its full-lock arcs on their curvature, parks within tolerance.
+TEST(RunCliTest, ParksInTheTightParallelBayOfTheCourse) {
+  const std::string out = testing::TempDir("run_cli_bay") + "/out";
+  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/course-loop.yaml";
+  const auto r = testing::RunSpecht("run '" + scenario + "' --seeds 1 -q -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  const auto& m = report["metrics"];
+  EXPECT_EQ(m["success_rate"].get<double>(), 1.0);
+  EXPECT_EQ(m["collisions"].get<int>(), 0);
+  EXPECT_LE(m["max_park_error_m"].get<double>(), 0.2);
+  EXPECT_LE(m["max_park_error_deg"].get<double>(), 5.0);
+}
+
 TEST(RunCliTest, BadMissionNamesTheLine) {
   const std::string dir = testing::TempDir("run_cli_bad");
   testing::WriteFile(dir + "/mission.yaml", "goals:\n  - park: bay-z\n");

@@ -66,7 +66,7 @@ class Machine {
       : s_(s), c_(c), mission_(mission), r_(r) {
     static_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(s).TrueGrid(0.1)));
     static_obstacles_ = static_map_->obstacles().clone();
-    search_ = std::make_unique<plan::HybridAStar>(c.search, c.car, static_map_);
+    search_ = std::make_unique<plan::SearchWithFallback>(c.search, c.fine_search, c.car, static_map_);
   }
 
   MissionState state() const { return machine_.state(); }
@@ -74,7 +74,8 @@ class Machine {
   const std::vector<Transition>& transitions() const { return machine_.transitions(); }
   const plan::DistanceMap& static_map() const { return *static_map_; }
 
-  plan::Command Step(double t, const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) {
+  plan::Command Step(double t, const plan::Pose& pose, double speed, double steer,
+                     const std::vector<sim::AgentTruth>& agents) {
     if (machine_.Final()) return {};
     // The emergency check first: it overrides whatever the machine is doing.
     if (const std::string what = Imminent(pose, speed, agents); !what.empty()) {
@@ -91,7 +92,7 @@ class Machine {
           blocked_since_ = t, clear_since_ = -1;
           return {};
         }
-        return Limited(tracker_->Update(pose, speed), pose, speed, agents);
+        return Limited(tracker_->Update(pose, speed, steer), pose, speed, agents);
       case MissionState::kWait:
         if (Blocking(pose, speed, agents).empty()) {
           if (clear_since_ < 0) clear_since_ = t;
@@ -116,8 +117,7 @@ class Machine {
   plan::Command Plan(double t, const plan::Pose& pose, const std::vector<sim::AgentTruth>& agents, bool around_agents) {
     const Goal& goal = mission_[goal_];
     std::shared_ptr<plan::DistanceMap> map = static_map_;
-    plan::HybridAStar* search = search_.get();
-    std::unique_ptr<plan::HybridAStar> local;
+    std::unique_ptr<plan::HybridAStar> local;  // around agents: the default search on a map with them
     if (around_agents) {  // the blocking agents become obstacles, inflated by their margins
       cv::Mat obstacles = static_obstacles_.clone();
       for (const auto& a : agents) {
@@ -131,11 +131,10 @@ class Machine {
       }
       map = std::make_shared<plan::DistanceMap>(obstacles, static_map_->origin_x(), static_map_->origin_y(), 0.1);
       local = std::make_unique<plan::HybridAStar>(c_.search, c_.car, map);
-      search = local.get();
     }
     plan::PlanResult found;
     try {
-      found = search->Plan(pose, goal.pose);
+      found = local ? local->Plan(pose, goal.pose) : search_->Plan(pose, goal.pose);
     } catch (const InputError& e) {
       found.failure = e.what();
     }
@@ -291,7 +290,7 @@ class Machine {
   ClosedLoopResult& r_;
   cv::Mat static_obstacles_;
   std::shared_ptr<plan::DistanceMap> static_map_;
-  std::unique_ptr<plan::HybridAStar> search_;
+  std::unique_ptr<plan::SearchWithFallback> search_;
   std::optional<plan::PathTracker> tracker_;
   MissionStateMachine machine_;
   size_t goal_ = 0;
@@ -335,7 +334,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     const auto& ego = sim.ego();
     const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     const auto agents = sim.agents();
-    const plan::Command cmd = machine.Step(t, pose, ego.speed_mps, agents);
+    const plan::Command cmd = machine.Step(t, pose, ego.speed_mps, ego.steer_rad, agents);
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     r.trajectory.push_back(pose);
     if (on_step) on_step(t, Name(machine.state()), pose);

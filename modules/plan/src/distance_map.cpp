@@ -14,8 +14,12 @@ DistanceMap::DistanceMap(const cv::Mat& obstacle, double origin_x, double origin
     : obstacle_(obstacle.clone()), origin_x_(origin_x), origin_y_(origin_y), resolution_(resolution) {
   if (obstacle.empty() || obstacle.type() != CV_8U || !(resolution > 0))
     throw InputError("plan: a distance map needs a non-empty 8-bit obstacle raster and a positive resolution");
-  cv::Mat free = obstacle == 0;
+  // A ring of obstacle cells around the raster: the map's edge is a wall for the
+  // distances inside as it is for lookups outside (0).
+  cv::Mat free;
+  cv::copyMakeBorder(obstacle == 0, free, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   cv::distanceTransform(free, distance_, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  distance_ = distance_(cv::Rect(1, 1, obstacle.cols, obstacle.rows)).clone();
   // Cell centre to the nearest obstacle cell's centre, less half a cell: the
   // distance to that cell's near edge, never more than the true clearance.
   distance_ = cv::max(distance_ * resolution - 0.5 * resolution, 0.0);
@@ -57,26 +61,51 @@ void CheckEndpoint(const DistanceMap& map, const CarOptions& car, const Pose& p,
                      " m, needs " + std::to_string(car.safety_margin_m) + ")");
 }
 
-// Smallest obstacle distance over samples of the footprint rectangle at the map's
-// resolution (edges included); stops once a sample is at or below `stop_at`.
-double DistanceMap::RectangleClearance(const DiscCover& discs, const Pose& p, double stop_at) const {
-  const double c = std::cos(p.theta), s = std::sin(p.theta);
-  const int nx = static_cast<int>(std::ceil((discs.front + discs.rear) / resolution_));
-  const int ny = static_cast<int>(std::ceil(2 * discs.half_width / resolution_));
-  double least = INFINITY;
-  for (int i = 0; i <= nx; ++i) {
-    const double lx = -discs.rear + (discs.front + discs.rear) * i / nx;
-    for (int j = 0; j <= ny; ++j) {
-      const double ly = -discs.half_width + 2 * discs.half_width * j / ny;
-      least = std::min(least, Distance(p.x + c * lx - s * ly, p.y + s * lx + c * ly));
-      if (least <= stop_at) return least;
-    }
+// The footprint rectangle sampled at the map's resolution (edges included): sample
+// (i, j), 0 ≤ i ≤ nx, 0 ≤ j ≤ ny, sits at body coordinates (−rear + i·sx, −w/2 + j·sy).
+struct DistanceMap::FootprintSamples {
+  double c, s, x, y, rear, half_width, sx, sy;
+  int nx, ny;
+  FootprintSamples(const DiscCover& discs, const Pose& p, double resolution)
+      : c(std::cos(p.theta)), s(std::sin(p.theta)), x(p.x), y(p.y), rear(discs.rear), half_width(discs.half_width),
+        nx(static_cast<int>(std::ceil((discs.front + discs.rear) / resolution))),
+        ny(static_cast<int>(std::ceil(2 * discs.half_width / resolution))) {
+    sx = (discs.front + discs.rear) / nx, sy = 2 * discs.half_width / ny;
   }
+  double X(int i, int j) const { return x + c * (-rear + i * sx) - s * (-half_width + j * sy); }
+  double Y(int i, int j) const { return y + s * (-rear + i * sx) + c * (-half_width + j * sy); }
+};
+
+double DistanceMap::Clearance(const DiscCover& discs, const Pose& p) const {
+  const FootprintSamples f(discs, p, resolution_);
+  double least = INFINITY;
+  for (int i = 0; i <= f.nx; ++i)
+    for (int j = 0; j <= f.ny; ++j) least = std::min(least, Distance(f.X(i, j), f.Y(i, j)));
   return least;
 }
 
-double DistanceMap::Clearance(const DiscCover& discs, const Pose& p) const {
-  return RectangleClearance(discs, p, -INFINITY);
+// Whether every sample in [i0, i1] × [j0, j1] lies farther than `need` from obstacles,
+// without reading them all. With q the block's middle sample and r the distance from
+// q to the block's farthest corner: the exact Euclidean transform is 1-Lipschitz
+// between cell centres and a point lies within half a cell diagonal of its cell's
+// centre, so every sample p of the block has
+//   D(p) ≥ D(q) − |p − q| − res·√2 ≥ D(q) − r − res·√2.
+// When that bound exceeds `need` (and the block keeps clear of the map's edge, beyond
+// which D is 0) the block is free; otherwise it is split along its longer side.
+// Same answer as reading every sample; most footprints need a handful of reads.
+bool DistanceMap::SamplesFree(const FootprintSamples& f, int i0, int i1, int j0, int j1, double need) const {
+  const int im = (i0 + i1) / 2, jm = (j0 + j1) / 2;
+  const double x = f.X(im, jm), y = f.Y(im, jm), d = Distance(x, y);
+  if (d <= need) return false;
+  if (i0 == i1 && j0 == j1) return true;
+  const double r = std::hypot(std::max(im - i0, i1 - im) * f.sx, std::max(jm - j0, j1 - jm) * f.sy);
+  const double slack = r + resolution_ * std::sqrt(2.0);
+  const double to_edge = std::min({x - origin_x_, origin_x_ + cols() * resolution_ - x, y - origin_y_,
+                                   origin_y_ + rows() * resolution_ - y});
+  if (d - slack > need && to_edge > slack) return true;
+  if ((i1 - i0) * f.sx >= (j1 - j0) * f.sy)
+    return SamplesFree(f, i0, im, j0, j1, need) && (im + 1 > i1 || SamplesFree(f, im + 1, i1, j0, j1, need));
+  return SamplesFree(f, i0, i1, j0, jm, need) && (jm + 1 > j1 || SamplesFree(f, i0, i1, jm + 1, j1, need));
 }
 
 bool DistanceMap::Free(const DiscCover& discs, const Pose& p) const {
@@ -87,7 +116,9 @@ bool DistanceMap::Free(const DiscCover& discs, const Pose& p) const {
       discs_free = false;
       break;
     }
-  return discs_free || RectangleClearance(discs, p, discs.margin) > discs.margin;
+  if (discs_free) return true;
+  const FootprintSamples f(discs, p, resolution_);
+  return SamplesFree(f, 0, f.nx, 0, f.ny, discs.margin);
 }
 
 }  // namespace specht::plan

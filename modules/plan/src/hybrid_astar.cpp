@@ -17,6 +17,12 @@ std::vector<std::string> HybridAStarOptions::Relations() const {
   return p;
 }
 
+HybridAStarOptions FineSearchDefaults() {
+  HybridAStarOptions o;
+  o.steer_fraction = 1.0, o.xy_cell_m = 0.25, o.step_m = 0.4, o.time_budget_ms = 2000;
+  return o;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -153,6 +159,30 @@ struct HybridAStar::Impl {
     return out;
   }
 
+  // The shortest stretch between gear changes on the Reeds-Shepp path a → b, in
+  // metres; its first stretch counts only when it starts one (the car arrived at
+  // `a` driving the other way, or not at all).
+  double ShortestShotStretch(const Pose& a, const Pose& b, int arrival_direction) const {
+    ompl::base::ScopedState<ompl::base::SE2StateSpace> s1(rs), s2(rs);
+    s1->setXY(a.x, a.y), s1->setYaw(a.theta);
+    s2->setXY(b.x, b.y), s2->setYaw(b.theta);
+    const auto path = rs->reedsShepp(s1.get(), s2.get());
+    double shortest = INFINITY, stretch = 0;
+    int direction = 0;
+    bool first = true;
+    for (int k = 0; k < 5; ++k) {
+      if (path.length_[k] == 0) continue;
+      const int d = path.length_[k] < 0 ? -1 : 1;
+      if (direction != 0 && d != direction) {
+        if (!first || direction != arrival_direction) shortest = std::min(shortest, stretch);
+        first = false, stretch = 0;
+      }
+      direction = d, stretch += std::abs(path.length_[k]) * car.MinTurningRadius();
+    }
+    if (!first || direction != arrival_direction) shortest = std::min(shortest, stretch);
+    return shortest;
+  }
+
   // The arc from a node's parent, sampled every `spacing` (excluding the parent).
   void AppendArc(const Node& from, const Node& to, double spacing, std::vector<PathPoint>& out) const {
     const int n = std::max(1, static_cast<int>(std::round(o.step_m / spacing)));
@@ -213,7 +243,9 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
     return std::hypot(p.x - start.x, p.y - start.y) < m.car.length_m ? 0.0 : -1.0;
   };
   const auto heuristic = [&](const Pose& p) {
-    return m.o.heuristic_weight * std::max(grid(p), m.ReedsShepp(p, goal));
+    const double to_go = grid(p);
+    if (to_go > m.o.reeds_shepp_radius_m) return m.o.heuristic_weight * to_go;
+    return m.o.heuristic_weight * std::max(to_go, m.ReedsShepp(p, goal));
   };
   bool connected = false;  // some cell within a car length of the start leads to the goal
   const int reach = static_cast<int>(std::ceil(m.car.length_m / m.o.xy_cell_m));
@@ -237,8 +269,8 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
   std::vector<double> steers;
   for (int i = 0; i < m.o.steer_samples; ++i)
     steers.push_back(std::tan((-1.0 + 2.0 * i / (m.o.steer_samples - 1)) * m.car.max_steer_deg * M_PI / 180.0));
-  std::vector<PathPoint> shot;
-  int reached = -1;
+  std::vector<PathPoint> shot, fallback_shot;
+  int reached = -1, fallback = -1;
   while (!open.empty()) {
     const auto [f, index] = open.top();
     open.pop();
@@ -261,8 +293,14 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
     if (shoot) {
       shot = m.ReedsSheppShot(node.pose, goal, m.o.collision_step_m);
       if (!shot.empty()) {
-        reached = index;
-        break;
+        // A stretch of a few centimetres between gear changes is a path no car
+        // tracks (it ends within the tracker's tolerance, its heading fix undone):
+        // keep such a shot only as the fallback and search on for a cleaner one.
+        if (m.ShortestShotStretch(node.pose, goal, node.direction) >= m.o.min_stretch_m) {
+          reached = index;
+          break;
+        }
+        if (fallback < 0) fallback = index, fallback_shot = shot;
       }
     }
     for (const int direction : {1, -1}) {
@@ -287,6 +325,7 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
       }
     }
   }
+  if (reached < 0 && fallback >= 0) reached = fallback, shot = fallback_shot, result.failure.clear();
   result.milliseconds = Ms(t0);
   if (reached < 0) {
     if (result.failure.empty()) result.failure = "the search space was exhausted: no path";
@@ -306,6 +345,22 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
   result.found = true;
   result.milliseconds = Ms(t0);
   return result;
+}
+
+SearchWithFallback::SearchWithFallback(const HybridAStarOptions& search, const HybridAStarOptions& fine,
+                                       const CarOptions& car, std::shared_ptr<const DistanceMap> map)
+    : fine_options_(fine), car_(car), map_(map), search_(search, car, std::move(map)) {}
+
+PlanResult SearchWithFallback::Plan(const Pose& start, const Pose& goal) {
+  PlanResult first = search_.Plan(start, goal);
+  last_used_fine_ = !first.found;
+  if (first.found) return first;
+  if (!fine_) fine_ = std::make_unique<HybridAStar>(fine_options_, car_, map_);
+  PlanResult fine = fine_->Plan(start, goal);
+  fine.milliseconds += first.milliseconds, fine.heuristic_milliseconds += first.heuristic_milliseconds;
+  fine.expansions += first.expansions;
+  if (!fine.found) fine.failure = first.failure + "; the fine search: " + fine.failure;
+  return fine;
 }
 
 }  // namespace specht::plan

@@ -267,13 +267,15 @@ class Params;
 // tree against it, so a misspelled key in any section is caught, whatever the command.
 class Registry {
  public:
+  // `defaults`: the section's values where the tree is silent (one options struct
+  // can serve two sections with different defaults).
   template <class O>
-  void Add(const std::string& section, const std::string& doc) {
+  void Add(const std::string& section, const std::string& doc, const O& defaults = O{}) {
     Entry e;
     e.section = section;
     e.doc = doc;
-    e.load = [section](ParamTree& tree, std::vector<std::string>& errors) -> std::any {
-      O options;
+    e.load = [section, defaults](ParamTree& tree, std::vector<std::string>& errors) -> std::any {
+      O options = defaults;
       Reader reader(tree, section, errors);
       options.Visit(reader);
       if constexpr (HasRelations<O>::value) {

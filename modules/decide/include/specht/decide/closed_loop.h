@@ -2,7 +2,9 @@
 //
 // The states and their transition table are in mission_state.h; here is when each
 // event fires (every transition is logged with its time and reason):
-//   path_found          hybrid A* + smoothing found a path to the current goal (in
+//   path_found          hybrid A* + smoothing found a path to the current goal (the
+//                       fine search, section hybrid_astar_fine, when the default
+//                       finds none on the static map; in
 //                       wait: a path around the blocking agents, tried once they
 //                       block longer than replan_after_s, with them as obstacles
 //                       inflated by their margins; no such path: keep waiting)
@@ -119,6 +121,7 @@ struct ClosedLoopResult {
 struct ClosedLoopConfig {
   plan::CarOptions car;  // limits; dimensions come from the scenario
   plan::HybridAStarOptions search;
+  plan::HybridAStarOptions fine_search = plan::FineSearchDefaults();  // when `search` finds no path
   plan::SmootherOptions smoother;
   plan::TrackerOptions tracker;
   ClosedLoopOptions loop;

@@ -35,7 +35,9 @@ class DistanceMap {
   double Distance(double x, double y) const;
   bool Contains(double x, double y) const;
   // Whether the car's footprint is free at `pose` with the safety margin: the disc
-  // cover first (a few lookups), the rectangle itself where the discs say no.
+  // cover first (a few lookups), the rectangle itself where the discs say no
+  // (its samples at the map's resolution, skipped in blocks the distance field
+  // proves clear).
   bool Free(const DiscCover& discs, const Pose& pose) const;
   bool Free(const CarOptions& car, const Pose& pose) const { return Free(car.Discs(), pose); }
   // Distance from the footprint rectangle to the nearest obstacle (0: touching or
@@ -52,7 +54,8 @@ class DistanceMap {
   const cv::Mat& obstacles() const { return obstacle_; }
 
  private:
-  double RectangleClearance(const DiscCover& discs, const Pose& pose, double stop_at) const;
+  struct FootprintSamples;
+  bool SamplesFree(const FootprintSamples& f, int i0, int i1, int j0, int j1, double need) const;
   cv::Mat obstacle_, distance_;
   double origin_x_, origin_y_, resolution_;
 };

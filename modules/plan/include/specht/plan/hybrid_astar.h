@@ -10,7 +10,12 @@
 // radius): a path at full lock leaves a tracker no room to correct.
 // Heuristic: max(Reeds-Shepp length ignoring obstacles (OMPL's ReedsSheppStateSpace
 // at R_min), shortest 8-connected grid distance to the goal around obstacles
-// ignoring heading) — both admissible for the arc lengths. The grid distances come
+// ignoring heading) — both admissible for the arc lengths. The Reeds-Shepp term is
+// used only within reeds_shepp_radius_m (grid distance) of the goal: farther away it
+// cost a quarter of the search time (OMPL solves 48 path families per call) and,
+// pulling nodes towards the goal's heading long before it matters, made the
+// weighted search expand more (clutter benchmark: p90 108 → 59 ms at 15 m, paths no
+// longer). The grid distances come
 // from one Dijkstra from the goal; they are cached, so replanning to the same goal
 // on the same map costs only the search.
 // Nodes are ordered by g + w·h: with heuristic_weight w > 1 the search expands far
@@ -18,9 +23,11 @@
 // Analytic expansion: from the start, from every node within two car lengths of the
 // goal (a tight goal is often reached only by the right shot), and every
 // analytic_every expansions within analytic_radius_m (grid distance), the Reeds-Shepp
-// path from the node to the goal is checked for collisions; when free, it ends the
+// path from the node to the goal is checked for collisions; when free, and no
+// stretch between its gear changes is shorter than min_stretch_m, it ends the
 // search exactly at the goal (far from the goal such shots rarely survive and cost
-// most of the time).
+// most of the time). A shot with a centimetre stretch is kept as the fallback, used
+// should the search fail.
 #pragma once
 
 #include <memory>
@@ -47,6 +54,8 @@ struct HybridAStarOptions {
   int analytic_every = 5;
   double analytic_radius_m = 15.0;
   double heuristic_weight = 2.5;
+  double reeds_shepp_radius_m = 15.0;
+  double min_stretch_m = 0.3;
   double collision_step_m = 0.15;
   double output_spacing_m = 0.1;
   int max_expansions = 200000;
@@ -76,6 +85,12 @@ struct HybridAStarOptions {
             "try the shot only within this grid distance of the goal (and from the start)", Range::Of(0.0, 1000.0));
     v.Param("heuristic_weight", heuristic_weight, "weighted A*: f = g + w·h (w > 1: faster, cost ≤ w × optimal)",
             Range::Of(1.0, 10.0));
+    v.Param("reeds_shepp_radius_m", reeds_shepp_radius_m,
+            "heuristic: the Reeds-Shepp length counts only within this grid distance of the goal",
+            Range::Of(0.0, 1000.0));
+    v.Param("min_stretch_m", min_stretch_m,
+            "a Reeds-Shepp shot with a shorter stretch between gear changes is kept only as the fallback",
+            Range::Of(0.0, 10.0));
     v.Param("collision_step_m", collision_step_m, "spacing of collision checks along arcs", Range::Of(0.01, 1.0).Log());
     v.Param("output_spacing_m", output_spacing_m, "spacing of the returned path's points", Range::Of(0.01, 1.0).Fixed());
     v.Param("max_expansions", max_expansions, "give up after this many expansions", Range::Of(100, 100000000).Fixed());
@@ -83,6 +98,12 @@ struct HybridAStarOptions {
   }
   std::vector<std::string> Relations() const;
 };
+
+// The fallback search for goals the default cannot reach (a parallel slot of 1.5
+// car lengths): the full steering lock, 0.25 m cells, 0.4 m arcs and a 2 s budget —
+// slower, and its paths leave a tracker no steering in reserve. Section
+// "hybrid_astar_fine".
+HybridAStarOptions FineSearchDefaults();
 
 struct PlanResult {
   bool found = false;
@@ -103,6 +124,26 @@ class HybridAStar {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+};
+
+// The default search, and the fine one (built on first use) where it finds no path.
+// The result is the fine search's when it ran, with both searches' times summed and,
+// when neither found a path, both reasons.
+class SearchWithFallback {
+ public:
+  SearchWithFallback(const HybridAStarOptions& search, const HybridAStarOptions& fine, const CarOptions& car,
+                     std::shared_ptr<const DistanceMap> map);
+  // Throws InputError when start or goal is outside the map or in collision.
+  PlanResult Plan(const Pose& start, const Pose& goal);
+  bool last_used_fine() const { return last_used_fine_; }
+
+ private:
+  HybridAStarOptions fine_options_;
+  CarOptions car_;
+  std::shared_ptr<const DistanceMap> map_;
+  HybridAStar search_;
+  std::unique_ptr<HybridAStar> fine_;
+  bool last_used_fine_ = false;
 };
 
 }  // namespace specht::plan
