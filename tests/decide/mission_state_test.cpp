@@ -19,7 +19,7 @@ using E = MissionEvent;
 const std::vector<S> kStates = {S::kPlan, S::kDrive, S::kWait, S::kEmergencyStop, S::kDone, S::kFailed};
 const std::vector<E> kEvents = {E::kPathFound,       E::kNoPath,           E::kAgentInWay,        E::kWayClear,
                                 E::kGoalReached,     E::kGoalMissed,       E::kGoalMissedFinal,   E::kMissionComplete,
-                                E::kCollisionImminent, E::kCollisionCleared, E::kTimeLimit};
+                                E::kCollisionImminent, E::kCollisionCleared, E::kTimeLimit, E::kMapChanged};
 
 // Events → states, the table as the header documents it; pairs not listed keep
 // their state.
@@ -33,6 +33,8 @@ const std::map<std::pair<S, E>, S> kExpected = {
     {{S::kDrive, E::kMissionComplete}, S::kDone},
     {{S::kWait, E::kWayClear}, S::kDrive},
     {{S::kWait, E::kPathFound}, S::kDrive},
+    {{S::kDrive, E::kMapChanged}, S::kPlan},
+    {{S::kWait, E::kMapChanged}, S::kPlan},
     {{S::kEmergencyStop, E::kCollisionCleared}, S::kPlan},
     // the emergency stop and the time limit, from every state that is not final
     {{S::kPlan, E::kCollisionImminent}, S::kEmergencyStop},

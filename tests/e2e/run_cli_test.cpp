@@ -50,6 +50,28 @@ TEST(RunCliTest, ParksInTheTightParallelBayOfTheCourse) {
   EXPECT_LE(m["max_park_error_deg"].get<double>(), 5.0);
 }
 
+// map_source lidar: the car plans on the map its LiDAR builds as it drives (unknown
+// cells free); walls that appear on the path ahead send it back to plan.
+TEST(RunCliTest, ParksOnTheMapItsLidarBuildsReplanningAsWallsAppear) {
+  const std::string out = testing::TempDir("run_cli_lidar") + "/out";
+  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/urban-crossing.yaml";
+  const auto r = testing::RunSpecht("run '" + scenario + "' --seeds 1 -q -o '" + out +
+                                    "' --set closed_loop.map_source=lidar");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  const auto& m = report["metrics"];
+  EXPECT_EQ(m["success_rate"].get<double>(), 1.0);
+  EXPECT_EQ(m["collisions"].get<int>(), 0);  // scored against the true map
+  EXPECT_LE(m["max_park_error_m"].get<double>(), 0.2);
+  EXPECT_LE(m["max_park_error_deg"].get<double>(), 5.0);
+  const auto& run = report["runs"][0];
+  EXPECT_GE(run["map_replans"].get<int>(), 1);
+  bool logged = false;
+  for (const auto& t : run["transitions"])
+    logged |= t["reason"].get<std::string>().find("the map shows an obstacle on the path") != std::string::npos;
+  EXPECT_TRUE(logged);
+}
+
 TEST(RunCliTest, BadMissionNamesTheLine) {
   const std::string dir = testing::TempDir("run_cli_bad");
   testing::WriteFile(dir + "/mission.yaml", "goals:\n  - park: bay-z\n");

@@ -122,6 +122,25 @@ TEST(HybridAStarTest, StartInCollisionOrOutsideIsAnError) {
   EXPECT_THROW(p.search->Plan({5, 5, 0}, {45, 25, 0}), InputError);
 }
 
+// A start inside the safety margin that touches nothing (a map that changed under
+// the car) is planned from; the path leaves the margin within a car length.
+TEST(HybridAStarTest, EscapesAStartInsideTheMarginThatTouchesNothing) {
+  Planner p(Map(30, 30, {{10, 10, 5, 5}}));
+  const Pose start{11, 9.3, 0};  // alongside the box, its left side 0.05 m below it (margin 0.1)
+  ASSERT_FALSE(p.map->Free(p.car, start));
+  ASSERT_GT(p.map->Clearance(p.car, start), 0.0);
+  const Pose goal{25, 5, 0};
+  const PlanResult r = p.search->Plan(start, goal);
+  ASSERT_TRUE(r.found) << r.failure;
+  EXPECT_EQ(Overlaps(p.obstacles, p.car, r.path), 0);
+  double along = 0;
+  for (size_t i = 1; i < r.path.points.size(); ++i) {
+    along += std::hypot(r.path.points[i].pose.x - r.path.points[i - 1].pose.x,
+                        r.path.points[i].pose.y - r.path.points[i - 1].pose.y);
+    if (along > p.car.length_m + p.options.step_m) EXPECT_TRUE(p.map->Free(p.car, r.path.points[i].pose)) << i;
+  }
+}
+
 // Discrete bending energy Σ κ_i² Δs_i from consecutive chords (κ as Path::MaxCurvature).
 double Bending(const Path& path) {
   double e = 0;

@@ -7,6 +7,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
 #include "specht/core/error.h"
 #include "specht/sim/simulator.h"
 
@@ -60,19 +62,104 @@ double OutlineClearance(const plan::DistanceMap& map, const Box& b) {
 
 Box AgentBox(const sim::AgentTruth& a) { return {a.pose.x, a.pose.y, a.pose.yaw_rad, a.length_m / 2, a.width_m / 2}; }
 
+// The static map as the car's LiDAR sees it (map_source lidar): an MRPT occupancy
+// grid over the scenario's extent, every scan inserted at the true sensor pose
+// (localisation stays ground truth) with the agents' returns removed — the job of a
+// perception stage that tells tracked objects from the static world. Unknown cells
+// count as free for planning (a car explores optimistically and replans when a
+// wall appears).
+class LidarMap {
+ public:
+  explicit LidarMap(const plan::DistanceMap& extent)
+      : grid_(static_cast<float>(extent.origin_x()), static_cast<float>(extent.origin_x() + extent.cols() * extent.resolution()),
+              static_cast<float>(extent.origin_y()), static_cast<float>(extent.origin_y() + extent.rows() * extent.resolution()),
+              static_cast<float>(extent.resolution())) {
+    grid_.insertionOptions.maxDistanceInsertion = 25.0f;
+    grid_.insertionOptions.considerInvalidRangesAsFreeSpace = false;
+    grid_.insertionOptions.wideningBeamsWithDistance = false;
+  }
+
+  void Insert(const mrpt::obs::CObservation2DRangeScan& scan_in, const sim::Pose2& ego,
+              const std::vector<sim::AgentTruth>& agents) {
+    mrpt::obs::CObservation2DRangeScan scan = scan_in;
+    const double c = std::cos(ego.yaw_rad), s = std::sin(ego.yaw_rad);
+    const double sx = ego.x + c * scan.sensorPose.x() - s * scan.sensorPose.y();
+    const double sy = ego.y + s * scan.sensorPose.x() + c * scan.sensorPose.y();
+    const double yaw = ego.yaw_rad + scan.sensorPose.yaw();
+    const size_t n = scan.getScanSize();
+    for (size_t i = 0; i < n; ++i) {
+      if (!scan.getScanRangeValidity(i)) continue;
+      const double a = yaw - scan.aperture / 2 + scan.aperture * static_cast<double>(i) / (n - 1);
+      const double r = scan.getScanRange(i);
+      const cv::Point2d hit{sx + r * std::cos(a), sy + r * std::sin(a)};
+      for (const auto& agent : agents)
+        if (PointToBox(hit, AgentBox(agent)) < 0.3) {
+          scan.setScanRangeValidity(i, false);
+          break;
+        }
+    }
+    grid_.insertObservation(scan, mrpt::poses::CPose3D(ego.x, ego.y, 0, ego.yaw_rad, 0, 0));
+    changed_ = true;
+  }
+
+  // The planning map when scans came in since the last call (nullptr otherwise).
+  std::shared_ptr<plan::DistanceMap> TakeUpdate() {
+    if (!changed_) return nullptr;
+    changed_ = false;
+    // Hits widened by a cell: a return marks the cell its point falls in, the true
+    // surface may lie in the neighbour, and at grazing angles neighbouring hits
+    // leave a cell between them.
+    const plan::DistanceMap seen = plan::DistanceMap::FromGrid(grid_, false);
+    cv::Mat obstacles;
+    cv::dilate(seen.obstacles(), obstacles, cv::Mat::ones(3, 3, CV_8U));
+    return std::make_shared<plan::DistanceMap>(obstacles, seen.origin_x(), seen.origin_y(), seen.resolution());
+  }
+
+ private:
+  mrpt::maps::COccupancyGridMap2D grid_;
+  bool changed_ = true;  // the first map: all unknown
+};
+
 class Machine {
  public:
   Machine(const sim::Scenario& s, const ClosedLoopConfig& c, const std::vector<Goal>& mission, ClosedLoopResult& r)
       : s_(s), c_(c), mission_(mission), r_(r) {
-    static_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(s).TrueGrid(0.1)));
-    static_obstacles_ = static_map_->obstacles().clone();
+    truth_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(s).TrueGrid(0.1)));
+    static_map_ = truth_map_;
+    plan_car_ = c.car;
     search_ = std::make_unique<plan::SearchWithFallback>(c.search, c.fine_search, c.car, static_map_);
   }
 
   MissionState state() const { return machine_.state(); }
   bool Final() const { return machine_.Final(); }
   const std::vector<Transition>& transitions() const { return machine_.transitions(); }
-  const plan::DistanceMap& static_map() const { return *static_map_; }
+  // The true static map (what collisions and clearance are scored against).
+  const plan::DistanceMap& truth_map() const { return *truth_map_; }
+
+  // A new planning map (the LiDAR's, map_source lidar): the search starts over on
+  // it, and a path ahead it blocks is given up (map_changed → plan).
+  void UpdateMap(std::shared_ptr<plan::DistanceMap> map, double t) {
+    static_map_ = std::move(map);
+    // Paths on a map still being drawn keep map_margin_m more clearance than the
+    // check that gives them up needs: a wall's outline firming up by a cell as the
+    // car comes closer must not send it back to plan at every update.
+    plan_car_ = c_.car;
+    plan_car_.safety_margin_m += c_.loop.map_margin_m;
+    search_ = std::make_unique<plan::SearchWithFallback>(c_.search, c_.fine_search, plan_car_, static_map_);
+    const MissionState state = machine_.state();
+    if (!tracker_ || (state != MissionState::kDrive && state != MissionState::kWait)) return;
+    const auto& points = tracker_->path().points;
+    const plan::DiscCover discs = c_.car.Discs();
+    for (size_t i = tracker_->progress_index(); i < points.size(); ++i)
+      if (!static_map_->Free(discs, points[i].pose)) {
+        char reason[96];
+        std::snprintf(reason, sizeof(reason), "the map shows an obstacle on the path at (%.1f, %.1f)",
+                      points[i].pose.x, points[i].pose.y);
+        Handle(MissionEvent::kMapChanged, t, reason);
+        ++r_.map_replans;
+        return;
+      }
+  }
 
   plan::Command Step(double t, const plan::Pose& pose, double speed, double steer,
                      const std::vector<sim::AgentTruth>& agents) {
@@ -119,7 +206,7 @@ class Machine {
     std::shared_ptr<plan::DistanceMap> map = static_map_;
     std::unique_ptr<plan::HybridAStar> local;  // around agents: the default search on a map with them
     if (around_agents) {  // the blocking agents become obstacles, inflated by their margins
-      cv::Mat obstacles = static_obstacles_.clone();
+      cv::Mat obstacles = static_map_->obstacles().clone();
       for (const auto& a : agents) {
         Box b = AgentBox(a);
         const double m = a.cls == sim::AgentClass::kPedestrian ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
@@ -130,7 +217,7 @@ class Machine {
         cv::fillConvexPoly(obstacles, poly, cv::Scalar(1));
       }
       map = std::make_shared<plan::DistanceMap>(obstacles, static_map_->origin_x(), static_map_->origin_y(), 0.1);
-      local = std::make_unique<plan::HybridAStar>(c_.search, c_.car, map);
+      local = std::make_unique<plan::HybridAStar>(c_.search, plan_car_, map);
     }
     plan::PlanResult found;
     try {
@@ -148,7 +235,7 @@ class Machine {
       Handle(MissionEvent::kNoPath, t, r_.failure);
       return {};
     }
-    const plan::SmoothResult smooth = plan::SmoothPath(found.path, *map, c_.car, c_.smoother);
+    const plan::SmoothResult smooth = plan::SmoothPath(found.path, *map, plan_car_, c_.smoother);
     r_.plan_ms.back() += smooth.milliseconds;
     r_.paths.push_back(smooth.path);
     // The slow final approach is for parking precision; a waypoint is passed within
@@ -288,8 +375,8 @@ class Machine {
   const ClosedLoopConfig& c_;
   const std::vector<Goal>& mission_;
   ClosedLoopResult& r_;
-  cv::Mat static_obstacles_;
-  std::shared_ptr<plan::DistanceMap> static_map_;
+  std::shared_ptr<plan::DistanceMap> truth_map_, static_map_;  // scored against, planned on
+  plan::CarOptions plan_car_;  // the car the planner sees (the LiDAR map's extra margin)
   std::unique_ptr<plan::SearchWithFallback> search_;
   std::optional<plan::PathTracker> tracker_;
   MissionStateMachine machine_;
@@ -322,7 +409,17 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   sim::Simulator sim(scenario, seed);
   Machine machine(scenario, config, mission, r);
   const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (config.loop.control_hz * sim::Simulator::kStepS))));
-  const auto ignore = [](Stamp, const mrpt::obs::CObservation::Ptr&) {};
+  std::optional<LidarMap> lidar;
+  if (config.loop.map_source == "lidar") {
+    lidar.emplace(machine.truth_map());
+    machine.UpdateMap(lidar->TakeUpdate(), 0.0);  // nothing seen yet
+  }
+  const auto on_observation = [&](Stamp, const mrpt::obs::CObservation::Ptr& obs) {
+    if (!lidar) return;
+    if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
+      lidar->Insert(*scan, sim.ego().pose, sim.agents());
+  };
+  double map_updated_s = -INFINITY;
   bool touching = false;
   while (!machine.Final()) {
     const double t = sim.time_s();
@@ -330,6 +427,10 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
       r.failure = "time limit of " + std::to_string(config.loop.time_limit_s) + " s";
       machine.Handle(MissionEvent::kTimeLimit, t, r.failure);
       break;
+    }
+    if (lidar && t - map_updated_s >= 1.0 / config.loop.map_update_hz - 1e-9) {
+      if (auto map = lidar->TakeUpdate()) machine.UpdateMap(std::move(map), t);
+      map_updated_s = t;
     }
     const auto& ego = sim.ego();
     const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
@@ -339,11 +440,11 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     r.trajectory.push_back(pose);
     if (on_step) on_step(t, Name(machine.state()), pose);
     for (int k = 0; k < substeps; ++k) {
-      sim.Step(ignore);
+      sim.Step(on_observation);
       const auto& e = sim.ego();
       const Box car = CarBox(config.car, EgoRearAxle(scenario, e.pose));
       const bool moving = std::abs(e.speed_mps) > 0.05;
-      const double clearance = OutlineClearance(machine.static_map(), car);
+      const double clearance = OutlineClearance(machine.truth_map(), car);
       r.min_clearance_m = std::min(r.min_clearance_m, clearance);
       std::string what = clearance <= 0 ? "static obstacle" : "";
       for (const auto& a : sim.agents()) {
@@ -386,6 +487,7 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"park_error_deg", park_error_deg},
           {"planning_ms", {{"count", t.size()}, {"p50", q(0.5)}, {"p90", q(0.9)}, {"max", t.empty() ? 0.0 : t.back()}}},
           {"speed_limited_s", limited_s},
+          {"map_replans", map_replans},
           {"states_visited", visited},
           {"transitions", states}};
 }

@@ -16,7 +16,7 @@ struct Row {
 };
 
 // The header's table, row for row (the "any" rows are handled in NextState).
-constexpr std::array<Row, 10> kTable = {{
+constexpr std::array<Row, 12> kTable = {{
     {S::kPlan, E::kPathFound, S::kDrive},
     {S::kPlan, E::kNoPath, S::kFailed},
     {S::kDrive, E::kAgentInWay, S::kWait},
@@ -26,6 +26,8 @@ constexpr std::array<Row, 10> kTable = {{
     {S::kDrive, E::kMissionComplete, S::kDone},
     {S::kWait, E::kWayClear, S::kDrive},
     {S::kWait, E::kPathFound, S::kDrive},
+    {S::kDrive, E::kMapChanged, S::kPlan},
+    {S::kWait, E::kMapChanged, S::kPlan},
     {S::kEmergencyStop, E::kCollisionCleared, S::kPlan},
 }};
 
@@ -56,6 +58,7 @@ const char* Name(MissionEvent e) {
     case E::kCollisionImminent: return "collision_imminent";
     case E::kCollisionCleared: return "collision_cleared";
     case E::kTimeLimit: return "time_limit";
+    case E::kMapChanged: return "map_changed";
   }
   return "?";
 }

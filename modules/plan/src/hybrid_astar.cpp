@@ -191,11 +191,11 @@ struct HybridAStar::Impl {
     out.back().pose = to.pose;
   }
 
-  bool ArcFree(const Pose& p, double s, double tan_steer, Pose& end) const {
+  bool ArcFree(const Pose& p, double s, double tan_steer, const DiscCover& cover, Pose& end) const {
     const int n = std::max(1, static_cast<int>(std::ceil(std::abs(s) / o.collision_step_m)));
     for (int i = 1; i <= n; ++i) {
       end = Drive(p, s * i / n, tan_steer, car.wheelbase_m);
-      if (!map->Free(discs, end)) return false;
+      if (!map->Free(cover, end)) return false;
     }
     return true;
   }
@@ -225,7 +225,13 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
   const Pose goal{goal_in.x, goal_in.y, std::remainder(goal_in.theta, 2 * M_PI)};
   const auto t0 = Clock::now();
   PlanResult result;
-  CheckEndpoint(*m.map, m.car, start, "start");
+  // A start inside the safety margin but touching nothing (the map changed under a
+  // car that was clear) is escaped from: within a car length of it arcs need only
+  // miss the obstacles (margin 0).
+  DiscCover escape = m.discs;
+  escape.margin = 0;
+  const bool escaping = m.map->Contains(start.x, start.y) && !m.map->Free(m.discs, start) && m.map->Free(escape, start);
+  if (!escaping) CheckEndpoint(*m.map, m.car, start, "start");
   CheckEndpoint(*m.map, m.car, goal, "goal");
   const int goal_cell = m.CellOf(goal.x, goal.y);
   if (goal_cell != m.cached_goal) {
@@ -307,7 +313,8 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
       if (direction < 0 && !m.o.allow_reverse) continue;
       for (const double tan_steer : steers) {
         Pose end;
-        if (!m.ArcFree(node.pose, direction * m.o.step_m, tan_steer, end)) continue;
+        const bool near_start = escaping && std::hypot(node.pose.x - start.x, node.pose.y - start.y) < m.car.length_m;
+        if (!m.ArcFree(node.pose, direction * m.o.step_m, tan_steer, near_start ? escape : m.discs, end)) continue;
         const int next = m.KeyOf(end);
         if (next < 0 || m.closed[next] == m.search || grid(end) < 0) continue;
         const double steer = std::abs(std::atan(tan_steer)) / (m.car.max_steer_deg * M_PI / 180.0);

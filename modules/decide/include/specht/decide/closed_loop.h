@@ -26,8 +26,11 @@
 // margins: the car's box stretched along its motion by the braking distance +
 // emergency_buffer_m against the agents' boxes now.
 //
-// Localisation and the static map are ground truth here (the scenario's grid at
-// 0.1 m); agents are seen as they are. The car is the scenario's ego; the
+// Localisation is ground truth here; the static map is the scenario's true grid at
+// 0.1 m, or (map_source lidar) the occupancy grid the car's simulated LiDAR builds
+// as it drives (agents' returns removed, unknown cells free), rebuilt at
+// map_update_hz — when it blocks the path ahead, map_changed sends the machine back
+// to plan. Agents are seen as they are. The car is the scenario's ego; the
 // simulator reports its box centre, the planner and tracker work on its rear axle
 // (the point it turns about, ego.rear_overhang_m from the rear bumper).
 #pragma once
@@ -66,6 +69,9 @@ struct ClosedLoopOptions {
   double look_ahead_m = 15.0;
   double follow_gap_m = 2.0;
   double follow_gain = 0.5;
+  std::string map_source = "truth";
+  double map_update_hz = 2.0;
+  double map_margin_m = 0.2;
 
   template <class V>
   void Visit(V& v) {
@@ -98,6 +104,12 @@ struct ClosedLoopOptions {
             Range::Of(0.0, 50.0));
     v.Param("follow_gain", follow_gain, "speed change per metre of gap error when following (1/s)",
             Range::Of(0.0, 10.0));
+    v.Choice("map_source", map_source, {"truth", "lidar"},
+             "plan on the scenario's true static map, or on the map the car's LiDAR builds as it drives");
+    v.Param("map_update_hz", map_update_hz, "map_source lidar: how often the planning map is rebuilt and the path "
+            "ahead checked against it", Range::Of(0.1, 20.0));
+    v.Param("map_margin_m", map_margin_m, "map_source lidar: clearance planned beyond the car's safety margin "
+            "(the path is given up only when the map leaves less than the safety margin)", Range::Of(0.0, 2.0));
   }
 };
 
@@ -112,6 +124,7 @@ struct ClosedLoopResult {
   double park_error_m = -1, park_error_deg = -1;  // of the last parking goal
   std::vector<double> plan_ms;
   std::map<std::string, double> limited_s;  // time driven below the tracker's speed, by decision (slow, follow)
+  int map_replans = 0;                      // paths given up because the map changed under them
   std::vector<Transition> transitions;
   std::vector<plan::Pose> trajectory;  // at the control rate
   std::vector<plan::Path> paths;       // every plan made

@@ -12,6 +12,8 @@
 //   drive           mission_complete      done
 //   wait            way_clear             drive
 //   wait            path_found            drive      (replanned around the agents)
+//   drive           map_changed           plan       (the map now blocks the path ahead)
+//   wait            map_changed           plan
 //   emergency_stop  collision_cleared     plan       (the old path may be stale)
 //   any but done, failed:
 //                   collision_imminent    emergency_stop
@@ -40,6 +42,7 @@ enum class MissionEvent {
   kCollisionImminent,
   kCollisionCleared,
   kTimeLimit,
+  kMapChanged,
 };
 
 const char* Name(MissionState state);

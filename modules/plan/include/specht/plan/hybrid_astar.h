@@ -118,7 +118,10 @@ class HybridAStar {
  public:
   HybridAStar(const HybridAStarOptions& options, const CarOptions& car, std::shared_ptr<const DistanceMap> map);
   ~HybridAStar();
-  // Throws InputError when start or goal is outside the map or in collision.
+  // Throws InputError when start or goal is outside the map or in collision. A
+  // start within the safety margin that touches nothing is planned from: within a
+  // car length of it the arcs need only miss the obstacles (a map that changed
+  // under the car must not strand it).
   PlanResult Plan(const Pose& start, const Pose& goal);
 
  private:
