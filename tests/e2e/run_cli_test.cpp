@@ -1,4 +1,4 @@
-// `specht run`: the closed loop on the parking-lot scenario — the mission state
+// `specht run`: the closed loop on the shipped scenarios — the mission state
 // machine plans, waits for agents, corrects and parks; checked against the
 // scenario's ground truth (bay pose, agents' boxes, static map).
 #include <filesystem>
@@ -13,17 +13,27 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
-  const std::string out = testing::TempDir("run_cli") + "/out";
-  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
-  const auto r = testing::RunSpecht("run '" + scenario + "' --seeds 1-3 -q -o '" + out + "'");
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+// `specht run SCENARIO --seeds SEEDS EXTRA` into a fresh folder; its report, after
+// checking that every mission parked cleanly: all completed, no collision, within
+// the parking tolerance (0.2 m, 5°).
+nlohmann::json RunParked(const std::string& scenario, const std::string& seeds, const std::string& out,
+                         const std::string& extra = "") {
+  const auto r = testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/" + scenario + "' --seeds " +
+                                    seeds + " -q -o '" + out + "' " + extra);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
   const auto& m = report["metrics"];
   EXPECT_EQ(m["success_rate"].get<double>(), 1.0);
-  EXPECT_EQ(m["collisions"].get<int>(), 0);
+  EXPECT_EQ(m["collisions"].get<int>(), 0);  // scored against the true map
   EXPECT_LE(m["max_park_error_m"].get<double>(), 0.2);
   EXPECT_LE(m["max_park_error_deg"].get<double>(), 5.0);
+  return report;
+}
+
+TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
+  const std::string out = testing::TempDir("run_cli") + "/out";
+  const auto report = RunParked("parking-lot.yaml", "1-3", out);
+  const auto& m = report["metrics"];
   if (!m["min_pedestrian_distance_m"].is_null())
     EXPECT_GE(m["min_pedestrian_distance_m"].get<double>(), m["pedestrian_margin_m"].get<double>());
   for (const auto& run : report["runs"]) {
@@ -38,32 +48,14 @@ TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
 // and the fence. The default search finds no path; the fine search does, and the
 // tracker, driving its full-lock arcs on their curvature, parks within tolerance.
 TEST(RunCliTest, ParksInTheTightParallelBayOfTheCourse) {
-  const std::string out = testing::TempDir("run_cli_bay") + "/out";
-  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/course-loop.yaml";
-  const auto r = testing::RunSpecht("run '" + scenario + "' --seeds 1 -q -o '" + out + "'");
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
-  const auto& m = report["metrics"];
-  EXPECT_EQ(m["success_rate"].get<double>(), 1.0);
-  EXPECT_EQ(m["collisions"].get<int>(), 0);
-  EXPECT_LE(m["max_park_error_m"].get<double>(), 0.2);
-  EXPECT_LE(m["max_park_error_deg"].get<double>(), 5.0);
+  RunParked("course-loop.yaml", "1", testing::TempDir("run_cli_bay") + "/out");
 }
 
 // map_source lidar: the car plans on the map its LiDAR builds as it drives (unknown
 // cells free); walls that appear on the path ahead send it back to plan.
 TEST(RunCliTest, ParksOnTheMapItsLidarBuildsReplanningAsWallsAppear) {
-  const std::string out = testing::TempDir("run_cli_lidar") + "/out";
-  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/urban-crossing.yaml";
-  const auto r = testing::RunSpecht("run '" + scenario + "' --seeds 1 -q -o '" + out +
-                                    "' --set closed_loop.map_source=lidar");
-  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
-  const auto& m = report["metrics"];
-  EXPECT_EQ(m["success_rate"].get<double>(), 1.0);
-  EXPECT_EQ(m["collisions"].get<int>(), 0);  // scored against the true map
-  EXPECT_LE(m["max_park_error_m"].get<double>(), 0.2);
-  EXPECT_LE(m["max_park_error_deg"].get<double>(), 5.0);
+  const auto report = RunParked("urban-crossing.yaml", "1", testing::TempDir("run_cli_lidar") + "/out",
+                                "--set closed_loop.map_source=lidar");
   const auto& run = report["runs"][0];
   EXPECT_GE(run["map_replans"].get<int>(), 1);
   bool logged = false;
