@@ -190,34 +190,62 @@ TEST(SmootherTest, SmoothsWithoutLosingFeasibility) {
   EXPECT_LT(shortfall(s.path), 0.85 * shortfall(r.path)) << shortfall(r.path) << " → " << shortfall(s.path);
 }
 
-// Pure pursuit on a parking path with gear changes, on a kinematic bicycle with
-// speed and steering-rate limits: it ends on the goal.
-TEST(PathTrackerTest, FollowsAParkingManoeuvreToTheGoal) {
+// Drives the car from `pose` along the tracker's commands until it finishes: a
+// kinematic bicycle with speed, acceleration and steering-rate limits, 20 Hz
+// control, 100 Hz motion. Returns the smallest footprint clearance on the way.
+double Drive(PathTracker& tracker, const CarOptions& car, const DistanceMap& map, Pose& pose, double max_s = 600) {
+  double v = 0, steer = 0, worst = INFINITY;
+  const double dt = 0.01, max_steer = car.max_steer_deg * M_PI / 180, rate = car.max_steer_rate_deg_s * M_PI / 180;
+  Command held;
+  for (int steps = 0; steps * dt < max_s && !tracker.finished(); ++steps) {
+    if (steps % 5 == 0) held = tracker.Update(pose, v, steer);
+    v += std::clamp(held.speed_mps - v, -car.max_accel_mps2 * dt, car.max_accel_mps2 * dt);
+    steer += std::clamp(std::clamp(held.steer_rad, -max_steer, max_steer) - steer, -rate * dt, rate * dt);
+    pose.x += v * std::cos(pose.theta) * dt, pose.y += v * std::sin(pose.theta) * dt;
+    pose.theta += v * std::tan(steer) / car.wheelbase_m * dt;
+    worst = std::min(worst, map.Clearance(car, pose));
+  }
+  return worst;
+}
+
+// Each steering law on a parking path with gear changes: it ends on the goal.
+class PathTrackerLawTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(PathTrackerLawTest, FollowsAParkingManoeuvreToTheGoal) {
   Planner p(Map(30, 14, {{10.0, 0.0, 2.0, 4.5}, {15.0, 0.0, 2.0, 4.5}}));
   const Pose goal{13.5, 1.0, M_PI / 2};
   const PlanResult r = p.search->Plan({4, 9, 0}, goal);
   ASSERT_TRUE(r.found) << r.failure;
   const SmoothResult s = SmoothPath(r.path, *p.map, p.car, SmootherOptions{});
-  PathTracker tracker(TrackerOptions{}, p.car, s.path);
+  TrackerOptions o;
+  o.steering = GetParam();
+  PathTracker tracker(o, p.car, s.path);
   Pose pose{4, 9, 0};
-  double v = 0, steer = 0;
-  const double dt = 0.01, max_steer = p.car.max_steer_deg * M_PI / 180, rate = p.car.max_steer_rate_deg_s * M_PI / 180;
-  double worst = INFINITY;
-  int steps = 0;
-  Command held;
-  for (; steps < 60000 && !tracker.finished(); ++steps) {
-    if (steps % 5 == 0) held = tracker.Update(pose, v, steer);  // 20 Hz control, 100 Hz motion
-    v += std::clamp(held.speed_mps - v, -p.car.max_accel_mps2 * dt, p.car.max_accel_mps2 * dt);
-    steer += std::clamp(std::clamp(held.steer_rad, -max_steer, max_steer) - steer, -rate * dt, rate * dt);
-    pose.x += v * std::cos(pose.theta) * dt, pose.y += v * std::sin(pose.theta) * dt;
-    pose.theta += v * std::tan(steer) / p.car.wheelbase_m * dt;
-    worst = std::min(worst, p.map->Clearance(p.car, pose));
-  }
-  ASSERT_TRUE(tracker.finished()) << "not finished after " << steps * dt << " s";
+  const double worst = Drive(tracker, p.car, *p.map, pose);
+  ASSERT_TRUE(tracker.finished()) << "not finished within 600 s";
   EXPECT_NEAR(pose.x, goal.x, 0.1);
   EXPECT_NEAR(pose.y, goal.y, 0.1);
   EXPECT_NEAR(std::remainder(pose.theta - goal.theta, 2 * M_PI), 0.0, 5 * M_PI / 180);  // the parking tolerance
   EXPECT_GT(worst, 0.0);  // never touched an obstacle (disc cover, conservative)
+}
+
+INSTANTIATE_TEST_SUITE_P(Laws, PathTrackerLawTest, ::testing::Values("rear_wheel_feedback", "pure_pursuit"));
+
+// The feedback's signs in reverse: backing 20 m down a straight from 0.3 m to its
+// side and 8° off its heading, the car settles on it (e'' + k_h e' + k_l e = 0 over
+// distance: a metre-scale decay) and ends within centimetres.
+TEST(PathTrackerTest, RearWheelFeedbackSettlesOnAStraightInReverse) {
+  Path path;
+  for (int i = 0; i <= 200; ++i) path.points.push_back({{25.0 - 0.1 * i, 5.0, 0.0}, -1});
+  const CarOptions car;
+  const DistanceMap map(Map(30, 10), 0.0, 0.0, kRes);
+  PathTracker tracker(TrackerOptions{}, car, path);
+  Pose pose{25.0, 5.3, 8 * M_PI / 180};
+  Drive(tracker, car, map, pose);
+  ASSERT_TRUE(tracker.finished());
+  EXPECT_NEAR(pose.y, 5.0, 0.03);
+  EXPECT_NEAR(std::remainder(pose.theta, 2 * M_PI), 0.0, 1.0 * M_PI / 180);
+  EXPECT_NEAR(pose.x, 5.0, 0.1);
 }
 
 TEST(PathTrackerTest, HeadingNoiseOnAStraightDoesNotHoldTheSpeedDown) {
