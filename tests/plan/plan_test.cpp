@@ -137,7 +137,9 @@ TEST(HybridAStarTest, EscapesAStartInsideTheMarginThatTouchesNothing) {
   for (size_t i = 1; i < r.path.points.size(); ++i) {
     along += std::hypot(r.path.points[i].pose.x - r.path.points[i - 1].pose.x,
                         r.path.points[i].pose.y - r.path.points[i - 1].pose.y);
-    if (along > p.car.length_m + p.options.step_m) EXPECT_TRUE(p.map->Free(p.car, r.path.points[i].pose)) << i;
+    if (along > p.car.length_m + p.options.step_m) {
+      EXPECT_TRUE(p.map->Free(p.car, r.path.points[i].pose)) << i;
+    }
   }
 }
 

@@ -126,8 +126,12 @@ class Machine {
       : s_(s), c_(c), mission_(mission), r_(r) {
     truth_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(s).TrueGrid(0.1)));
     static_map_ = truth_map_;
+    // Paths on a map still being drawn (map_source lidar) keep map_margin_m more
+    // clearance than the check that gives them up needs: a wall's outline firming up
+    // by a cell as the car comes closer must not send it back to plan at every update.
     plan_car_ = c.car;
-    search_ = std::make_unique<plan::SearchWithFallback>(c.search, c.fine_search, c.car, static_map_);
+    if (c.loop.map_source == "lidar") plan_car_.safety_margin_m += c.loop.map_margin_m;
+    search_ = std::make_unique<plan::SearchWithFallback>(c.search, c.fine_search, plan_car_, static_map_);
   }
 
   MissionState state() const { return machine_.state(); }
@@ -140,11 +144,6 @@ class Machine {
   // it, and a path ahead it blocks is given up (map_changed → plan).
   void UpdateMap(std::shared_ptr<plan::DistanceMap> map, double t) {
     static_map_ = std::move(map);
-    // Paths on a map still being drawn keep map_margin_m more clearance than the
-    // check that gives them up needs: a wall's outline firming up by a cell as the
-    // car comes closer must not send it back to plan at every update.
-    plan_car_ = c_.car;
-    plan_car_.safety_margin_m += c_.loop.map_margin_m;
     search_ = std::make_unique<plan::SearchWithFallback>(c_.search, c_.fine_search, plan_car_, static_map_);
     const MissionState state = machine_.state();
     if (!tracker_ || (state != MissionState::kDrive && state != MissionState::kWait)) return;

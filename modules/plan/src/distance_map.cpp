@@ -66,8 +66,9 @@ void CheckEndpoint(const DistanceMap& map, const CarOptions& car, const Pose& p,
 struct DistanceMap::FootprintSamples {
   double c, s, x, y, rear, half_width, sx, sy;
   int nx, ny;
-  FootprintSamples(const DiscCover& discs, const Pose& p, double resolution)
-      : c(std::cos(p.theta)), s(std::sin(p.theta)), x(p.x), y(p.y), rear(discs.rear), half_width(discs.half_width),
+  // c, s: cos θ and sin θ of the pose (the caller may have them already).
+  FootprintSamples(const DiscCover& discs, const Pose& p, double c, double s, double resolution)
+      : c(c), s(s), x(p.x), y(p.y), rear(discs.rear), half_width(discs.half_width),
         nx(static_cast<int>(std::ceil((discs.front + discs.rear) / resolution))),
         ny(static_cast<int>(std::ceil(2 * discs.half_width / resolution))) {
     sx = (discs.front + discs.rear) / nx, sy = 2 * discs.half_width / ny;
@@ -77,7 +78,7 @@ struct DistanceMap::FootprintSamples {
 };
 
 double DistanceMap::Clearance(const DiscCover& discs, const Pose& p) const {
-  const FootprintSamples f(discs, p, resolution_);
+  const FootprintSamples f(discs, p, std::cos(p.theta), std::sin(p.theta), resolution_);
   double least = INFINITY;
   for (int i = 0; i <= f.nx; ++i)
     for (int j = 0; j <= f.ny; ++j) least = std::min(least, Distance(f.X(i, j), f.Y(i, j)));
@@ -117,7 +118,7 @@ bool DistanceMap::Free(const DiscCover& discs, const Pose& p) const {
       break;
     }
   if (discs_free) return true;
-  const FootprintSamples f(discs, p, resolution_);
+  const FootprintSamples f(discs, p, c, s, resolution_);
   return SamplesFree(f, 0, f.nx, 0, f.ny, discs.margin);
 }
 

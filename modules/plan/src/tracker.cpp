@@ -48,13 +48,13 @@ Command PathTracker::Update(const Pose& pose, double speed, double steer_now) {
   }
   remaining_ = along_.back() - along_[index_];
   const int direction = p[std::min(index_ + 1, end)].direction;
+  const double lookahead = o_.min_lookahead_m + o_.lookahead_per_mps * std::abs(speed);
   const double max_steer = car_.max_steer_deg * M_PI / 180;
-  const double steer = std::clamp(o_.steering == "pure_pursuit" ? PurePursuit(pose, speed, end, left, direction)
+  const double steer = std::clamp(o_.steering == "pure_pursuit" ? PurePursuit(pose, lookahead, end, left, direction)
                                                                 : RearWheelFeedback(pose, end, direction),
                                   -max_steer, max_steer);
   if (std::abs(speed) <= o_.stop_speed_mps && std::abs(steer - steer_now) > o_.steer_ready_deg * M_PI / 180)
     return {0.0, steer};
-  const double lookahead = o_.min_lookahead_m + o_.lookahead_per_mps * std::abs(speed);
   // Speed: direction limit, curvature ahead, braking to the stretch's end.
   // Curvature κ and its change per metre dκ/ds over the next metres: the steering
   // angle follows dκ/dt = dκ/ds · v at a limited rate (κ = tan δ / L, so
@@ -83,9 +83,8 @@ Command PathTracker::Update(const Pose& pose, double speed, double steer_now) {
   return {direction * v, steer};
 }
 
-double PathTracker::PurePursuit(const Pose& pose, double speed, size_t end, double left, int direction) const {
+double PathTracker::PurePursuit(const Pose& pose, double lookahead, size_t end, double left, int direction) const {
   const auto& p = path_.points;
-  const double lookahead = o_.min_lookahead_m + o_.lookahead_per_mps * std::abs(speed);
   size_t g = index_;
   while (g < end && along_[g] - along_[index_] < lookahead) ++g;
   double gx = p[g].pose.x, gy = p[g].pose.y;

@@ -94,7 +94,7 @@ class PathTracker {
   size_t progress_index() const { return index_; }
 
  private:
-  double PurePursuit(const Pose& pose, double speed, size_t end, double left, int direction) const;
+  double PurePursuit(const Pose& pose, double lookahead, size_t end, double left, int direction) const;
   double RearWheelFeedback(const Pose& pose, size_t end, int direction) const;
   TrackerOptions o_;
   CarOptions car_;
