@@ -125,6 +125,29 @@ TEST(ScanMatchingTest, RecoveryFindsAMotionTheOdometryMissed) {
   EXPECT_EQ(mapper.stats().recovered_matches, 1);
 }
 
+TEST(ScanMatchingTest, WithoutOdometryUnmatchedScansAreNeitherKeyframesNorCarriedOn) {
+  // No odometry; the car moves 0.5 m, then ten scans come back empty (nothing to
+  // match), then it has moved 0.6 m more and turned 20°. Carrying the last step on
+  // through the empty scans would put the guess 5 m ahead, beyond the search window;
+  // keeping them as keyframes would put their (guessed) poses into the graph.
+  ScanMatchingMapper mapper(ScanMatchingOptions{}, nullptr, "base_link");
+  const CPose2D a(2.0, 2.0, 0.0), b(2.5, 2.0, 0.0), c(3.0, 2.4, mrpt::DEG2RAD(20));
+  mapper.Add(Stamp{0}, ScanAt(a, Stamp{0}));
+  mapper.Add(Stamp{1}, ScanAt(b, Stamp{1}));
+  for (int i = 0; i < 10; ++i) {
+    const Stamp t{2 + i};
+    mapper.Add(t, Scan180(b, t, [](double) { return -1.0; }));
+  }
+  mapper.Add(Stamp{20}, ScanAt(c, Stamp{20}));
+  const Trajectory t = mapper.trajectory();
+  ASSERT_EQ(t.size(), 13u);
+  const CPose2D estimated = CPose2D(t.back().pose) - CPose2D(t[0].pose), truth = c - a;
+  EXPECT_NEAR(estimated.x(), truth.x(), 0.02);
+  EXPECT_NEAR(estimated.y(), truth.y(), 0.02);
+  EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), 20.0, 0.5);
+  EXPECT_EQ(mapper.stats().keyframes, 3);
+}
+
 TEST(ScanMatchingTest, GyroYawRateSeedsTheRotationBetweenScans) {
   // Wheels report 0.5 m straight ahead; the car also turned 35°, which only the gyro
   // saw (10 samples over 1 s at 35°/s). Recovery is off: the seed must do it.

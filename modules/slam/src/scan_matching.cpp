@@ -78,22 +78,28 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   const CPose2D predicted = m.motion.Predict(LastPose(), options_.use_odometry, options_.use_imu);
   const CPose2D guess = scans_.empty() ? start_ : predicted;
   CPose2D pose = guess;
+  bool matched = false;
   if (!m.keyframe_points.empty() && !points.empty()) {
-    const internal::MatchResult match = internal::MatchWithRecovery(m.icp, m.submap, points, guess, options_, stats_);
+    const internal::MatchResult match = internal::MatchWithRecovery(m.icp, m.submap, points, guess, options_, stats_,
+                                                                  !m.motion.predicted_from_odometry());
     pose = match.pose;
+    matched = match.source != internal::MatchSource::kGuess;
     // Where the scan leaves a direction unconstrained (a corridor), the odometry decides it.
     if (options_.fuse_odometry && match.source == internal::MatchSource::kIcp && m.motion.predicted_from_odometry()) {
       pose = internal::FuseWithPrior(pose, internal::MatchInformation(points, pose, options_.point_sigma_m), guess,
                                      internal::PriorInformation(m.motion.predicted_step(), options_));
     }
   }
-  if (!scans_.empty()) m.motion.SetLastStep(pose - LastPose());
+  // An unmatched scan says nothing about the velocity: do not carry the guess on.
+  if (!scans_.empty()) m.motion.SetLastStep(matched ? pose - LastPose() : CPose2D());
   ++stats_.scans;
 
   const bool first = m.keyframe_points.empty();
   const CPose2D since = first ? CPose2D() : pose - keyframes_.back().pose;
-  if (first || since.norm() >= options_.keyframe_translation_m ||
-      std::abs(since.phi()) >= mrpt::DEG2RAD(options_.keyframe_rotation_deg)) {
+  // A scan placed at a guess no odometry backs would only blur the submap.
+  const bool placeable = first || matched || m.motion.predicted_from_odometry();
+  if (placeable && (first || since.norm() >= options_.keyframe_translation_m ||
+      std::abs(since.phi()) >= mrpt::DEG2RAD(options_.keyframe_rotation_deg))) {
     keyframes_.push_back({scans_.size(), stamp, pose, scan});
     ++stats_.keyframes;
     m.keyframe_points.push_back(points);

@@ -29,31 +29,65 @@ CObservation2DRangeScan::Ptr PrepareScan(const CObservation2DRangeScan& scan, co
   return copy;
 }
 
+namespace {
+
+// The correlative matcher's best pose around `guess` against `reference`, refined by
+// ICP: nullopt when nothing scores recovery_min_score, or ICP pairs too few points or
+// moves the coarse pose out of bounds. `score` is on the correlative grid.
+struct SearchResult {
+  CPose2D pose;
+  double score = 0;
+  double icp_score = 0;  // the score of `icp_pose` on the same grid
+};
+std::optional<SearchResult> SearchAround(IcpAligner& icp, const CSimplePointsMap& reference,
+                                         const CSimplePointsMap& points, const CPose2D& guess,
+                                         const std::optional<CPose2D>& icp_pose, const ScanMatchingOptions& options,
+                                         MappingStats& stats) {
+  const double res = options.recovery_resolution_m;
+  const CorrelativeMatcher matcher(Decimate(reference, res / 2), res, options.recovery_window_m);
+  const CSimplePointsMap query = Decimate(points, res);
+  const auto coarse = matcher.Match(query, guess, options.recovery_window_m,
+                                    mrpt::DEG2RAD(options.recovery_window_deg), options.recovery_min_score);
+  if (!coarse) return std::nullopt;
+  const IcpResult refined = icp.Align(reference, points, coarse->pose);
+  stats.icp_iterations += refined.iterations;
+  if (refined.goodness < options.min_goodness / 2 || !WithinCorrectionBounds(refined.pose, coarse->pose, options)) {
+    return std::nullopt;
+  }
+  return SearchResult{refined.pose, matcher.Score(query, refined.pose),
+                      icp_pose ? matcher.Score(query, *icp_pose) : 0.0};
+}
+
+}  // namespace
+
+bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const ScanMatchingOptions& options) {
+  const CPose2D correction = pose - from;
+  return correction.norm() <= options.max_correction_m &&
+         std::abs(correction.phi()) <= mrpt::DEG2RAD(options.max_correction_deg);
+}
+
 MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, const CSimplePointsMap& points,
-                              const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats) {
-  auto within_bounds = [&](const CPose2D& pose, const CPose2D& from) {
-    const CPose2D correction = pose - from;
-    return correction.norm() <= options.max_correction_m &&
-           std::abs(correction.phi()) <= mrpt::DEG2RAD(options.max_correction_deg);
-  };
+                              const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats,
+                              bool guess_is_weak) {
+  const bool recovery = options.recovery_window_m > 0;
+  // A guess no odometry backs (constant velocity) may be off by a whole step:
+  // search around it before ICP, which would settle in the nearest minimum.
+  if (recovery && guess_is_weak && options.search_without_odometry) {
+    if (const auto found = SearchAround(icp, reference, points, guess, std::nullopt, options, stats)) {
+      ++stats.recovered_matches;
+      return {found->pose, MatchSource::kRecovered};
+    }
+  }
   const IcpResult match = icp.Align(reference, points, guess);
   stats.icp_iterations += match.iterations;
-  const bool icp_bounded = within_bounds(match.pose, guess);
+  const bool icp_bounded = WithinCorrectionBounds(match.pose, guess, options);
   if (icp_bounded && match.goodness >= options.min_goodness) return {match.pose, MatchSource::kIcp};
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
-  if (options.recovery_window_m > 0) {
-    const double res = options.recovery_resolution_m;
-    const CorrelativeMatcher matcher(Decimate(reference, res / 2), res, options.recovery_window_m);
-    const CSimplePointsMap query = Decimate(points, res);
-    const auto coarse = matcher.Match(query, guess, options.recovery_window_m,
-                                      mrpt::DEG2RAD(options.recovery_window_deg), options.recovery_min_score);
-    if (coarse) {
-      const IcpResult refined = icp.Align(reference, points, coarse->pose);
-      if (refined.goodness >= options.min_goodness / 2 && within_bounds(refined.pose, coarse->pose) &&
-          (!icp_weak_ok || matcher.Score(query, refined.pose) > matcher.Score(query, match.pose))) {
-        ++stats.recovered_matches;
-        return {refined.pose, MatchSource::kRecovered};
-      }
+  if (recovery) {
+    const auto found = SearchAround(icp, reference, points, guess, match.pose, options, stats);
+    if (found && (!icp_weak_ok || found->score > found->icp_score)) {
+      ++stats.recovered_matches;
+      return {found->pose, MatchSource::kRecovered};
     }
   }
   if (icp_weak_ok) return {match.pose, MatchSource::kIcp};

@@ -35,10 +35,15 @@ struct MatchResult {
 // doubted: when recovery is on, the correlative matcher searches around the guess and
 // its refined pose competes with ICP's on the same likelihood score; otherwise (or
 // when nothing scores) ICP's pose stands if at least half min_goodness paired, else
-// the guess. Counts into `stats`.
+// the guess. A weak guess (no odometry behind it) is searched around first when
+// `search_without_odometry` is on. Counts into `stats`.
 MatchResult MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimplePointsMap& reference,
                               const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
-                              const ScanMatchingOptions& options, MappingStats& stats);
+                              const ScanMatchingOptions& options, MappingStats& stats, bool guess_is_weak = false);
+
+// Whether `pose` lies within max_correction_m / max_correction_deg of `from`.
+bool WithinCorrectionBounds(const mrpt::poses::CPose2D& pose, const mrpt::poses::CPose2D& from,
+                            const ScanMatchingOptions& options);
 
 // The information of a scan alignment, point to line: with n_i the normal of the
 // surface at scan point p_i (from its beam neighbours) turned into the map frame,

@@ -9,6 +9,8 @@
 //             = pose_{k-1} ⊕ (pose_{k-2} ⊖ pose_{k-1})^-1 (constant velocity, when the
 //                                                       odometry reports no motion)
 //   pose_k    = ICP(local submap, scan_k, guess_k)          (MRPT CICP, point-to-point)
+// A constant-velocity guess may be off by a whole step: when `search_without_odometry`
+// is on, the correlative matcher (below) searches around it first and ICP refines.
 // The local submap holds the points of the last `submap_keyframes` keyframes in the
 // map frame. A match is rejected (pose_k = guess_k) when fewer than `min_goodness`
 // of the scan's points found a partner or when the correction exceeds
@@ -19,7 +21,9 @@
 // Recovery: when ICP is rejected and `recovery_window_m` > 0, the scan is matched by
 // the correlative matcher (branch and bound, correlative_matcher.h) against the local
 // submap within ±recovery_window_m and ±recovery_window_deg of the guess, then refined
-// by ICP. This carries logs with poor or no odometry.
+// by ICP. This carries logs with poor or no odometry. Without odometry, an unmatched
+// scan (pose_k = guess_k) neither becomes a keyframe nor sets the velocity: an
+// unverified pose would blur the submap and be carried on to the next guess.
 //
 // Every scan's pose is kept relative to the keyframe before it, so correcting the
 // keyframes (graph SLAM) corrects every scan.
@@ -57,6 +61,7 @@ struct ScanMatchingOptions {
   double recovery_window_deg = 90.0;
   double recovery_resolution_m = 0.1;
   double recovery_min_score = 0.5;
+  bool search_without_odometry = true;
   bool fuse_odometry = false;
   double point_sigma_m = 0.03;
   double prior_fraction = 0.1;
@@ -92,6 +97,9 @@ struct ScanMatchingOptions {
             Range::Of(0.02, 0.5).Log());
     v.Param("recovery_min_score", recovery_min_score, "accept a recovery match from this mean likelihood",
             Range::Of(0.1, 0.95));
+    v.Param("search_without_odometry", search_without_odometry,
+            "when the odometry reports no motion, search around the constant-velocity guess (correlative "
+            "matcher) before ICP");
     v.Param("fuse_odometry", fuse_odometry,
             "fuse each ICP match with the odometry step by their information (corridors: odometry decides "
             "the direction the scan cannot)");
