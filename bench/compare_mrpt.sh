@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
-# Side by side with MRPT's own icp-slam (Debian mrpt-apps) on the same data: the
+# Side by side with MRPT's own icp-slam and graphslam-engine (Debian mrpt-apps) on the same data: the
 # Radish CARMEN logs and MRPT's simulated rawlogs with ground truth, each converted
 # with `specht convert --layout frames` (one action/sensory-frame pair per scan,
 # actions time-stamped: icp-slam refuses MRPT's own demo rawlogs, whose actions carry
 # no stamps).
 # Both trajectories are scored by `specht eval slam` against the same reference.
 # icp-slam runs with its shipped demo configuration (icp-slam_demo_classic.ini),
-# headless. Prints one JSON object per dataset. Usage: bench/compare_mrpt.sh [build-dir]
+# headless. graphslam-engine runs through its engine class (bench/mrpt_graphslam.cpp: the
+# app's default deciders CICPCriteriaNRD/ERD + CLevMarqGSO, its shipped laser_odometry.ini),
+# which stamps every scan; the app itself writes only an unstamped graph.
+# Prints one JSON object per dataset. Usage: bench/compare_mrpt.sh [build-dir]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build/release}
@@ -15,9 +18,13 @@ data=${SPECHT_DATA_DIR:-$root/../shared/data}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mrpt_ini=/usr/share/mrpt/config_files/icp-slam/icp-slam_demo_classic.ini
+graphslam_ini=/usr/share/mrpt/config_files/graphslam-engine/laser_odometry.ini
 
-# relation error "mean max mean_deg" from a specht report
-rel() { jq -r '.metrics.relation.all | "\(.mean_m) \(.max_m) \(.mean_deg)"' "$1"; }
+# relation error over all relations from a specht report, and the wall time, as JSON
+figures() {
+  jq -c --argjson wall "$2" '.metrics.relation.all |
+    {relation_mean_m: .mean_m, relation_max_m: .max_m, relation_mean_deg: .mean_deg, wall_s: $wall}' "$1"
+}
 seconds_since() { awk -v a="$1" -v b="$(date +%s.%N)" 'BEGIN {printf "%.2f", b - a}'; }
 
 compare() {  # name rawlog reference [specht args...]
@@ -42,10 +49,13 @@ compare() {  # name rawlog reference [specht args...]
   paste -d' ' "$dir/stamps" <(awk '{printf "%s %s %s\n", $2, $3, $4}' "$dir/icp/log_estimated_path.txt") |
     awk 'NF==4 {printf "%s %s %s 0 0 0 %.9f %.9f\n", $1, $2, $3, sin($4/2), cos($4/2)}' > "$dir/icp.tum"
   "$specht" eval slam --estimate "$dir/icp.tum" --reference "$reference" -o "$dir/icp-eval" >/dev/null
-  read -r s_mean s_max s_deg < <(rel "$dir/specht/report.json")
-  read -r i_mean i_max i_deg < <(rel "$dir/icp-eval/report.json")
-  printf '{"name":"compare_mrpt/%s","specht":{"relation_mean_m":%s,"relation_max_m":%s,"relation_mean_deg":%s,"wall_s":%s},"mrpt_icp_slam":{"relation_mean_m":%s,"relation_max_m":%s,"relation_mean_deg":%s,"wall_s":%s}}\n' \
-    "$name" "$s_mean" "$s_max" "$s_deg" "$specht_s" "$i_mean" "$i_max" "$i_deg" "$icp_s"
+  local t2=$(date +%s.%N)
+  "$build/bench/mrpt_graphslam" "$graphslam_ini" "$rawlog" "$dir/graphslam.tum" >"$dir/graphslam.log" 2>&1
+  local graphslam_s=$(seconds_since "$t2")
+  "$specht" eval slam --estimate "$dir/graphslam.tum" --reference "$reference" -o "$dir/graphslam-eval" >/dev/null
+  printf '{"name":"compare_mrpt/%s","specht":%s,"mrpt_icp_slam":%s,"mrpt_graphslam_engine":%s}\n' "$name" \
+    "$(figures "$dir/specht/report.json" "$specht_s")" "$(figures "$dir/icp-eval/report.json" "$icp_s")" \
+    "$(figures "$dir/graphslam-eval/report.json" "$graphslam_s")"
 }
 
 demos=/usr/share/mrpt/datasets/graphslam-engine-demos/action_observations_map
