@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
-#include <set>
+#include <array>
+#include <unordered_set>
 
+#include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace specht::slam {
@@ -37,25 +38,33 @@ CorrelativeMatcher::CorrelativeMatcher(const mrpt::maps::CSimplePointsMap& map_p
   Level base;
   base.cells.resize(static_cast<size_t>(width_) * height_);
   const double inv_two_sigma2 = 1.0 / (2.0 * blur_cells * blur_cells);
+  // 255·exp(−d²/2σ²) rounds to 0 from d²/2σ² > ln 510: most cells, spared the exp.
+  const double zero_from_d2 = std::log(510.0) / inv_two_sigma2;
   for (int y = 0; y < height_; ++y) {
+    const float* row = dist.ptr<float>(y);
+    uint8_t* out = &base.cells[static_cast<size_t>(y) * width_];
     for (int x = 0; x < width_; ++x) {
-      const float d = dist.at<float>(y, x);
-      base.cells[static_cast<size_t>(y) * width_ + x] = static_cast<uint8_t>(std::lround(255.0 * std::exp(-d * d * inv_two_sigma2)));
+      const double d2 = static_cast<double>(row[x]) * row[x];
+      out[x] = d2 > zero_from_d2 ? 0 : static_cast<uint8_t>(std::lround(255.0 * std::exp(-d2 * inv_two_sigma2)));
     }
   }
   levels_.push_back(std::move(base));
 
   // P_h(c) = max(P_{h−1}(c), P_{h−1}(c + (s, 0)), P_{h−1}(c + (0, s)), P_{h−1}(c + (s, s))), s = 2^{h−1}.
   const int window_cells = static_cast<int>(std::ceil(max_window_m / resolution_m));
+  // As whole-image maxima of shifted copies (cells past the edge count 0, which no
+  // maximum of non-negative values notices).
   for (int h = 1; (1 << (h - 1)) < std::max(1, window_cells); ++h) {
     const int s = 1 << (h - 1);
     Level next;
-    next.cells.resize(levels_.back().cells.size());
-    for (int y = 0; y < height_; ++y) {
-      for (int x = 0; x < width_; ++x) {
-        next.cells[static_cast<size_t>(y) * width_ + x] =
-            std::max({At(h - 1, x, y), At(h - 1, x + s, y), At(h - 1, x, y + s), At(h - 1, x + s, y + s)});
-      }
+    next.cells = levels_.back().cells;
+    cv::Mat prev(height_, width_, CV_8U, levels_.back().cells.data());
+    cv::Mat out(height_, width_, CV_8U, next.cells.data());
+    for (const auto& [dx, dy] : {std::pair{s, 0}, std::pair{0, s}, std::pair{s, s}}) {
+      if (dx >= width_ || dy >= height_) continue;
+      const cv::Rect target(0, 0, width_ - dx, height_ - dy), source(dx, dy, width_ - dx, height_ - dy);
+      cv::Mat region = out(target);
+      cv::max(region, prev(source), region);
     }
     levels_.push_back(std::move(next));
   }
@@ -122,30 +131,40 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
                      static_cast<int>(std::floor((y - y0_) / resolution_)));
     }
   }
-  auto bound = [&](int level, const Candidate& c) {
+  // Sum of level values over the candidate's cells. `beat` > 0: stop once the rest,
+  // at most 255 a point, can no longer lift the sum above `beat` (the caller cuts it).
+  auto bound = [&](int level, const Candidate& c, int beat = 0) {
+    const uint8_t* cells_at = levels_[level].cells.data();
+    const auto& points = cells[c.angle];
     int sum = 0;
-    for (const auto& [cx, cy] : cells[c.angle]) sum += At(level, cx + c.dx, cy + c.dy);
+    int headroom = 255 * static_cast<int>(points.size());
+    for (const auto& [px, py] : points) {
+      const int cx = px + c.dx, cy = py + c.dy;
+      if (cx >= 0 && cy >= 0 && cx < width_ && cy < height_) sum += cells_at[static_cast<size_t>(cy) * width_ + cx];
+      headroom -= 255;
+      if (beat > 0 && sum + headroom <= beat) return sum;
+    }
     return sum;
   };
 
   // Top level: translations on a lattice of 2^top cells.
+  const int min_sum = static_cast<int>(std::ceil(min_score * 255.0 * n));
   std::vector<Candidate> roots;
   for (size_t a = 0; a < cells.size(); ++a) {
     for (int dx = -w; dx <= w; dx += 1 << top) {
       for (int dy = -w; dy <= w; dy += 1 << top) {
         Candidate c{static_cast<int>(a), dx, dy, 0};
-        c.score = bound(top, c);
+        c.score = bound(top, c, min_sum - 1);
         roots.push_back(c);
       }
     }
   }
   std::sort(roots.begin(), roots.end());
-  const int min_sum = static_cast<int>(std::ceil(min_score * 255.0 * n));
   Candidate best{0, 0, 0, min_sum - 1};
   bool found = false;
 
   // Depth-first, best child first; cut branches whose bound cannot beat `best`.
-  std::function<void(const Candidate&, int)> search = [&](const Candidate& c, int level) {
+  auto search = [&](auto& self, const Candidate& c, int level) -> void {
     if (c.score <= best.score) return;
     if (level == 0) {
       best = c;
@@ -153,21 +172,24 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
       return;
     }
     const int s = 1 << (level - 1);
-    std::vector<Candidate> children;
+    std::array<Candidate, 4> children;
+    size_t count = 0;
     for (int ox : {0, s}) {
       for (int oy : {0, s}) {
         Candidate child{c.angle, c.dx + ox, c.dy + oy, 0};
         if (child.dx > w || child.dy > w) continue;
-        child.score = bound(level - 1, child);
-        children.push_back(child);
+        child.score = bound(level - 1, child, best.score);
+        children[count++] = child;
       }
     }
-    std::sort(children.begin(), children.end());
-    for (const auto& child : children) search(child, level - 1);
+    for (size_t i = 1; i < count; ++i) {  // best first (insertion sort of at most four)
+      for (size_t j = i; j > 0 && children[j] < children[j - 1]; --j) std::swap(children[j], children[j - 1]);
+    }
+    for (size_t i = 0; i < count; ++i) self(self, children[i], level - 1);
   };
   for (const auto& root : roots) {
     if (root.score <= best.score) break;
-    search(root, top);
+    search(search, root, top);
   }
   if (!found) return std::nullopt;
   const double th = guess.phi() + (best.angle - half_angles) * step;
@@ -177,11 +199,13 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
 
 mrpt::maps::CSimplePointsMap Decimate(const mrpt::maps::CSimplePointsMap& points, double cell_m) {
   mrpt::maps::CSimplePointsMap out;
-  std::set<std::pair<long, long>> seen;
   const auto& xs = points.getPointsBufferRef_x();
   const auto& ys = points.getPointsBufferRef_y();
+  std::unordered_set<uint64_t> seen;
+  seen.reserve(xs.size());
   for (size_t i = 0; i < xs.size(); ++i) {
-    const std::pair<long, long> key(std::lround(std::floor(xs[i] / cell_m)), std::lround(std::floor(ys[i] / cell_m)));
+    const auto cx = static_cast<int32_t>(std::floor(xs[i] / cell_m)), cy = static_cast<int32_t>(std::floor(ys[i] / cell_m));
+    const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(cx)) << 32) | static_cast<uint32_t>(cy);
     if (seen.insert(key).second) out.insertPoint(xs[i], ys[i], 0);
   }
   return out;

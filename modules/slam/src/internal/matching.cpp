@@ -72,7 +72,8 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   const bool recovery = options.recovery_window_m > 0;
   // A guess no odometry backs (constant velocity) may be off by a whole step:
   // search around it before ICP, which would settle in the nearest minimum.
-  if (recovery && guess_is_weak && options.search_without_odometry) {
+  const bool search_first = recovery && guess_is_weak && options.search_without_odometry;
+  if (search_first) {
     if (const auto found = SearchAround(icp, reference, points, guess, std::nullopt, options, stats)) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};
@@ -83,7 +84,8 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   const bool icp_bounded = WithinCorrectionBounds(match.pose, guess, options);
   if (icp_bounded && match.goodness >= options.min_goodness) return {match.pose, MatchSource::kIcp};
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
-  if (recovery) {
+  // (After a search first, searching again from the same guess would find the same.)
+  if (recovery && !search_first) {
     const auto found = SearchAround(icp, reference, points, guess, match.pose, options, stats);
     if (found && (!icp_weak_ok || found->score > found->icp_score)) {
       ++stats.recovered_matches;
