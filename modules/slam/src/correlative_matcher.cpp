@@ -1,8 +1,8 @@
 #include "specht/slam/correlative_matcher.h"
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <unordered_set>
 
 #include <opencv2/core.hpp>

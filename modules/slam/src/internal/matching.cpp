@@ -31,6 +31,13 @@ CObservation2DRangeScan::Ptr PrepareScan(const CObservation2DRangeScan& scan, co
 
 namespace {
 
+// Whether `pose` lies within max_correction_m / max_correction_deg of `from`.
+bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const ScanMatchingOptions& options) {
+  const CPose2D correction = pose - from;
+  return correction.norm() <= options.max_correction_m &&
+         std::abs(correction.phi()) <= mrpt::DEG2RAD(options.max_correction_deg);
+}
+
 // The correlative matcher's best pose around `guess` against `reference`, refined by
 // ICP: nullopt when nothing scores recovery_min_score, or ICP pairs too few points or
 // moves the coarse pose out of bounds. `score` is on the correlative grid.
@@ -59,12 +66,6 @@ std::optional<SearchResult> SearchAround(IcpAligner& icp, const CSimplePointsMap
 }
 
 }  // namespace
-
-bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const ScanMatchingOptions& options) {
-  const CPose2D correction = pose - from;
-  return correction.norm() <= options.max_correction_m &&
-         std::abs(correction.phi()) <= mrpt::DEG2RAD(options.max_correction_deg);
-}
 
 MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, const CSimplePointsMap& points,
                               const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats,

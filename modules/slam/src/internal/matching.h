@@ -41,10 +41,6 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimplePointsMa
                               const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
                               const ScanMatchingOptions& options, MappingStats& stats, bool guess_is_weak = false);
 
-// Whether `pose` lies within max_correction_m / max_correction_deg of `from`.
-bool WithinCorrectionBounds(const mrpt::poses::CPose2D& pose, const mrpt::poses::CPose2D& from,
-                            const ScanMatchingOptions& options);
-
 // The information of a scan alignment, point to line: with n_i the normal of the
 // surface at scan point p_i (from its beam neighbours) turned into the map frame,
 //   J_i = [n_iᵀ, n_iᵀ R'(θ) p_i],   H = Σ J_iᵀ J_i / σ².
