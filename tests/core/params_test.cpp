@@ -2,6 +2,7 @@
 #include "specht/core/params.h"
 
 #include <filesystem>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -168,6 +169,29 @@ TEST(ParamsTest, ShippedDefaultFilesMatchTheDeclarations) {
   ParamTree tree;
   tree.MergeFile(testing::SourceDir() + "/params/default.yaml");
   EXPECT_EQ(app::AllOptions().Load(tree).ToYaml(true), defaults.ToYaml(true));
+}
+
+// The presets beside the defaults (params/*.yaml that are not module defaults) load
+// without an unknown key or a value out of range, and change what they say.
+TEST(ParamsTest, ShippedPresetsLoad) {
+  std::set<std::string> defaults_files = {"default.yaml"};
+  for (const auto& file : app::DefaultsFiles()) defaults_files.insert(file.file);
+  int presets = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(testing::SourceDir() + "/params")) {
+    if (entry.path().extension() != ".yaml" || defaults_files.count(entry.path().filename().string()) > 0) continue;
+    ParamTree tree;
+    EXPECT_NO_THROW({
+      tree.MergeFile(entry.path().string());
+      app::AllOptions().Load(tree);
+    }) << entry.path();
+    ++presets;
+  }
+  EXPECT_GE(presets, 2);
+  ParamTree noisy;
+  noisy.MergeFile(testing::SourceDir() + "/params/noisy-laser.yaml");
+  const auto matching = app::AllOptions().Load(noisy).Get<slam::ScanMatchingOptions>("scan_matching");
+  EXPECT_TRUE(matching.fuse_odometry);
+  EXPECT_DOUBLE_EQ(matching.point_sigma_m, 0.3);
 }
 
 TEST(ParamsTest, EditDistance) {
