@@ -154,13 +154,14 @@ int RunTune(const TuneArgs& a) {
                   {"best_parameters", Values(t, best)},
                   {"evaluations", r.evaluations.size()},
                   {"failed", failed},
-                  {"reused_from_log", r.reused}};
+                  {"reused_from_log", r.reused},
+                  {"duplicates_not_run", r.duplicates}};
   j["timing"] = {{"evaluation_seconds_total", seconds}};
   for (const char* f : {"evaluations.csv", "best.yaml", "convergence.png"}) report.AddOutput(f);
   report.Write(out);
-  std::printf("tune: %zu evaluations (%ld failed, %d from the log); %s: defaults %s, best %.6g (#%d)\n  %s\n  "
-              "overlay: %s/best.yaml\n",
-              r.evaluations.size(), failed, r.reused, t.metric.c_str(),
+  std::printf("tune: %zu evaluations (%ld failed, %d from the log, %d repeated values not run again); %s: defaults "
+              "%s, best %.6g (#%d)\n  %s\n  overlay: %s/best.yaml\n",
+              r.evaluations.size(), failed, r.reused, r.duplicates, t.metric.c_str(),
               defaults.ok ? std::to_string(defaults.value).c_str() : "failed", best.value, best.index,
               Values(t, best).c_str(), out.c_str());
   return 0;

@@ -90,7 +90,9 @@ TEST(TuneSearchTest, GridEnumeratesTheProductOnce) {
   o.search.levels = 4;
   std::set<std::vector<std::string>> seen;
   const RunResult r = RunTuning(space, o, [&](int i, int, const std::vector<std::string>& v) {
-    if (i > 0) EXPECT_TRUE(seen.insert(v).second);
+    if (i > 0) {
+      EXPECT_TRUE(seen.insert(v).second);
+    }
     return Outcome{true, 0.0, ""};
   });
   EXPECT_EQ(seen.size(), 12u);  // 4 levels (cell centres 0.5, 1.5, 2.5, 3.5) × 3 choices
@@ -133,6 +135,38 @@ TEST(TuneSpaceTest, RejectsBadParametersBeforeAnyEvaluation) {
   fails("{}", "at least one");
 }
 
+// A GA over one three-way choice asks the same values again and again: each is run
+// once, the repeats take its outcome (logged with 0 s) and the best is unchanged.
+TEST(TuneRunTest, RepeatedValuesAreNotEvaluatedAgain) {
+  const auto space = SearchSpace::FromTuneFile(Declared(0), YAML::Load("f.mode: {}\n"), "t.yaml");
+  const std::string log = testing::TempDir("tune_repeats") + "/log.csv";
+  std::atomic<int> calls{0};
+  auto o = Options("ga", 40, 8, log);
+  o.jobs = 2;
+  const RunResult r = RunTuning(space, o, [&](int, int, const std::vector<std::string>& v) {
+    ++calls;
+    return Outcome{true, v.empty() ? 9.0 : static_cast<double>(v[0][0] - 'a'), ""};  // a 0, b 1, c 2
+  });
+  ASSERT_TRUE(r.complete);
+  EXPECT_LE(calls.load(), 4);  // the defaults and at most the three choices
+  EXPECT_EQ(r.duplicates, 40 - (calls.load() - 1));
+  ASSERT_EQ(r.evaluations.size(), 41u);
+  for (const auto& e : r.evaluations) {
+    ASSERT_TRUE(e.ok);
+    if (e.index > 0) {
+      EXPECT_EQ(e.value, static_cast<double>(e.values[0][0] - 'a')) << e.index;
+    }
+  }
+  EXPECT_EQ(r.evaluations[r.best].values, std::vector<std::string>{"a"});
+  // The repeats are in the log: a resume takes all 41 from it.
+  o.resume = true;
+  const RunResult again = RunTuning(space, o, [&](int, int, const std::vector<std::string>&) -> Outcome {
+    ADD_FAILURE() << "evaluated although logged";
+    return {};
+  });
+  EXPECT_EQ(again.reused, 41);
+}
+
 // Acceptance 3: stopped after 23 evaluations (mid-generation, with two workers),
 // resumed from the log: the same evaluations and the same best as one run.
 TEST(TuneResumeTest, ResumedSearchEqualsUninterruptedSearch) {
@@ -156,8 +190,10 @@ TEST(TuneResumeTest, ResumedSearchEqualsUninterruptedSearch) {
     return Of(Rastrigin)(i, r, v);
   });
   EXPECT_TRUE(resumed.complete);
-  EXPECT_EQ(resumed.reused, 23);
-  EXPECT_EQ(calls.load(), 61 - 23);
+  EXPECT_GE(resumed.reused, 23);  // the 23 run before the stop, and the repeats logged among them
+  // The GA asks its elites again: each value is run once.
+  EXPECT_EQ(calls.load(), 61 - resumed.reused - resumed.duplicates);
+  EXPECT_GT(resumed.duplicates, 0);
   ASSERT_EQ(resumed.evaluations.size(), whole.evaluations.size());
   for (size_t i = 0; i < whole.evaluations.size(); ++i)
     EXPECT_EQ(resumed.evaluations[i].values, whole.evaluations[i].values) << "evaluation " << i;

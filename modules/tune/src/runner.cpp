@@ -156,6 +156,22 @@ RunResult RunTuning(const SearchSpace& space, const RunOptions& o, const Evaluat
     return true;
   };
 
+  // A candidate whose values an earlier one already had takes that one's outcome
+  // (evaluations are deterministic): logged with 0 s, not run again.
+  std::map<std::vector<std::string>, int> first_with;  // values -> index of the first candidate with them
+  const auto finished = [&](int i) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (static_cast<int>(r.evaluations.size()) <= i) return false;
+    const Evaluation& e = r.evaluations[i];
+    return e.seconds > 0 || e.ok || !e.error.empty();
+  };
+  const auto copy_outcome = [&](Evaluation e, int original) {
+    const Evaluation& from = r.evaluations[original];
+    e.ok = from.ok, e.value = from.value, e.error = from.error, e.seconds = 0;
+    ++r.duplicates;
+    record(std::move(e), false);
+  };
+
   Evaluation defaults;
   if (!check_logged(defaults) && !run_one(defaults)) return r;
 
@@ -167,12 +183,19 @@ RunResult RunTuning(const SearchSpace& space, const RunOptions& o, const Evaluat
     const bool last = static_cast<int>(asked.size()) > o.search.budget - next + 1;
     if (last) asked.resize(o.search.budget - next + 1);
     std::vector<Evaluation> pending;
+    std::vector<std::pair<Evaluation, int>> repeated;  // candidate, index of the first with its values
     std::vector<int> indices;
     for (const auto& g : asked) {
       Evaluation e;
       e.index = next++, e.generation = generation, e.values = space.Decode(g);
       indices.push_back(e.index);
-      if (!check_logged(e)) pending.push_back(std::move(e));
+      const auto [first, is_first] = first_with.emplace(e.values, e.index);
+      if (check_logged(e)) continue;
+      if (is_first) {
+        pending.push_back(std::move(e));
+      } else {
+        repeated.emplace_back(std::move(e), first->second);
+      }
     }
     std::atomic<size_t> cursor{0};
     std::atomic<bool> skipped{false};
@@ -183,6 +206,9 @@ RunResult RunTuning(const SearchSpace& space, const RunOptions& o, const Evaluat
           if (!run_one(pending[i])) skipped = true;
       });
     for (auto& w : workers) w.join();
+    for (auto& [e, original] : repeated) {
+      if (finished(original)) copy_outcome(std::move(e), original);
+    }
     stopped = skipped;
     if (stopped || last) break;
     std::vector<double> values;

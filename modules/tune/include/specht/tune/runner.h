@@ -4,7 +4,10 @@
 // evaluation appended to a CSV log at once. The log is also the resume state:
 // with `resume`, the loop replays the search and takes each candidate's result
 // from the log instead of evaluating it again, so an interrupted search continues
-// exactly where it was (same seed → same final result).
+// exactly where it was (same seed → same final result). A candidate whose decoded
+// values an earlier candidate already had (a GA's elite asked again, two children
+// alike on a coarse grid) takes that outcome instead of running again: evaluations
+// are deterministic, so a second run would only cost time.
 //
 // Evaluation 0 is the defaults (no overlay): the baseline every result is compared
 // with, and the first check that the metric exists — an Evaluator may throw
@@ -58,6 +61,7 @@ struct RunResult {
   int best = -1;                        // index of the best ok evaluation (−1: none)
   bool complete = false;                // false when stopped by stop_after
   int reused = 0;                       // results taken from the log
+  int duplicates = 0;                   // candidates whose values an earlier one had: its outcome, not run
 };
 
 // Throws InputError on a log of another search (other keys or candidates), or what
