@@ -68,6 +68,76 @@ TEST(CorrelativeMatcherTest, FindsAPoseOneAndAHalfMetresAndThirtyDegreesFromTheG
   }
 }
 
+TEST(CorrelativeMatcherTest, LikelihoodFallsAsAGaussianOfTheDistanceToTheNearestMapPoint) {
+  CSimplePointsMap map;
+  map.insertPoint(0, 0, 0);
+  const double res = 0.05, sigma_cells = 1.5;
+  const CorrelativeMatcher matcher(map, res, 0.5, sigma_cells);
+  CSimplePointsMap probe;
+  probe.insertPoint(0, 0, 0);
+  auto score_at = [&](double x, double y) { return matcher.Score(probe, CPose2D(x, y, 0)); };
+  // The centre of the map point's cell: the one probe of a cell around it scoring 1.
+  double hx = 0, hy = 0;
+  for (double ox : {-0.5, 0.5}) {
+    for (double oy : {-0.5, 0.5}) {
+      if (score_at(ox * res, oy * res) == 1.0) hx = ox * res, hy = oy * res;
+    }
+  }
+  ASSERT_EQ(score_at(hx, hy), 1.0);
+  // L = round(255 exp(−d²/2σ²)) / 255, d in cells between cell centres; 0 from 3.53σ.
+  for (const auto& [cx, cy] : {std::pair{1, 0}, {1, 1}, {0, -2}, {3, 1}, {-4, 2}, {5, 0}, {6, 0}, {0, 9}}) {
+    const double d2 = cx * cx + cy * cy;
+    const double expected = std::round(255.0 * std::exp(-d2 / (2 * sigma_cells * sigma_cells))) / 255.0;
+    EXPECT_NEAR(score_at(hx + cx * res, hy + cy * res), expected, 1e-12) << "offset " << cx << ", " << cy;
+  }
+}
+
+// The best pose of the search lattice, by trying every pose of it.
+double BestLatticeScore(const CorrelativeMatcher& m, const CSimplePointsMap& scan, const CPose2D& guess, double res,
+                        int window_cells, double step, int half_angles) {
+  double best = 0;
+  for (int a = -half_angles; a <= half_angles; ++a) {
+    for (int dx = -window_cells; dx <= window_cells; ++dx) {
+      for (int dy = -window_cells; dy <= window_cells; ++dy) {
+        best = std::max(best, m.Score(scan, CPose2D(guess.x() + dx * res, guess.y() + dy * res, guess.phi() + a * step)));
+      }
+    }
+  }
+  return best;
+}
+
+TEST(CorrelativeMatcherTest, BranchAndBoundFindsTheBestScoreOfTheWholeLattice) {
+  // The map holds the room up to x = 8 m: the scan's points on the far wall (x = 10 m)
+  // lie outside the map's grid, so candidates take the bounds-checked path too.
+  const CPose2D a(2.0, 2.0, 0.0), b(2.3, 1.8, 0.1);
+  CSimplePointsMap corner;
+  const CSimplePointsMap room = InWorld(RoomScan(a), a);
+  for (size_t i = 0; i < room.size(); ++i) {
+    float x, y, z;
+    room.getPoint(i, x, y, z);
+    if (x < 8) corner.insertPoint(x, y, 0);
+  }
+  const double res = 0.1;
+  const CorrelativeMatcher matcher(corner, res, 0.5);
+  const CSimplePointsMap scan = Decimate(RoomScan(b), res);
+  const auto r = matcher.Match(scan, a, 0.5, mrpt::DEG2RAD(10), 0.1);
+  ASSERT_TRUE(r.has_value());
+  double max_range = 0;
+  for (size_t i = 0; i < scan.size(); ++i) {
+    float x, y, z;
+    scan.getPoint(i, x, y, z);
+    max_range = std::max<double>(max_range, std::hypot(x, y));
+  }
+  const double step = std::acos(1.0 - res * res / (2.0 * max_range * max_range));
+  const int half_angles = static_cast<int>(std::ceil(mrpt::DEG2RAD(10) / step));
+  // Score() places points by the pose directly, Match() by integer cell offsets from
+  // the guess: the two may differ on a point lying on a cell border, hence one point.
+  EXPECT_NEAR(r->score, BestLatticeScore(matcher, scan, a, res, 5, step, half_angles), 1.0 / scan.size());
+  EXPECT_NEAR(r->score, matcher.Score(scan, r->pose), 1.0 / scan.size());
+  EXPECT_NEAR(r->pose.x(), b.x(), 0.11);
+  EXPECT_NEAR(r->pose.y(), b.y(), 0.11);
+}
+
 TEST(CorrelativeMatcherTest, NothingAboveTheMinimumScoreIsNoMatch) {
   const CPose2D a(2.0, 2.0, 0.0);
   const CorrelativeMatcher matcher(InWorld(RoomScan(a), a), 0.05, 1.0);

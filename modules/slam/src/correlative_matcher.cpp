@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <unordered_set>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 
 namespace specht::slam {
 
@@ -27,25 +27,38 @@ CorrelativeMatcher::CorrelativeMatcher(const mrpt::maps::CSimplePointsMap& map_p
   width_ = static_cast<int>(std::ceil((max_x - min_x + 2 * pad) / resolution_m)) + 1;
   height_ = static_cast<int>(std::ceil((max_y - min_y + 2 * pad) / resolution_m)) + 1;
 
-  // L(c) = exp(−d²/2σ²) from the distance transform of the hit mask.
-  cv::Mat free(height_, width_, CV_8U, cv::Scalar(255));
+  // L(c) = exp(−d²/2σ²), d the distance from c to the nearest hit cell: the maximum,
+  // over hit cells, of a kernel holding exp(−d²/2σ²) at each offset. 255·exp(−d²/2σ²)
+  // rounds to 0 from d²/2σ² > ln 510, so the kernel ends there and most cells stay 0
+  // (a distance transform of the whole grid would visit them all).
+  const double inv_two_sigma2 = 1.0 / (2.0 * blur_cells * blur_cells);
+  const double zero_from_d2 = std::log(510.0) / inv_two_sigma2;
+  const int reach = static_cast<int>(std::floor(std::sqrt(zero_from_d2)));
+  struct Tap {
+    int dx, dy;
+    uint8_t value;
+  };
+  std::vector<Tap> kernel;
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const double d2 = dx * dx + dy * dy;
+      if (d2 > zero_from_d2) continue;
+      const auto value = static_cast<uint8_t>(std::lround(255.0 * std::exp(-d2 * inv_two_sigma2)));
+      if (value > 0) kernel.push_back({dx, dy, value});
+    }
+  }
+  Level base;
+  base.cells.assign(static_cast<size_t>(width_) * height_, 0);
+  std::vector<uint8_t> hit(base.cells.size(), 0);
   for (size_t i = 0; i < xs.size(); ++i) {
     const int cx = static_cast<int>((xs[i] - x0_) / resolution_m), cy = static_cast<int>((ys[i] - y0_) / resolution_m);
-    free.at<uint8_t>(cy, cx) = 0;
-  }
-  cv::Mat dist;
-  cv::distanceTransform(free, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  Level base;
-  base.cells.resize(static_cast<size_t>(width_) * height_);
-  const double inv_two_sigma2 = 1.0 / (2.0 * blur_cells * blur_cells);
-  // 255·exp(−d²/2σ²) rounds to 0 from d²/2σ² > ln 510: most cells, spared the exp.
-  const double zero_from_d2 = std::log(510.0) / inv_two_sigma2;
-  for (int y = 0; y < height_; ++y) {
-    const float* row = dist.ptr<float>(y);
-    uint8_t* out = &base.cells[static_cast<size_t>(y) * width_];
-    for (int x = 0; x < width_; ++x) {
-      const double d2 = static_cast<double>(row[x]) * row[x];
-      out[x] = d2 > zero_from_d2 ? 0 : static_cast<uint8_t>(std::lround(255.0 * std::exp(-d2 * inv_two_sigma2)));
+    uint8_t& seen = hit[static_cast<size_t>(cy) * width_ + cx];
+    if (seen) continue;
+    seen = 1;
+    // The padding keeps every tap inside the grid.
+    for (const Tap& t : kernel) {
+      uint8_t& cell = base.cells[static_cast<size_t>(cy + t.dy) * width_ + cx + t.dx];
+      cell = std::max(cell, t.value);
     }
   }
   levels_.push_back(std::move(base));
@@ -119,30 +132,53 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
   const int top = std::min(static_cast<int>(levels_.size()) - 1,
                            std::max(0, static_cast<int>(std::ceil(std::log2(std::max(1, 2 * w + 1)))) - 1));
 
-  // Cells of the scan rotated by each angle and placed at the guess position.
-  std::vector<std::vector<std::pair<int, int>>> cells(2 * half_angles + 1);
+  // Cells of the scan rotated by each angle and placed at the guess position, with
+  // their row-major indices and bounding box (a candidate whose box stays inside the
+  // grid sums without a bounds check per point).
+  struct Rotated {
+    std::vector<std::pair<int, int>> cells;
+    std::vector<int> index;
+    int min_x = 0, max_x = 0, min_y = 0, max_y = 0;
+  };
+  std::vector<Rotated> rotated(2 * half_angles + 1);
   for (int a = -half_angles; a <= half_angles; ++a) {
     const double th = guess.phi() + a * step, c = std::cos(th), s = std::sin(th);
-    auto& v = cells[a + half_angles];
-    v.reserve(n);
+    Rotated& r = rotated[a + half_angles];
+    r.cells.reserve(n);
+    r.index.reserve(n);
+    r.min_x = r.min_y = std::numeric_limits<int>::max();
+    r.max_x = r.max_y = std::numeric_limits<int>::min();
     for (size_t i = 0; i < n; ++i) {
       const double x = guess.x() + c * xs[i] - s * ys[i], y = guess.y() + s * xs[i] + c * ys[i];
-      v.emplace_back(static_cast<int>(std::floor((x - x0_) / resolution_)),
-                     static_cast<int>(std::floor((y - y0_) / resolution_)));
+      const int cx = static_cast<int>(std::floor((x - x0_) / resolution_));
+      const int cy = static_cast<int>(std::floor((y - y0_) / resolution_));
+      r.cells.emplace_back(cx, cy);
+      r.index.push_back(cy * width_ + cx);
+      r.min_x = std::min(r.min_x, cx), r.max_x = std::max(r.max_x, cx);
+      r.min_y = std::min(r.min_y, cy), r.max_y = std::max(r.max_y, cy);
     }
   }
   // Sum of level values over the candidate's cells. `beat` > 0: stop once the rest,
   // at most 255 a point, can no longer lift the sum above `beat` (the caller cuts it).
   auto bound = [&](int level, const Candidate& c, int beat = 0) {
     const uint8_t* cells_at = levels_[level].cells.data();
-    const auto& points = cells[c.angle];
+    const Rotated& r = rotated[c.angle];
+    const int count = static_cast<int>(r.index.size());
+    // sum + 255·(points left) ≤ beat  ⇔  sum − 255·(points done) ≤ beat − 255·count
+    const int give_up = beat > 0 ? beat - 255 * count : std::numeric_limits<int>::min();
     int sum = 0;
-    int headroom = 255 * static_cast<int>(points.size());
-    for (const auto& [px, py] : points) {
-      const int cx = px + c.dx, cy = py + c.dy;
+    if (r.min_x + c.dx >= 0 && r.min_y + c.dy >= 0 && r.max_x + c.dx < width_ && r.max_y + c.dy < height_) {
+      const int offset = c.dy * width_ + c.dx;
+      for (int i = 0; i < count; ++i) {
+        sum += cells_at[r.index[i] + offset];
+        if (sum - 255 * (i + 1) <= give_up) return sum;
+      }
+      return sum;
+    }
+    for (int i = 0; i < count; ++i) {
+      const int cx = r.cells[i].first + c.dx, cy = r.cells[i].second + c.dy;
       if (cx >= 0 && cy >= 0 && cx < width_ && cy < height_) sum += cells_at[static_cast<size_t>(cy) * width_ + cx];
-      headroom -= 255;
-      if (beat > 0 && sum + headroom <= beat) return sum;
+      if (sum - 255 * (i + 1) <= give_up) return sum;
     }
     return sum;
   };
@@ -150,7 +186,7 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
   // Top level: translations on a lattice of 2^top cells.
   const int min_sum = static_cast<int>(std::ceil(min_score * 255.0 * n));
   std::vector<Candidate> roots;
-  for (size_t a = 0; a < cells.size(); ++a) {
+  for (size_t a = 0; a < rotated.size(); ++a) {
     for (int dx = -w; dx <= w; dx += 1 << top) {
       for (int dy = -w; dy <= w; dy += 1 << top) {
         Candidate c{static_cast<int>(a), dx, dy, 0};
