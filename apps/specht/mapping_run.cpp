@@ -111,6 +111,25 @@ Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& r
   }
 }
 
+// Mean map entropy of the keyframe scans at the estimated poses and, with a
+// reference, of the same scans at the estimate's and at the reference's poses
+// (eval/map_quality.h): whether the reference's map is sharper than ours.
+void AddMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Trajectory& reference,
+                   nlohmann::json& metrics) {
+  const eval::MapEntropy ours = eval::MeanMapEntropy(keyframes);
+  metrics["map_entropy"] = {{"mean_nats", ours.mean_nats}, {"points", ours.points}};
+  if (reference.empty()) return;
+  const auto [at_estimate, at_reference] = eval::KeyframesAtReference(keyframes, reference, 0.05);
+  if (at_estimate.size() < 2) return;
+  const eval::MapEntropy a = at_estimate.size() == keyframes.size() ? ours : eval::MeanMapEntropy(at_estimate);
+  const eval::MapEntropy b = eval::MeanMapEntropy(at_reference);
+  metrics["map_entropy_vs_reference"] = {
+      {"keyframes", at_estimate.size()}, {"estimate_nats", a.mean_nats}, {"reference_nats", b.mean_nats}};
+  spdlog::info("map entropy: {:.3f} nats at the estimated poses, {:.3f} at the reference's ({} keyframes; lower is "
+               "sharper)",
+               a.mean_nats, b.mean_nats, at_estimate.size());
+}
+
 // The map artefact: grid (ROS + MRPT), pose graph (g2o; node i = keyframe i) and the
 // keyframe scans (rawlog, in node order): what localization and continuing need.
 void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyGridMap2D& grid,
@@ -272,6 +291,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
   PerceptionStage perception(params, data_dir);
 
   Trajectory trajectory;
+  std::vector<slam::Keyframe> keyframes;  // mapping only
   mrpt::maps::COccupancyGridMap2D grid;
   DriveResult run;
   slam::MappingStats fe;
@@ -324,6 +344,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
       slam.Finish();
     }
     trajectory = slam.trajectory();
+    keyframes = slam.keyframes();
     fe = slam.front_end_stats();
     {
       auto t = timer.Time("grid");
@@ -358,6 +379,10 @@ int RunMapping(MappingArgs a, const std::string& command) {
   j["metrics"]["wall_thickness_p95_m"] = walls.p95_m;
   j["metrics"]["map_size_m"] = {grid.getXMax() - grid.getXMin(), grid.getYMax() - grid.getYMin()};
   const Trajectory reference_in_map = AddReferenceMetrics(trajectory, reference, j["metrics"]);
+  if (!keyframes.empty()) {
+    auto t = timer.Time("map_entropy");
+    AddMapEntropy(keyframes, reference, j["metrics"]);
+  }
   {
     auto t = timer.Time("write");
     io::WriteTum(trajectory, out + "/trajectory.tum");

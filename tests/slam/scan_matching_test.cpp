@@ -298,5 +298,37 @@ TEST(WallThicknessTest, MeasuresBandWidthOnTheCentreLine) {
   EXPECT_NEAR(walls.p95_m, 0.7, 0.001);
 }
 
+// Mean map entropy: two scans of one straight wall, the second placed δ off it.
+// Half the neighbourhood on each line gives σ⊥² = δ²/4, so h grows by ln 2 when δ
+// doubles (det Σ ∝ δ²); placed together the scans are far sharper.
+TEST(MapEntropyTest, GrowsByLnTwoWhenTheOffsetBetweenTwoPassesDoubles) {
+  const auto wall = [](double a) { return std::sin(a) > 0.2 ? 2.0 / std::sin(a) : -1.0; };  // y = 2
+  const Stamp t0 = Stamp::FromSeconds(1), t1 = Stamp::FromSeconds(2);
+  auto entropy = [&](double offset) {
+    const std::vector<Keyframe> kfs = {{0, t0, CPose2D(0, 0, 0), Scan180(CPose2D(0, 0, 0), t0, wall)},
+                                       {1, t1, CPose2D(0, offset, 0), Scan180(CPose2D(0, 0, 0), t1, wall)}};
+    return eval::MeanMapEntropy(kfs).mean_nats;
+  };
+  const double h0 = entropy(0.0), h5 = entropy(0.05), h10 = entropy(0.1);
+  EXPECT_NEAR(h10 - h5, std::log(2.0), 0.1);
+  EXPECT_GT(h5 - h0, 1.0);
+}
+
+TEST(MapEntropyTest, ReferencePosesReplaceTheEstimateByTimeStamp) {
+  const Stamp t0 = Stamp::FromSeconds(1), t1 = Stamp::FromSeconds(2), t2 = Stamp::FromSeconds(3);
+  const auto scan = ScanAt(CPose2D(2, 2, 0), t0);
+  const std::vector<Keyframe> kfs = {{0, t0, CPose2D(0, 0, 0), scan}, {1, t1, CPose2D(1, 0, 0), scan},
+                                     {2, t2, CPose2D(2, 0, 0), scan}};
+  const Trajectory reference = {{t0, mrpt::poses::CPose3D(5, 5, 0, 0, 0, 0)},
+                                {Stamp::FromSeconds(2.5), mrpt::poses::CPose3D(6, 5, 0, 0, 0, 0)},
+                                {t2, mrpt::poses::CPose3D(7, 5, 0, 0, 0, 0)}};
+  const auto [at_estimate, at_reference] = eval::KeyframesAtReference(kfs, reference, 0.05);
+  ASSERT_EQ(at_estimate.size(), 2u);  // t1 has no reference pose within 50 ms
+  EXPECT_EQ(at_estimate[1].stamp, t2);
+  EXPECT_DOUBLE_EQ(at_estimate[1].pose.x(), 2.0);
+  EXPECT_DOUBLE_EQ(at_reference[1].pose.x(), 7.0);
+  EXPECT_DOUBLE_EQ(at_reference[0].pose.y(), 5.0);
+}
+
 }  // namespace
 }  // namespace specht::slam

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/statistics.h"
+#include "specht/eval/trajectory_error.h"
 
 namespace specht::eval {
 namespace {
@@ -54,6 +55,63 @@ WallThickness MeasureWallThickness(const mrpt::maps::COccupancyGridMap2D& grid) 
   r.p90_m = Percentile(thickness, 0.9);
   r.p95_m = Percentile(thickness, 0.95);
   return r;
+}
+
+MapEntropy MeanMapEntropy(const std::vector<slam::Keyframe>& keyframes, const MapEntropyOptions& options) {
+  mrpt::maps::CSimplePointsMap cloud;
+  const double max_range2 = options.max_range_m * options.max_range_m;
+  for (const auto& kf : keyframes) {
+    const mrpt::maps::CSimplePointsMap scan = slam::ScanToPoints(*kf.scan);
+    const auto& xs = scan.getPointsBufferRef_x();
+    const auto& ys = scan.getPointsBufferRef_y();
+    const double c = std::cos(kf.pose.phi()), s = std::sin(kf.pose.phi());
+    for (size_t i = 0; i < xs.size(); ++i) {
+      if (static_cast<double>(xs[i]) * xs[i] + static_cast<double>(ys[i]) * ys[i] > max_range2) continue;
+      cloud.insertPoint(static_cast<float>(kf.pose.x() + c * xs[i] - s * ys[i]),
+                        static_cast<float>(kf.pose.y() + s * xs[i] + c * ys[i]), 0);
+    }
+  }
+  const auto& xs = cloud.getPointsBufferRef_x();
+  const auto& ys = cloud.getPointsBufferRef_y();
+  const float radius2 = static_cast<float>(options.radius_m * options.radius_m);
+  const double two_pi_e = 2.0 * M_PI * M_E;
+  std::vector<nanoflann::ResultItem<size_t, float>> near;
+  double sum = 0;
+  MapEntropy r;
+  const size_t stride = std::max<size_t>(1, (xs.size() + options.max_points - 1) / std::max<size_t>(1, options.max_points));
+  for (size_t i = 0; i < xs.size(); i += stride) {
+    cloud.kdTreeRadiusSearch2D(xs[i], ys[i], radius2, near);
+    if (static_cast<int>(near.size()) < options.min_neighbours) continue;
+    double mx = 0, my = 0;
+    for (const auto& n : near) mx += xs[n.first], my += ys[n.first];
+    mx /= near.size(), my /= near.size();
+    double sxx = 0, syy = 0, sxy = 0;
+    for (const auto& n : near) {
+      const double dx = xs[n.first] - mx, dy = ys[n.first] - my;
+      sxx += dx * dx, syy += dy * dy, sxy += dx * dy;
+    }
+    // det(2πe Σ) = (2πe)² det Σ, with Σ + ε²I (ε = 1 mm, below any laser's noise) so
+    // that the exactly collinear points of a synthetic wall stay finite.
+    const double k = static_cast<double>(near.size()), eps2 = 1e-6;
+    const double det = (sxx / k + eps2) * (syy / k + eps2) - (sxy / k) * (sxy / k);
+    sum += 0.5 * std::log(two_pi_e * two_pi_e * det);
+    ++r.points;
+  }
+  if (r.points > 0) r.mean_nats = sum / r.points;
+  return r;
+}
+
+std::pair<std::vector<slam::Keyframe>, std::vector<slam::Keyframe>> KeyframesAtReference(
+    const std::vector<slam::Keyframe>& keyframes, const Trajectory& reference, double max_dt_s) {
+  Trajectory at_keyframes;
+  for (const auto& kf : keyframes) at_keyframes.push_back({kf.stamp, mrpt::poses::CPose3D(kf.pose)});
+  std::pair<std::vector<slam::Keyframe>, std::vector<slam::Keyframe>> out;
+  for (const auto& [k, r] : AssociateByTime(at_keyframes, reference, max_dt_s)) {
+    out.first.push_back(keyframes[k]);
+    out.second.push_back(keyframes[k]);
+    out.second.back().pose = mrpt::poses::CPose2D(reference[r].pose);
+  }
+  return out;
 }
 
 std::vector<Correction> RegisterAgainstGrid(const mrpt::maps::COccupancyGridMap2D& grid,
