@@ -2,6 +2,7 @@
 #include "specht/slam/correlative_matcher.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include <mrpt/core/bits_math.h>
 
@@ -144,6 +145,13 @@ TEST(CorrelativeMatcherTest, NothingAboveTheMinimumScoreIsNoMatch) {
   CSimplePointsMap far;  // a scan of a wall that is not in the map
   for (int i = 0; i < 100; ++i) far.insertPoint(20.0f, -5.0f + 0.1f * i, 0);
   EXPECT_FALSE(matcher.Match(far, a, 1.0, mrpt::DEG2RAD(10), 0.5).has_value());
+}
+
+TEST(CorrelativeMatcherTest, RefusesANonPositiveResolutionOrBlur) {
+  CSimplePointsMap map;
+  map.insertPoint(0, 0, 0);
+  EXPECT_THROW(CorrelativeMatcher(map, 0.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(CorrelativeMatcher(map, 0.05, 1.0, 0.0), std::invalid_argument);
 }
 
 TEST(CorrelativeMatcherTest, DecimateKeepsOnePointPerCell) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <unordered_set>
 
 #include <opencv2/core.hpp>
@@ -15,6 +16,8 @@ using mrpt::poses::CPose2D;
 CorrelativeMatcher::CorrelativeMatcher(const mrpt::maps::CSimplePointsMap& map_points, double resolution_m,
                                        double max_window_m, double blur_cells)
     : resolution_(resolution_m) {
+  if (!(resolution_m > 0) || !(blur_cells > 0) || !(max_window_m >= 0))
+    throw std::invalid_argument("CorrelativeMatcher: resolution and blur must be positive, the window not negative");
   const auto& xs = map_points.getPointsBufferRef_x();
   const auto& ys = map_points.getPointsBufferRef_y();
   double min_x = 0, max_x = 0, min_y = 0, max_y = 0;

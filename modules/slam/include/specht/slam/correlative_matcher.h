@@ -34,7 +34,8 @@ class CorrelativeMatcher {
  public:
   // Builds the likelihood grid and its max pyramid for `map_points` (in the map
   // frame) with cells of `resolution_m`, padded so that translations up to
-  // `max_window_m` stay inside.
+  // `max_window_m` stay inside. Throws std::invalid_argument unless resolution_m and
+  // blur_cells are positive.
   CorrelativeMatcher(const mrpt::maps::CSimplePointsMap& map_points, double resolution_m, double max_window_m,
                      double blur_cells = 1.0);
 
