@@ -14,6 +14,7 @@
 // Usage: mrpt_graphslam <config.ini> <in.rawlog> <out.tum>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -50,12 +51,31 @@ mrpt::obs::CObservation2DRangeScan::Ptr ScanOf(const mrpt::obs::CSensoryFrame::P
 
 }  // namespace
 
+int Run(const std::string& ini, const std::string& rawlog, const std::string& out);
+
 int main(int argc, char** argv) {
   if (argc != 4) {
     std::cerr << "usage: mrpt_graphslam <config.ini> <in.rawlog> <out.tum>\n";
     return 2;
   }
-  const std::string ini = argv[1], rawlog = argv[2], out = argv[3];
+  for (const char* path : {argv[1], argv[2]}) {
+    if (!std::ifstream(path)) {
+      std::cerr << "mrpt_graphslam: " << path << ": cannot be read\n";
+      return 2;
+    }
+  }
+  try {
+    return Run(argv[1], argv[2], argv[3]);
+  } catch (const std::exception& e) {
+    // MRPT's messages carry a stack trace: its first line says what went wrong.
+    const std::string what = e.what();
+    std::cerr << "mrpt_graphslam: " << argv[2] << " with " << argv[1] << ": " << what.substr(0, what.find('\n'))
+              << "\n";
+    return 1;
+  }
+}
+
+int Run(const std::string& ini, const std::string& rawlog, const std::string& out) {
   mrpt::graphslam::deciders::CICPCriteriaNRD<Graph> node_decider;
   mrpt::graphslam::deciders::CICPCriteriaERD<Graph> edge_decider;
   mrpt::graphslam::optimizers::CLevMarqGSO<Graph> optimizer;
@@ -77,6 +97,10 @@ int main(int argc, char** argv) {
     scans.push_back({mrpt::Clock::toDouble(scan->timestamp), node, engine.getCurrentRobotPosEstimation() - node_pose});
   }
 
+  if (scans.empty()) {  // MRPT reports a parse error on stderr and ends the read
+    std::cerr << "mrpt_graphslam: " << rawlog << ": no 2D laser scan read (unreadable, empty or without scans)\n";
+    return 1;
+  }
   const Graph& graph = engine.getGraph();
   FILE* f = std::fopen(out.c_str(), "w");
   if (f == nullptr) {
