@@ -78,7 +78,8 @@ MapEntropy MeanMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Ma
   std::vector<nanoflann::ResultItem<size_t, float>> near;
   double sum = 0;
   MapEntropy r;
-  const size_t stride = std::max<size_t>(1, (xs.size() + options.max_points - 1) / std::max<size_t>(1, options.max_points));
+  const size_t most = std::max<size_t>(1, options.max_points);
+  const size_t stride = std::max<size_t>(1, (xs.size() + most - 1) / most);
   for (size_t i = 0; i < xs.size(); i += stride) {
     cloud.kdTreeRadiusSearch2D(xs[i], ys[i], radius2, near);
     if (static_cast<int>(near.size()) < options.min_neighbours) continue;
