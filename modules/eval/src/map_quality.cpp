@@ -59,17 +59,9 @@ WallThickness MeasureWallThickness(const mrpt::maps::COccupancyGridMap2D& grid) 
 
 MapEntropy MeanMapEntropy(const std::vector<slam::Keyframe>& keyframes, const MapEntropyOptions& options) {
   mrpt::maps::CSimplePointsMap cloud;
-  const double max_range2 = options.max_range_m * options.max_range_m;
   for (const auto& kf : keyframes) {
-    const mrpt::maps::CSimplePointsMap scan = slam::ScanToPoints(*kf.scan);
-    const auto& xs = scan.getPointsBufferRef_x();
-    const auto& ys = scan.getPointsBufferRef_y();
-    const double c = std::cos(kf.pose.phi()), s = std::sin(kf.pose.phi());
-    for (size_t i = 0; i < xs.size(); ++i) {
-      if (static_cast<double>(xs[i]) * xs[i] + static_cast<double>(ys[i]) * ys[i] > max_range2) continue;
-      cloud.insertPoint(static_cast<float>(kf.pose.x() + c * xs[i] - s * ys[i]),
-                        static_cast<float>(kf.pose.y() + s * xs[i] + c * ys[i]), 0);
-    }
+    const mrpt::maps::CSimplePointsMap scan = slam::WithinRange(slam::ScanToPoints(*kf.scan), options.max_range_m);
+    cloud.insertAnotherMap(&scan, mrpt::poses::CPose3D(kf.pose));
   }
   const auto& xs = cloud.getPointsBufferRef_x();
   const auto& ys = cloud.getPointsBufferRef_y();

@@ -27,16 +27,6 @@ Eigen::Matrix3d Information(double sigma_m, double sigma_deg) {
   return Eigen::Vector3d(1 / (sigma_m * sigma_m), 1 / (sigma_m * sigma_m), 1 / (r * r)).asDiagonal();
 }
 
-CSimplePointsMap WithinRange(const CSimplePointsMap& points, double max_range) {
-  CSimplePointsMap out;
-  const auto& xs = points.getPointsBufferRef_x();
-  const auto& ys = points.getPointsBufferRef_y();
-  for (size_t i = 0; i < xs.size(); ++i) {
-    if (std::hypot(xs[i], ys[i]) <= max_range) out.insertPoint(xs[i], ys[i], 0);
-  }
-  return out;
-}
-
 double MillisSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

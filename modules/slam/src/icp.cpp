@@ -1,5 +1,7 @@
 #include "specht/slam/icp.h"
 
+#include <cmath>
+
 #include <mrpt/slam/CICP.h>
 
 namespace specht::slam {
@@ -37,6 +39,16 @@ mrpt::maps::CSimplePointsMap ScanToPoints(const mrpt::obs::CObservation2DRangeSc
   points.insertionOptions.isPlanarMap = true;
   points.insertObservation(scan);
   return points;
+}
+
+mrpt::maps::CSimplePointsMap WithinRange(const mrpt::maps::CSimplePointsMap& points, double max_range_m) {
+  mrpt::maps::CSimplePointsMap out;
+  const auto& xs = points.getPointsBufferRef_x();
+  const auto& ys = points.getPointsBufferRef_y();
+  for (size_t i = 0; i < xs.size(); ++i) {
+    if (std::hypot(xs[i], ys[i]) <= max_range_m) out.insertPoint(xs[i], ys[i], 0);
+  }
+  return out;
 }
 
 }  // namespace specht::slam

@@ -64,4 +64,7 @@ class IcpAligner {
 // The valid returns of a scan as points in the car's frame (sensor mount applied).
 mrpt::maps::CSimplePointsMap ScanToPoints(const mrpt::obs::CObservation2DRangeScan& scan);
 
+// The points within max_range_m of the frame's origin.
+mrpt::maps::CSimplePointsMap WithinRange(const mrpt::maps::CSimplePointsMap& points, double max_range_m);
+
 }  // namespace specht::slam
