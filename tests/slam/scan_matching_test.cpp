@@ -314,6 +314,18 @@ TEST(MapEntropyTest, GrowsByLnTwoWhenTheOffsetBetweenTwoPassesDoubles) {
   EXPECT_GT(h5 - h0, 1.0);
 }
 
+TEST(MapEntropyTest, NoPointsGiveNoEntropy) {
+  EXPECT_EQ(eval::MeanMapEntropy({}).points, 0u);
+  // Only returns beyond max_range_m (a wall 12 m away), and a scan of nothing.
+  const Stamp t0 = Stamp::FromSeconds(1), t1 = Stamp::FromSeconds(2);
+  const auto far_wall = [](double a) { return std::sin(a) > 0.2 ? 12.0 / std::sin(a) : -1.0; };
+  const std::vector<Keyframe> kfs = {{0, t0, CPose2D(0, 0, 0), Scan180(CPose2D(0, 0, 0), t0, far_wall)},
+                                     {1, t1, CPose2D(1, 0, 0), Scan180(CPose2D(0, 0, 0), t1, [](double) { return -1.0; })}};
+  const eval::MapEntropy h = eval::MeanMapEntropy(kfs);
+  EXPECT_EQ(h.points, 0u);
+  EXPECT_EQ(h.mean_nats, 0.0);
+}
+
 TEST(MapEntropyTest, ReferencePosesReplaceTheEstimateByTimeStamp) {
   const Stamp t0 = Stamp::FromSeconds(1), t1 = Stamp::FromSeconds(2), t2 = Stamp::FromSeconds(3);
   const auto scan = ScanAt(CPose2D(2, 2, 0), t0);
