@@ -148,6 +148,33 @@ TEST(ScanMatchingTest, WithoutOdometryUnmatchedScansAreNeitherKeyframesNorCarrie
   EXPECT_EQ(mapper.stats().keyframes, 3);
 }
 
+TEST(ScanMatchingTest, WithoutOdometryAStopIsSearchedWhereTheCarWas) {
+  // Odometry reports a 3 m step, then nothing while the car stops and turns on the
+  // spot, 40° a scan (as the Orebro log does). The constant-velocity guess runs 3 m
+  // on, beyond the ±1 m search window; the car is found where it was. The next scan
+  // is predicted from there, not from the unverified guess.
+  ScanMatchingOptions options;
+  options.recovery_window_m = 1.0;
+  ScanMatchingMapper mapper(options, nullptr, "base_link");
+  const CPose2D a(0.8, 1.0, 0.0), b(3.8, 1.0, 0.0), c(3.8, 1.0, mrpt::DEG2RAD(40)), d(3.8, 1.0, mrpt::DEG2RAD(80));
+  mapper.Add(Stamp{0}, OdometryAt(CPose2D()));
+  mapper.Add(Stamp{1}, ScanAt(a, Stamp{1}));
+  mapper.Add(Stamp{2}, OdometryAt(b - a));
+  mapper.Add(Stamp{3}, ScanAt(b, Stamp{3}));
+  mapper.Add(Stamp{4}, OdometryAt(b - a));
+  mapper.Add(Stamp{5}, ScanAt(c, Stamp{5}));
+  mapper.Add(Stamp{6}, ScanAt(d, Stamp{6}));
+  const Trajectory t = mapper.trajectory();
+  ASSERT_EQ(t.size(), 4u);
+  for (size_t i : {2u, 3u}) {
+    const CPose2D estimated = CPose2D(t[i].pose) - CPose2D(t[0].pose), truth = (i == 2 ? c : d) - a;
+    EXPECT_NEAR(estimated.x(), truth.x(), 0.02) << "scan " << i;
+    EXPECT_NEAR(estimated.y(), truth.y(), 0.02) << "scan " << i;
+    EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), mrpt::RAD2DEG(truth.phi()), 0.5) << "scan " << i;
+  }
+  EXPECT_EQ(mapper.stats().rejected_matches, 0);
+}
+
 TEST(ScanMatchingTest, GyroYawRateSeedsTheRotationBetweenScans) {
   // Wheels report 0.5 m straight ahead; the car also turned 35°, which only the gyro
   // saw (10 samples over 1 s at 35°/s). Recovery is off: the seed must do it.

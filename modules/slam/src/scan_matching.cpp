@@ -63,10 +63,10 @@ void ScanMatchingMapper::Seed(std::vector<Keyframe> saved, const CPose2D& start)
   start_ = start;
 }
 
-CPose2D ScanMatchingMapper::LastPose() const {
-  if (scans_.empty()) return start_;
-  const ScanPose& last = scans_.back();
-  return keyframes_[last.keyframe].pose + last.from_keyframe;
+CPose2D ScanMatchingMapper::LastPlacedPose() const {
+  if (!last_placed_) return start_;
+  const ScanPose& s = scans_[*last_placed_];
+  return keyframes_[s.keyframe].pose + s.from_keyframe;
 }
 
 void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw) {
@@ -75,13 +75,19 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   const CSimplePointsMap points = ScanToPoints(*scan);
 
   // The map frame starts at the first scan (or at start_ in a seeded map).
-  const CPose2D predicted = m.motion.Predict(LastPose(), options_.use_odometry, options_.use_imu);
+  // An unplaced scan's pose is a guess nothing verified: predict from the last placed one.
+  const CPose2D last = LastPlacedPose();
+  const CPose2D predicted = m.motion.Predict(last, options_.use_odometry, options_.use_imu);
   const CPose2D guess = scans_.empty() ? start_ : predicted;
   CPose2D pose = guess;
   bool matched = false;
   if (!m.keyframe_points.empty() && !points.empty()) {
-    const internal::MatchResult match = internal::MatchWithRecovery(m.icp, m.submap, points, guess, options_, stats_,
-                                                                  !m.motion.predicted_from_odometry());
+    const bool weak = !m.motion.predicted_from_odometry();
+    // Without odometry the car may as well have stopped or turned on the spot.
+    const bool guess_moved = guess.distanceTo(last) > 0 || guess.phi() != last.phi();
+    const internal::MatchResult match = internal::MatchWithRecovery(
+        m.icp, m.submap, points, guess, options_, stats_, weak,
+        weak && guess_moved ? std::optional<CPose2D>(last) : std::nullopt);
     pose = match.pose;
     matched = match.source != internal::MatchSource::kGuess;
     // Where the scan leaves a direction unconstrained (a corridor), the odometry decides it.
@@ -91,7 +97,8 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
     }
   }
   // An unmatched scan says nothing about the velocity: do not carry the guess on.
-  if (!scans_.empty()) m.motion.SetLastStep(matched ? pose - LastPose() : CPose2D());
+  const bool follows_placed = last_placed_ && *last_placed_ + 1 == scans_.size();
+  if (!scans_.empty()) m.motion.SetLastStep(matched && follows_placed ? pose - last : CPose2D());
   ++stats_.scans;
 
   const bool first = m.keyframe_points.empty();
@@ -113,6 +120,7 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   } else {
     scans_.push_back({stamp, keyframes_.size() - 1, since});
   }
+  if (placeable) last_placed_ = scans_.size() - 1;
 }
 
 Trajectory ScanMatchingMapper::trajectory() const {

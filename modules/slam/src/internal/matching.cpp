@@ -69,7 +69,7 @@ std::optional<SearchResult> SearchAround(IcpAligner& icp, const CSimplePointsMap
 
 MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, const CSimplePointsMap& points,
                               const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats,
-                              bool guess_is_weak) {
+                              bool guess_is_weak, const std::optional<CPose2D>& standstill) {
   const bool recovery = options.recovery_window_m > 0;
   // A guess no odometry backs (constant velocity) may be off by a whole step:
   // search around it before ICP, which would settle in the nearest minimum.
@@ -78,6 +78,12 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
     if (const auto found = SearchAround(icp, reference, points, guess, std::nullopt, options, stats)) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};
+    }
+    if (standstill) {
+      if (const auto found = SearchAround(icp, reference, points, *standstill, std::nullopt, options, stats)) {
+        ++stats.recovered_matches;
+        return {found->pose, MatchSource::kRecovered};
+      }
     }
   }
   const IcpResult match = icp.Align(reference, points, guess);

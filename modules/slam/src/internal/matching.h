@@ -36,10 +36,13 @@ struct MatchResult {
 // its refined pose competes with ICP's on the same likelihood score; otherwise (or
 // when nothing scores) ICP's pose stands if at least half min_goodness paired, else
 // the guess. A weak guess (no odometry behind it) is searched around first when
-// `search_without_odometry` is on. Counts into `stats`.
+// `search_without_odometry` is on, and when nothing scores there, around `standstill`
+// (where the car was: without odometry it may have stopped or turned on the spot).
+// Counts into `stats`.
 MatchResult MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimplePointsMap& reference,
                               const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
-                              const ScanMatchingOptions& options, MappingStats& stats, bool guess_is_weak = false);
+                              const ScanMatchingOptions& options, MappingStats& stats, bool guess_is_weak = false,
+                              const std::optional<mrpt::poses::CPose2D>& standstill = std::nullopt);
 
 // The information of a scan alignment, point to line: with n_i the normal of the
 // surface at scan point p_i (from its beam neighbours) turned into the map frame,

@@ -22,14 +22,18 @@
 // the correlative matcher (branch and bound, correlative_matcher.h) against the local
 // submap within ±recovery_window_m and ±recovery_window_deg of the guess, then refined
 // by ICP. This carries logs with poor or no odometry. Without odometry, an unmatched
-// scan (pose_k = guess_k) neither becomes a keyframe nor sets the velocity: an
-// unverified pose would blur the submap and be carried on to the next guess.
+// scan (pose_k = guess_k) neither becomes a keyframe, nor sets the velocity, nor is
+// the next scan predicted from it (the last matched pose is): an unverified pose
+// would blur the submap and be carried on to the next guess. And without odometry a
+// constant-velocity guess may be wrong because the car stopped or turned on the spot:
+// when nothing scores around it, the search is repeated around the last matched pose.
 //
 // Every scan's pose is kept relative to the keyframe before it, so correcting the
 // keyframes (graph SLAM) corrects every scan.
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -187,7 +191,7 @@ class ScanMatchingMapper {
     mrpt::poses::CPose2D from_keyframe;  // this scan's pose seen from that keyframe
   };
   void AddScan(Stamp stamp, const mrpt::obs::CObservation2DRangeScan& scan);
-  mrpt::poses::CPose2D LastPose() const;
+  mrpt::poses::CPose2D LastPlacedPose() const;
   void RebuildSubmap();
 
   struct Impl;
@@ -196,6 +200,7 @@ class ScanMatchingMapper {
   const TransformTree* frames_;
   std::string base_frame_;
   std::vector<ScanPose> scans_;
+  std::optional<size_t> last_placed_;  // the last scan matched or moved by odometry (not a bare guess)
   std::vector<Keyframe> keyframes_;
   mrpt::poses::CPose2D start_;  // where the first scan is placed (the origin unless seeded)
   MappingStats stats_;
