@@ -40,30 +40,46 @@ bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const Scan
 
 // The correlative matcher's best pose around `guess` against `reference`, refined by
 // ICP: nullopt when nothing scores recovery_min_score, or ICP pairs too few points or
-// moves the coarse pose out of bounds. `score` is on the correlative grid.
+// moves the coarse pose out of bounds. `score` is on the correlative grid. The grid
+// is built on the first search and kept for the next from the same reference.
 struct SearchResult {
   CPose2D pose;
   double score = 0;
   double icp_score = 0;  // the score of `icp_pose` on the same grid
 };
-std::optional<SearchResult> SearchAround(IcpAligner& icp, const CSimplePointsMap& reference,
-                                         const CSimplePointsMap& points, const CPose2D& guess,
-                                         const std::optional<CPose2D>& icp_pose, const ScanMatchingOptions& options,
-                                         MappingStats& stats) {
-  const double res = options.recovery_resolution_m;
-  const CorrelativeMatcher matcher(Decimate(reference, res / 2), res, options.recovery_window_m);
-  const CSimplePointsMap query = Decimate(points, res);
-  const auto coarse = matcher.Match(query, guess, options.recovery_window_m,
-                                    mrpt::DEG2RAD(options.recovery_window_deg), options.recovery_min_score);
-  if (!coarse) return std::nullopt;
-  const IcpResult refined = icp.Align(reference, points, coarse->pose);
-  stats.icp_iterations += refined.iterations;
-  if (refined.goodness < options.min_goodness / 2 || !WithinCorrectionBounds(refined.pose, coarse->pose, options)) {
-    return std::nullopt;
+class Searcher {
+ public:
+  Searcher(IcpAligner& icp, const CSimplePointsMap& reference, const CSimplePointsMap& points,
+           const ScanMatchingOptions& options, MappingStats& stats)
+      : icp_(icp), reference_(reference), points_(points), options_(options), stats_(stats) {}
+
+  std::optional<SearchResult> Around(const CPose2D& guess, const std::optional<CPose2D>& icp_pose = std::nullopt) {
+    const double res = options_.recovery_resolution_m;
+    if (!matcher_) {
+      matcher_.emplace(Decimate(reference_, res / 2), res, options_.recovery_window_m);
+      query_ = Decimate(points_, res);
+    }
+    const auto coarse = matcher_->Match(query_, guess, options_.recovery_window_m,
+                                        mrpt::DEG2RAD(options_.recovery_window_deg), options_.recovery_min_score);
+    if (!coarse) return std::nullopt;
+    const IcpResult refined = icp_.Align(reference_, points_, coarse->pose);
+    stats_.icp_iterations += refined.iterations;
+    if (refined.goodness < options_.min_goodness / 2 || !WithinCorrectionBounds(refined.pose, coarse->pose, options_)) {
+      return std::nullopt;
+    }
+    return SearchResult{refined.pose, matcher_->Score(query_, refined.pose),
+                        icp_pose ? matcher_->Score(query_, *icp_pose) : 0.0};
   }
-  return SearchResult{refined.pose, matcher.Score(query, refined.pose),
-                      icp_pose ? matcher.Score(query, *icp_pose) : 0.0};
-}
+
+ private:
+  IcpAligner& icp_;
+  const CSimplePointsMap& reference_;
+  const CSimplePointsMap& points_;
+  const ScanMatchingOptions& options_;
+  MappingStats& stats_;
+  std::optional<CorrelativeMatcher> matcher_;
+  CSimplePointsMap query_;
+};
 
 }  // namespace
 
@@ -74,16 +90,13 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   // A guess no odometry backs (constant velocity) may be off by a whole step:
   // search around it before ICP, which would settle in the nearest minimum.
   const bool search_first = recovery && guess_is_weak && options.search_without_odometry;
+  Searcher search(icp, reference, points, options, stats);
   if (search_first) {
-    if (const auto found = SearchAround(icp, reference, points, guess, std::nullopt, options, stats)) {
+    auto found = search.Around(guess);
+    if (!found && standstill) found = search.Around(*standstill);
+    if (found) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};
-    }
-    if (standstill) {
-      if (const auto found = SearchAround(icp, reference, points, *standstill, std::nullopt, options, stats)) {
-        ++stats.recovered_matches;
-        return {found->pose, MatchSource::kRecovered};
-      }
     }
   }
   const IcpResult match = icp.Align(reference, points, guess);
@@ -93,7 +106,7 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
   // (After a search first, searching again from the same guess would find the same.)
   if (recovery && !search_first) {
-    const auto found = SearchAround(icp, reference, points, guess, match.pose, options, stats);
+    const auto found = search.Around(guess, match.pose);
     if (found && (!icp_weak_ok || found->score > found->icp_score)) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};
