@@ -5,7 +5,7 @@
 // above 0.5 m. The bounds below are what main achieves today plus a margin, so a
 // regression fails; where a log meets the target the bound is the target. Orebro is
 // left out: its ODOM lines only repeat the corrected poses (no odometry at all), and
-// its long corridors leave a 30 m error that loop search does not yet recover.
+// its result swings between 1.5 and 5 m with any small change (see the README).
 #include <mrpt/core/bits_math.h>
 
 #include <algorithm>
@@ -55,7 +55,7 @@ TEST_P(CarmenSlamTest, RelationErrorWithinBound) {
 
 INSTANTIATE_TEST_SUITE_P(Radish, CarmenSlamTest,
                          ::testing::Values(Bound{"intel", 0.06, 0.5, 1.0}, Bound{"seattle", 0.05, 0.5, 1.0},
-                                           Bound{"freiburg-101", 0.085, 0.5, 1.15},
+                                           Bound{"freiburg-101", 0.075, 0.5, 1.0},
                                            Bound{"freiburg-079", 0.10, 1.05, 1.0}),
                          [](const auto& info) {
                            std::string n = info.param.log;
