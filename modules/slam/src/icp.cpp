@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/slam/CICP.h>
 
 namespace specht::slam {
@@ -68,7 +69,7 @@ mrpt::poses::CPose2D RefinePointToLine(const mrpt::maps::CSimplePointsMap& refer
     if (pairs < kMinLinePairs) break;
     const Eigen::Vector3d step = -h.ldlt().solve(g);
     if (!step.allFinite()) break;
-    pose = mrpt::poses::CPose2D(pose.x() + step.x(), pose.y() + step.y(), pose.phi() + step.z());
+    pose = mrpt::poses::CPose2D(pose.x() + step.x(), pose.y() + step.y(), mrpt::math::wrapToPi(pose.phi() + step.z()));
     if (step.head<2>().norm() < 1e-4 && std::abs(step.z()) < 1e-5) break;  // 0.1 mm, 0.0006°
   }
   return pose;
