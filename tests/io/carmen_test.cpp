@@ -86,6 +86,38 @@ TEST(CarmenTest, ParsesFlaserAndOdometryWithTheLaserOffset) {
   EXPECT_NEAR(c.last_odometry.norm(), 1.0, 1e-6);
 }
 
+// CARMEN's own beam spacing (carmen_laser_get_angle_increment): even counts are a
+// SICK with its last beam dropped, so 180 beams span 179° at 1°, not 180° at 180/179°.
+TEST(CarmenTest, FlaserBeamSpacingIsCarmens) {
+  struct Case {
+    int beams;
+    double aperture_deg, centre_deg;
+  };
+  for (const Case& c : {Case{180, 179.0, -0.5}, Case{181, 180.0, 0.0}, Case{360, 179.5, -0.25},
+                        Case{361, 180.0, 0.0}, Case{100, 180.0, 0.0}}) {
+    auto source = OpenDataset(Log(Flaser(c.beams)));
+    std::optional<Observation> obs;
+    while ((obs = source->Next()) && !std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data)) {
+    }
+    ASSERT_TRUE(obs.has_value()) << c.beams;
+    auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data);
+    EXPECT_NEAR(mrpt::RAD2DEG(scan->aperture), c.aperture_deg, 1e-4) << c.beams << " beams";
+    // MRPT centres the scan on the sensor's x axis: the mount turns it to the scan centre.
+    EXPECT_NEAR(mrpt::RAD2DEG(scan->sensorPose.yaw()), c.centre_deg, 1e-4) << c.beams << " beams";
+  }
+}
+
+// A FLASER line's pose is the laser's; the reference is the robot's, the PARAM offset
+// behind it (0.1 m here, heading 0.5 rad), as the scans' sensor pose puts the laser.
+TEST(CarmenTest, FlaserReferenceIsTheRobotBehindTheLaser) {
+  const Trajectory reference = ReadCarmenReference(Log(Flaser(181)));
+  ASSERT_EQ(reference.size(), 1u);
+  const mrpt::poses::CPose2D robot(reference.front().pose);
+  EXPECT_NEAR(robot.x(), 1 - 0.1 * std::cos(0.5), 1e-9);
+  EXPECT_NEAR(robot.y(), 2 - 0.1 * std::sin(0.5), 1e-9);
+  EXPECT_NEAR(robot.phi(), 0.5, 1e-9);
+}
+
 TEST(CarmenTest, MalformedLinesAreNamedByLine) {
   EXPECT_THAT(ReadAll(Log(Flaser(181).substr(0, 300) + "\n")).error,
               HasSubstr("test.log:3: FLASER with 181 beams needs at least 190 fields"));

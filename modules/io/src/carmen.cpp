@@ -22,7 +22,7 @@ struct LaserMessage {
   double start_angle = -M_PI / 2;
   double increment = 0;
   double max_range = 0;
-  CPose2D pose;          // reference (corrected) robot pose
+  CPose2D pose;          // reference (corrected) pose: the laser's in a FLASER line, the robot's in ROBOTLASER1
   CPose2D laser_offset;  // laser on the robot (ROBOTLASER1), else from PARAM
   bool has_offset = false;
   double stamp = 0;
@@ -71,6 +71,18 @@ std::vector<float> Ranges(const Fields& f, size_t first, int n) {
   return r;
 }
 
+// Angle between FLASER beams, as CARMEN reads a SICK (carmen_laser_get_angle_increment):
+// 180/181 beams at 1°, 360/361 at 0.5°, the first beam at −90°; the even counts drop
+// the last beam, so 180 beams span −90°..+89°, not 180° in 179 steps. Measured on the
+// Radish logs, against the corrected poses: this spacing, and −90° rather than a
+// centred start, give both the lower relation error and the sharper reference map.
+// Other counts spread over 180°.
+double FlaserIncrement(int n) {
+  if (n == 180 || n == 181) return M_PI / 180;
+  if (n == 360 || n == 361) return M_PI / 360;
+  return n > 1 ? M_PI / (n - 1) : 0;
+}
+
 // FLASER n r_1..r_n x y θ odom_x odom_y odom_θ ipc_t [host logger_t]
 LaserMessage ParseFlaser(const Fields& f) {
   const int n = f.Count(1, "num_readings");
@@ -80,7 +92,7 @@ LaserMessage ParseFlaser(const Fields& f) {
   }
   LaserMessage m;
   m.ranges = Ranges(f, 2, n);
-  m.increment = n > 1 ? M_PI / (n - 1) : 0;  // 180° inclusive of both ends
+  m.increment = FlaserIncrement(n);
   m.pose = CPose2D(f.Number(2 + n, "x"), f.Number(3 + n, "y"), f.Number(4 + n, "theta"));
   m.stamp = f.Number(8 + n, "ipc_timestamp");
   return m;
@@ -165,7 +177,10 @@ class CarmenReader {
     if (kind == "FLASER" || kind == "ROBOTLASER1") {
       LaserMessage m = kind == "FLASER" ? ParseFlaser(f) : ParseRobotLaser(f);
       if (m.max_range <= 0) m.max_range = front_laser_max_;
-      anchor_ = m.pose;  // following ODOM lines are relative to this pose
+      anchor_ = m.pose;  // following ODOM lines are relative to the logged pose
+      // CARMEN logs a FLASER's pose as the laser's (its logger writes laser_pose there),
+      // and the corrected logs correct that pose: the robot sits the PARAM offset behind.
+      if (!m.has_offset) m.pose = m.pose + CPose2D(-front_laser_offset_, 0, 0);
       const Stamp stamp = StampFor(m.stamp);
       return Event{Event::kLaser, stamp, raw_, std::move(m), lines_.number()};
     }

@@ -1,7 +1,9 @@
 // specht/io/carmen.h: CARMEN robot logs (text, one message per line; gzip or plain).
 //
 //   FLASER n r_1..r_n x y θ odom_x odom_y odom_θ ipc_t host logger_t
-//       front laser, 180° field of view, n beams evenly spaced from −90° to +90°.
+//       front laser, first beam at −90°, CARMEN's spacing: 1° for 180/181 beams,
+//       0.5° for 360/361 (so 180 beams end at +89°), else 180°/(n−1). x y θ is the
+//       laser's pose; the robot sits robot_frontlaser_offset behind it.
 //   ROBOTLASER1 type start_angle fov resolution max_range accuracy remission_mode
 //       n r_1..r_n m e_1..e_m laser_x laser_y laser_θ robot_x robot_y robot_θ
 //       tv rv forward_safety side_safety turn_axis ipc_t host logger_t
@@ -32,7 +34,8 @@ namespace specht::io {
 bool LooksLikeCarmen(const std::string& path);
 std::unique_ptr<DatasetSource> OpenCarmen(const std::string& path, OnBadRecord on_bad);
 
-// The laser messages' poses (base_link in the corrected map frame), stamped like the
+// The laser messages' robot poses (base_link in the corrected map frame: a FLASER's
+// logged laser pose less the PARAM offset; a ROBOTLASER1's robot pose), stamped like the
 // scans OpenCarmen delivers: the reference for `specht eval slam`.
 Trajectory ReadCarmenReference(const std::string& path);
 
