@@ -1,6 +1,9 @@
 #include "specht/slam/icp.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -25,54 +28,87 @@ constexpr int kMinLinePairs = 10;
 // it are a corner or clutter, not a line.
 constexpr double kMaxLineFlatness = 0.1;
 
-// The point-to-line refinement of `pose` (see icp.h): Gauss–Newton on the Huber-weighted
-// normal equations H δ = −g, H = Σ w J Jᵀ, g = Σ w J r.
-mrpt::poses::CPose2D RefinePointToLine(const mrpt::maps::CSimplePointsMap& reference,
-                                       const mrpt::maps::CSimplePointsMap& scan, mrpt::poses::CPose2D pose,
-                                       const IcpOptions& o, std::vector<size_t>& idx, std::vector<float>& d2) {
+// The line through the map points nearest to (qx, qy): their mean and normal, when the
+// nearest lies within the gate, all within twice the gate, and they lie on a line.
+struct Line {
+  double mx = 0, my = 0;
+  Eigen::Vector2d normal;
+};
+std::optional<Line> LineNear(const mrpt::maps::CSimplePointsMap& reference, double qx, double qy, const IcpOptions& o,
+                             std::vector<size_t>& idx, std::vector<float>& d2) {
   const size_t k = static_cast<size_t>(o.point_to_line_neighbours);
-  if (reference.size() < k) return pose;
-  const auto& xs = scan.getPointsBufferRef_x();
-  const auto& ys = scan.getPointsBufferRef_y();
+  const double gate2 = o.point_to_line_gate_m * o.point_to_line_gate_m;
+  reference.kdTreeNClosestPoint2DIdx(static_cast<float>(qx), static_cast<float>(qy), k, idx, d2);
+  if (d2[0] > gate2 || d2[k - 1] > 4 * gate2) return std::nullopt;
   const auto& rx = reference.getPointsBufferRef_x();
   const auto& ry = reference.getPointsBufferRef_y();
+  Line line;
+  for (size_t j : idx) line.mx += rx[j], line.my += ry[j];
+  line.mx /= k, line.my /= k;
+  Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
+  for (size_t j : idx) {
+    const Eigen::Vector2d v(rx[j] - line.mx, ry[j] - line.my);
+    spread += v * v.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(spread);
+  if (eig.eigenvalues()(0) > kMaxLineFlatness * eig.eigenvalues()(1)) return std::nullopt;
+  line.normal = eig.eigenvectors().col(0);
+  return line;
+}
+
+// A refined pose and how well the scan lies on the map's lines there: the truncated
+// cost Σ min(r_i², gate²) over every scan point, r_i its distance to the line near it
+// (a point with no line near costs the full gate²). Lower is better; comparable
+// between poses of the same scan.
+struct LineFit {
+  mrpt::poses::CPose2D pose;
+  double cost = 0;
+  int pairs = 0;  // scan points with a line near them
+};
+
+// The point-to-line refinement of `pose` (see icp.h): Gauss–Newton on the Huber-weighted
+// normal equations H δ = −g, H = Σ w J Jᵀ, g = Σ w J r.
+LineFit RefinePointToLine(const mrpt::maps::CSimplePointsMap& reference, const mrpt::maps::CSimplePointsMap& scan,
+                          mrpt::poses::CPose2D pose, const IcpOptions& o, std::vector<size_t>& idx,
+                          std::vector<float>& d2) {
+  const size_t k = static_cast<size_t>(o.point_to_line_neighbours);
+  if (reference.size() < k) return {pose, std::numeric_limits<double>::infinity()};
+  LineFit fit;
+  const auto& xs = scan.getPointsBufferRef_x();
+  const auto& ys = scan.getPointsBufferRef_y();
   const double gate2 = o.point_to_line_gate_m * o.point_to_line_gate_m, huber = 0.5 * o.point_to_line_gate_m;
-  for (int it = 0; it < o.point_to_line_iterations; ++it) {
+  for (int it = 0; it <= o.point_to_line_iterations; ++it) {
     const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    int pairs = 0;
+    fit = LineFit{pose};
     for (size_t i = 0; i < xs.size(); ++i) {
       const double qx = pose.x() + c * xs[i] - s * ys[i], qy = pose.y() + s * xs[i] + c * ys[i];
-      reference.kdTreeNClosestPoint2DIdx(static_cast<float>(qx), static_cast<float>(qy), k, idx, d2);
-      // The line's points stay within twice the gate of the scan point.
-      if (d2[0] > gate2 || d2[k - 1] > 4 * gate2) continue;
-      double mx = 0, my = 0;
-      for (size_t j : idx) mx += rx[j], my += ry[j];
-      mx /= k, my /= k;
-      Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
-      for (size_t j : idx) {
-        const Eigen::Vector2d v(rx[j] - mx, ry[j] - my);
-        spread += v * v.transpose();
+      const auto line = LineNear(reference, qx, qy, o, idx, d2);
+      if (!line) {
+        fit.cost += gate2;
+        continue;
       }
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(spread);
-      if (eig.eigenvalues()(0) > kMaxLineFlatness * eig.eigenvalues()(1)) continue;
-      const Eigen::Vector2d n = eig.eigenvectors().col(0);
-      const double r = n.x() * (qx - mx) + n.y() * (qy - my);
+      const Eigen::Vector2d& n = line->normal;
+      const double r = n.x() * (qx - line->mx) + n.y() * (qy - line->my);
+      fit.cost += std::min(r * r, gate2);
       const double dx = -s * xs[i] - c * ys[i], dy = c * xs[i] - s * ys[i];
       const Eigen::Vector3d j(n.x(), n.y(), n.x() * dx + n.y() * dy);
       const double w = std::abs(r) <= huber ? 1.0 : huber / std::abs(r);
       h += w * j * j.transpose();
       g += w * r * j;
-      ++pairs;
+      ++fit.pairs;
     }
-    if (pairs < kMinLinePairs) break;
+    // The last pass only scores the pose the steps before it reached.
+    if (it == o.point_to_line_iterations || fit.pairs < kMinLinePairs) break;
     const Eigen::Vector3d step = -h.ldlt().solve(g);
     if (!step.allFinite()) break;
     pose = mrpt::poses::CPose2D(pose.x() + step.x(), pose.y() + step.y(), mrpt::math::wrapToPi(pose.phi() + step.z()));
-    if (step.head<2>().norm() < 1e-4 && std::abs(step.z()) < 1e-5) break;  // 0.1 mm, 0.0006°
+    if (step.head<2>().norm() < 1e-4 && std::abs(step.z()) < 1e-5) {  // 0.1 mm, 0.0006°: score it and stop
+      it = o.point_to_line_iterations - 1;
+    }
   }
-  return pose;
+  return fit;
 }
 
 }  // namespace
@@ -100,7 +136,14 @@ IcpResult IcpAligner::Align(const mrpt::maps::CSimplePointsMap& reference, const
   const auto pdf = impl_->icp.Align(&reference, &scan, guess, info);
   mrpt::poses::CPose2D pose = pdf->getMeanVal();
   if (impl_->options.point_to_line_iterations > 0) {
-    pose = RefinePointToLine(reference, scan, pose, impl_->options, impl_->neighbours, impl_->distances2);
+    // Refine from ICP's pose and from the guess, keep the lower cost, the guess on a
+    // tie: where the lines pin one direction only (a corridor), point-to-point ICP
+    // slides along it after whatever its pairs pull at (clutter, a person), and the
+    // guess refined on the lines is then as good a fit or better.
+    const auto& o = impl_->options;
+    const LineFit from_icp = RefinePointToLine(reference, scan, pose, o, impl_->neighbours, impl_->distances2);
+    const LineFit from_guess = RefinePointToLine(reference, scan, guess, o, impl_->neighbours, impl_->distances2);
+    pose = from_icp.cost < from_guess.cost ? from_icp.pose : from_guess.pose;
   }
   return IcpResult{pose, info.goodness, static_cast<int>(info.nIterations)};
 }
