@@ -56,7 +56,7 @@ TEST_P(CarmenSlamTest, RelationErrorWithinBound) {
 INSTANTIATE_TEST_SUITE_P(Radish, CarmenSlamTest,
                          ::testing::Values(Bound{"intel", 0.05, 0.5, 1.0}, Bound{"seattle", 0.05, 0.5, 1.0},
                                            Bound{"freiburg-101", 0.05, 0.5, 1.0},
-                                           Bound{"freiburg-079", 0.07, 1.3, 1.0}),
+                                           Bound{"freiburg-079", 0.065, 0.7, 1.0}),
                          [](const auto& info) {
                            std::string n = info.param.log;
                            for (auto& ch : n) ch = ch == '-' ? '_' : ch;

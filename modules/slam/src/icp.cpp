@@ -27,6 +27,9 @@ constexpr int kMinLinePairs = 10;
 // Neighbours whose spread across their line exceeds this fraction of the spread along
 // it are a corner or clutter, not a line.
 constexpr double kMaxLineFlatness = 0.1;
+// ICP's pose and the guess closer than this in heading (and half the gate apart) refine
+// to the same pose: the guess is not refined separately.
+constexpr double kSameBasinRad = M_PI / 180;
 
 // The line through the map points nearest to (qx, qy): their mean and normal, when the
 // nearest lies within the gate, all within twice the gate, and they lie on a line.
@@ -141,9 +144,15 @@ IcpResult IcpAligner::Align(const mrpt::maps::CSimplePointsMap& reference, const
     // slides along it after whatever its pairs pull at (clutter, a person), and the
     // guess refined on the lines is then as good a fit or better.
     const auto& o = impl_->options;
+    // (ICP ending within half the gate of the guess: both would settle in one basin.)
     const LineFit from_icp = RefinePointToLine(reference, scan, pose, o, impl_->neighbours, impl_->distances2);
-    const LineFit from_guess = RefinePointToLine(reference, scan, guess, o, impl_->neighbours, impl_->distances2);
-    pose = from_icp.cost < from_guess.cost ? from_icp.pose : from_guess.pose;
+    const mrpt::poses::CPose2D moved = pose - guess;
+    if (moved.norm() > 0.5 * o.point_to_line_gate_m || std::abs(moved.phi()) > kSameBasinRad) {
+      const LineFit from_guess = RefinePointToLine(reference, scan, guess, o, impl_->neighbours, impl_->distances2);
+      pose = from_icp.cost < from_guess.cost ? from_icp.pose : from_guess.pose;
+    } else {
+      pose = from_icp.pose;
+    }
   }
   return IcpResult{pose, info.goodness, static_cast<int>(info.nIterations)};
 }
