@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <vector>
 
@@ -74,8 +73,6 @@ struct LineFit {
 LineFit RefinePointToLine(const mrpt::maps::CSimplePointsMap& reference, const mrpt::maps::CSimplePointsMap& scan,
                           mrpt::poses::CPose2D pose, const IcpOptions& o, std::vector<size_t>& idx,
                           std::vector<float>& d2) {
-  const size_t k = static_cast<size_t>(o.point_to_line_neighbours);
-  if (reference.size() < k) return {pose, std::numeric_limits<double>::infinity()};
   LineFit fit;
   const auto& xs = scan.getPointsBufferRef_x();
   const auto& ys = scan.getPointsBufferRef_y();
@@ -138,13 +135,10 @@ IcpResult IcpAligner::Align(const mrpt::maps::CSimplePointsMap& reference, const
   mrpt::slam::CICP::TReturnInfo info;
   const auto pdf = impl_->icp.Align(&reference, &scan, guess, info);
   mrpt::poses::CPose2D pose = pdf->getMeanVal();
-  if (impl_->options.point_to_line_iterations > 0) {
-    // Refine from ICP's pose and from the guess, keep the lower cost, the guess on a
-    // tie: where the lines pin one direction only (a corridor), point-to-point ICP
-    // slides along it after whatever its pairs pull at (clutter, a person), and the
-    // guess refined on the lines is then as good a fit or better.
-    const auto& o = impl_->options;
-    // (ICP ending within half the gate of the guess: both would settle in one basin.)
+  const auto& o = impl_->options;
+  if (o.point_to_line_iterations > 0 && reference.size() >= static_cast<size_t>(o.point_to_line_neighbours)) {
+    // Refine from ICP's pose and, unless ICP ended so near the guess that both would
+    // settle in one basin, from the guess too; the lower cost wins, the guess on a tie.
     const LineFit from_icp = RefinePointToLine(reference, scan, pose, o, impl_->neighbours, impl_->distances2);
     const mrpt::poses::CPose2D moved = pose - guess;
     if (moved.norm() > 0.5 * o.point_to_line_gate_m || std::abs(moved.phi()) > kSameBasinRad) {

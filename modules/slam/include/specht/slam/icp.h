@@ -17,6 +17,12 @@
 // loss with its corner at half the gate. Gauss–Newton, with the Jacobian of one
 // residual J_i = (n_x, n_y, n · ∂(R s_i)/∂θ), ∂(R s)/∂θ = (−sinθ s_x − cosθ s_y,
 // cosθ s_x − sinθ s_y).
+//
+// Two starts. When ICP ends more than half the gate or 1° from the guess, the guess
+// is refined as well, and the pose with the lower truncated cost Σ min(r_i², gate²)
+// over all scan points (a point with no line near costs gate²) wins, the guess's on
+// a tie: where the lines pin one direction only (a corridor), point-to-point ICP
+// slides along it after whatever its pairs pull at (clutter, a person walking).
 #pragma once
 
 #include <memory>
