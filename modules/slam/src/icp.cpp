@@ -69,15 +69,18 @@ struct LineFit {
 };
 
 // The point-to-line refinement of `pose` (see icp.h): Gauss–Newton on the Huber-weighted
-// normal equations H δ = −g, H = Σ w J Jᵀ, g = Σ w J r.
+// normal equations H δ = −g, H = Σ w J Jᵀ, g = Σ w J r. With `score`, one more pass
+// computes the cost at the pose returned (only needed to compare two refinements);
+// without it the cost is that of the pose before the last step.
 LineFit RefinePointToLine(const mrpt::maps::CSimplePointsMap& reference, const mrpt::maps::CSimplePointsMap& scan,
-                          mrpt::poses::CPose2D pose, const IcpOptions& o, std::vector<size_t>& idx,
+                          mrpt::poses::CPose2D pose, const IcpOptions& o, bool score, std::vector<size_t>& idx,
                           std::vector<float>& d2) {
   LineFit fit;
+  const int passes = o.point_to_line_iterations + (score ? 1 : 0);
   const auto& xs = scan.getPointsBufferRef_x();
   const auto& ys = scan.getPointsBufferRef_y();
   const double gate2 = o.point_to_line_gate_m * o.point_to_line_gate_m, huber = 0.5 * o.point_to_line_gate_m;
-  for (int it = 0; it <= o.point_to_line_iterations; ++it) {
+  for (int it = 0; it < passes; ++it) {
     const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
@@ -99,15 +102,17 @@ LineFit RefinePointToLine(const mrpt::maps::CSimplePointsMap& reference, const m
       g += w * r * j;
       ++fit.pairs;
     }
-    // The last pass only scores the pose the steps before it reached.
+    // With `score`, the last pass only scores the pose the steps before it reached.
     if (it == o.point_to_line_iterations || fit.pairs < kMinLinePairs) break;
     const Eigen::Vector3d step = -h.ldlt().solve(g);
     if (!step.allFinite()) break;
     pose = mrpt::poses::CPose2D(pose.x() + step.x(), pose.y() + step.y(), mrpt::math::wrapToPi(pose.phi() + step.z()));
-    if (step.head<2>().norm() < 1e-4 && std::abs(step.z()) < 1e-5) {  // 0.1 mm, 0.0006°: score it and stop
-      it = o.point_to_line_iterations - 1;
+    if (step.head<2>().norm() < 1e-4 && std::abs(step.z()) < 1e-5) {  // 0.1 mm, 0.0006°
+      if (!score) break;
+      it = o.point_to_line_iterations - 1;  // score the converged pose, then stop
     }
   }
+  fit.pose = pose;  // without `score`, the last step's pose (fit.cost is from before it)
   return fit;
 }
 
@@ -139,13 +144,15 @@ IcpResult IcpAligner::Align(const mrpt::maps::CSimplePointsMap& reference, const
   if (o.point_to_line_iterations > 0 && reference.size() >= static_cast<size_t>(o.point_to_line_neighbours)) {
     // Refine from ICP's pose and, unless ICP ended so near the guess that both would
     // settle in one basin, from the guess too; the lower cost wins, the guess on a tie.
-    const LineFit from_icp = RefinePointToLine(reference, scan, pose, o, impl_->neighbours, impl_->distances2);
     const mrpt::poses::CPose2D moved = pose - guess;
-    if (moved.norm() > 0.5 * o.point_to_line_gate_m || std::abs(moved.phi()) > kSameBasinRad) {
-      const LineFit from_guess = RefinePointToLine(reference, scan, guess, o, impl_->neighbours, impl_->distances2);
-      pose = from_icp.cost < from_guess.cost ? from_icp.pose : from_guess.pose;
-    } else {
-      pose = from_icp.pose;
+    const bool two_starts = moved.norm() > 0.5 * o.point_to_line_gate_m || std::abs(moved.phi()) > kSameBasinRad;
+    const LineFit from_icp =
+        RefinePointToLine(reference, scan, pose, o, two_starts, impl_->neighbours, impl_->distances2);
+    pose = from_icp.pose;
+    if (two_starts) {
+      const LineFit from_guess =
+          RefinePointToLine(reference, scan, guess, o, true, impl_->neighbours, impl_->distances2);
+      if (!(from_icp.cost < from_guess.cost)) pose = from_guess.pose;
     }
   }
   return IcpResult{pose, info.goodness, static_cast<int>(info.nIterations)};
