@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <functional>
+#include <vector>
 
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -20,28 +21,32 @@ namespace {
 
 using mrpt::poses::CPose2D;
 
-// A 10 m x 6 m room with a 1 m x 1 m pillar at (6.5, 2.5): distance along a ray.
-double RayCast(double x, double y, double angle) {
+// An axis-aligned box: a wall outline or a pillar.
+struct Box {
+  double x0, x1, y0, y1;
+};
+
+// Distance along a ray to the nearest side of any of the boxes (1e9 when none).
+double RayCast(const std::vector<Box>& boxes, double x, double y, double angle) {
   const double dx = std::cos(angle), dy = std::sin(angle);
   double best = 1e9;
-  auto slab = [&](double x0, double x1, double y0, double y1, bool inside) {
-    // Hit the four sides of an axis-aligned box.
-    for (double wx : {x0, x1}) {
+  for (const Box& b : boxes) {
+    for (double wx : {b.x0, b.x1}) {
       if (std::abs(dx) < 1e-12) continue;
       const double t = (wx - x) / dx, hy = y + t * dy;
-      if (t > 1e-9 && hy >= y0 && hy <= y1) best = std::min(best, t);
+      if (t > 1e-9 && hy >= b.y0 && hy <= b.y1) best = std::min(best, t);
     }
-    for (double wy : {y0, y1}) {
+    for (double wy : {b.y0, b.y1}) {
       if (std::abs(dy) < 1e-12) continue;
       const double t = (wy - y) / dy, hx = x + t * dx;
-      if (t > 1e-9 && hx >= x0 && hx <= x1) best = std::min(best, t);
+      if (t > 1e-9 && hx >= b.x0 && hx <= b.x1) best = std::min(best, t);
     }
-    (void)inside;
-  };
-  slab(0, 10, 0, 6, true);
-  slab(6, 7, 2, 3, false);
+  }
   return best;
 }
+
+// A 10 m x 6 m room with a 1 m x 1 m pillar at (6.5, 2.5).
+const std::vector<Box> kRoom = {{0, 10, 0, 6}, {6, 7, 2, 3}};
 
 // A 180°, 361-beam scan whose beam at world heading `angle` measures range(angle)
 // (beyond 29 m: no return).
@@ -64,8 +69,9 @@ mrpt::obs::CObservation2DRangeScan::Ptr Scan180(const CPose2D& pose, Stamp stamp
   return scan;
 }
 
-mrpt::obs::CObservation2DRangeScan::Ptr ScanAt(const CPose2D& pose, Stamp stamp) {
-  return Scan180(pose, stamp, [&](double a) { return RayCast(pose.x(), pose.y(), a); });
+mrpt::obs::CObservation2DRangeScan::Ptr ScanAt(const CPose2D& pose, Stamp stamp,
+                                               const std::vector<Box>& world = kRoom) {
+  return Scan180(pose, stamp, [&](double a) { return RayCast(world, pose.x(), pose.y(), a); });
 }
 
 mrpt::obs::CObservationOdometry::Ptr OdometryAt(const CPose2D& pose) {
@@ -240,6 +246,31 @@ TEST(ScanMatchingTest, WithoutOdometryAStopIsSearchedWhereTheCarWas) {
     EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), mrpt::RAD2DEG(truth.phi()), 0.5) << "scan " << i;
   }
   EXPECT_EQ(mapper.stats().rejected_matches, 0);
+}
+
+TEST(ScanMatchingTest, WithoutOdometryAStopOutscoresAnAliasAhead) {
+  // A 24 m corridor with pillars every 3 m. Odometry reports a 3 m step, then nothing
+  // while the car turns on the spot. The constant-velocity guess lands on the next
+  // pillar pair, where the scan fits all but the corridor's end: that alias must lose
+  // to the stop, which is searched as well and fits the end too.
+  std::vector<Box> corridor = {{0, 24, 0, 3}};
+  for (double x = 1.5; x < 24; x += 3) corridor.insert(corridor.end(), {{x, x + 0.4, 0, 0.4}, {x, x + 0.4, 2.6, 3}});
+  ScanMatchingOptions options;
+  options.recovery_window_m = 1.0;
+  ScanMatchingMapper mapper(options, nullptr, "base_link");
+  const CPose2D a(4.7, 1.5, 0.0), b(7.7, 1.5, 0.0), c(7.7, 1.5, mrpt::DEG2RAD(40));
+  mapper.Add(Stamp{0}, OdometryAt(CPose2D()));
+  mapper.Add(Stamp{1}, ScanAt(a, Stamp{1}, corridor));
+  mapper.Add(Stamp{2}, OdometryAt(b - a));
+  mapper.Add(Stamp{3}, ScanAt(b, Stamp{3}, corridor));
+  mapper.Add(Stamp{4}, OdometryAt(b - a));
+  mapper.Add(Stamp{5}, ScanAt(c, Stamp{5}, corridor));
+  const Trajectory t = mapper.trajectory();
+  ASSERT_EQ(t.size(), 3u);
+  const CPose2D estimated = CPose2D(t[2].pose) - CPose2D(t[0].pose), truth = c - a;
+  EXPECT_NEAR(estimated.x(), truth.x(), 0.02);
+  EXPECT_NEAR(estimated.y(), truth.y(), 0.02);
+  EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), 40.0, 0.5);
 }
 
 TEST(ScanMatchingTest, GyroYawRateSeedsTheRotationBetweenScans) {

@@ -93,7 +93,10 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   Searcher search(icp, reference, points, options, stats);
   if (search_first) {
     auto found = search.Around(guess);
-    if (!found && standstill) found = search.Around(*standstill);
+    if (standstill) {
+      auto still = search.Around(*standstill);
+      if (still && (!found || still->score > found->score)) found = still;
+    }
     if (found) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};

@@ -36,8 +36,8 @@ struct MatchResult {
 // its refined pose competes with ICP's on the same likelihood score; otherwise (or
 // when nothing scores) ICP's pose stands if at least half min_goodness paired, else
 // the guess. A weak guess (no odometry behind it) is searched around first when
-// `search_without_odometry` is on, and when nothing scores there, around `standstill`
-// (where the car was: without odometry it may have stopped or turned on the spot).
+// `search_without_odometry` is on, and so is `standstill` (where the car was: without
+// odometry it may have stopped or turned on the spot); the better score wins.
 // Counts into `stats`.
 MatchResult MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimplePointsMap& reference,
                               const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
