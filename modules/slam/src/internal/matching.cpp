@@ -53,14 +53,15 @@ class Searcher {
            const ScanMatchingOptions& options, MappingStats& stats)
       : icp_(icp), reference_(reference), points_(points), options_(options), stats_(stats) {}
 
-  std::optional<SearchResult> Around(const CPose2D& guess, const std::optional<CPose2D>& icp_pose = std::nullopt) {
+  std::optional<SearchResult> Around(const CPose2D& guess, double min_score,
+                                     const std::optional<CPose2D>& icp_pose = std::nullopt) {
     const double res = options_.recovery_resolution_m;
     if (!matcher_) {
       matcher_.emplace(Decimate(reference_, res / 2), res, options_.recovery_window_m);
       query_ = Decimate(points_, res);
     }
     const auto coarse = matcher_->Match(query_, guess, options_.recovery_window_m,
-                                        mrpt::DEG2RAD(options_.recovery_window_deg), options_.recovery_min_score);
+                                        mrpt::DEG2RAD(options_.recovery_window_deg), min_score);
     if (!coarse) return std::nullopt;
     const IcpResult refined = icp_.Align(reference_, points_, coarse->pose);
     stats_.icp_iterations += refined.iterations;
@@ -92,9 +93,9 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   const bool search_first = recovery && guess_is_weak && options.search_without_odometry;
   Searcher search(icp, reference, points, options, stats);
   if (search_first) {
-    auto found = search.Around(guess);
+    auto found = search.Around(guess, options.search_min_score);
     if (standstill) {
-      auto still = search.Around(*standstill);
+      auto still = search.Around(*standstill, options.search_min_score);
       if (still && (!found || still->score > found->score)) found = still;
     }
     if (found) {
@@ -109,7 +110,7 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
   // (After a search first, searching again from the same guess would find the same.)
   if (recovery && !search_first) {
-    const auto found = search.Around(guess, match.pose);
+    const auto found = search.Around(guess, options.recovery_min_score, match.pose);
     if (found && (!icp_weak_ok || found->score > found->icp_score)) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};

@@ -62,10 +62,11 @@ struct ScanMatchingOptions {
   double max_correction_m = 1.0;
   double max_correction_deg = 20.0;
   double recovery_window_m = 2.0;
-  double recovery_window_deg = 90.0;
+  double recovery_window_deg = 75.0;
   double recovery_resolution_m = 0.1;
   double recovery_min_score = 0.5;
   bool search_without_odometry = true;
+  double search_min_score = 0.3;
   bool fuse_odometry = false;
   double point_sigma_m = 0.03;
   double prior_fraction = 0.1;
@@ -104,6 +105,10 @@ struct ScanMatchingOptions {
     v.Param("search_without_odometry", search_without_odometry,
             "when the odometry reports no motion, search around the constant-velocity guess (correlative "
             "matcher) before ICP");
+    v.Param("search_min_score", search_min_score,
+            "accept a search without odometry from this mean likelihood (the guess it replaces is only the last "
+            "step repeated)",
+            Range::Of(0.1, 0.95));
     v.Param("fuse_odometry", fuse_odometry,
             "fuse each ICP match with the odometry step by their information (corridors: odometry decides "
             "the direction the scan cannot)");
