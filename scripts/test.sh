@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it: install packages, build release and run every
 # test (fast, e2e and slow labels), then build with AddressSanitizer + UBSan and run
-# all but the slow tests again, then the concurrent parts (world_test, stereo_threads_test) under
+# all but the slow tests again, then the concurrent parts (the tsan preset's filter) under
 # ThreadSanitizer. Evaluation data is read from ../shared/data when it
 # exists (override with SPECHT_DATA_DIR); tests that need it skip without it.
 set -euo pipefail

@@ -1,6 +1,8 @@
 #include "internal/matching.h"
 
 #include <cmath>
+#include <thread>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <mrpt/math/wrap2pi.h>
@@ -38,10 +40,12 @@ bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const Scan
          std::abs(correction.phi()) <= mrpt::DEG2RAD(options.max_correction_deg);
 }
 
-// The correlative matcher's best pose around `guess` against `reference`, refined by
-// ICP: nullopt when nothing scores recovery_min_score, or ICP pairs too few points or
-// moves the coarse pose out of bounds. `score` is on the correlative grid. The grid
-// is built on the first search and kept for the next from the same reference.
+// The correlative matcher's best pose around each of `centres` against `reference`,
+// refined by ICP, and the best of those: nullopt when nothing scores `min_score`, or
+// ICP pairs too few points or moves the coarse pose out of bounds. `score` is on the
+// correlative grid; a tie goes to the earlier centre. The grid is built on the first
+// search and kept for the next from the same reference; the searches around several
+// centres run in parallel (the grid is read-only; ICP refines on the calling thread).
 struct SearchResult {
   CPose2D pose;
   double score = 0;
@@ -53,23 +57,41 @@ class Searcher {
            const ScanMatchingOptions& options, MappingStats& stats)
       : icp_(icp), reference_(reference), points_(points), options_(options), stats_(stats) {}
 
-  std::optional<SearchResult> Around(const CPose2D& guess, double min_score,
+  std::optional<SearchResult> Around(const std::vector<CPose2D>& centres, double min_score,
                                      const std::optional<CPose2D>& icp_pose = std::nullopt) {
     const double res = options_.recovery_resolution_m;
     if (!matcher_) {
       matcher_.emplace(Decimate(reference_, res / 2), res, options_.recovery_window_m);
       query_ = Decimate(points_, res);
     }
-    const auto coarse = matcher_->Match(query_, guess, options_.recovery_window_m,
-                                        mrpt::DEG2RAD(options_.recovery_window_deg), min_score);
-    if (!coarse) return std::nullopt;
-    const IcpResult refined = icp_.Align(reference_, points_, coarse->pose);
-    stats_.icp_iterations += refined.iterations;
-    if (refined.goodness < options_.min_goodness / 2 || !WithinCorrectionBounds(refined.pose, coarse->pose, options_)) {
-      return std::nullopt;
-    }
-    return SearchResult{refined.pose, matcher_->Score(query_, refined.pose),
-                        icp_pose ? matcher_->Score(query_, *icp_pose) : 0.0};
+    // Centres after the first are searched on other threads while this one searches
+    // the first and refines its pose (ICP stays on this thread).
+    std::vector<std::optional<CorrelativeResult>> coarse(centres.size());
+    auto search = [&](size_t i) {
+      coarse[i] = matcher_->Match(query_, centres[i], options_.recovery_window_m,
+                                  mrpt::DEG2RAD(options_.recovery_window_deg), min_score);
+    };
+    std::optional<SearchResult> best;
+    auto refine = [&](size_t i) {
+      if (!coarse[i]) return;
+      const IcpResult refined = icp_.Align(reference_, points_, coarse[i]->pose);
+      stats_.icp_iterations += refined.iterations;
+      if (refined.goodness < options_.min_goodness / 2 ||
+          !WithinCorrectionBounds(refined.pose, coarse[i]->pose, options_)) {
+        return;
+      }
+      const double score = matcher_->Score(query_, refined.pose);
+      if (!best || score > best->score) {
+        best = SearchResult{refined.pose, score, icp_pose ? matcher_->Score(query_, *icp_pose) : 0.0};
+      }
+    };
+    std::vector<std::thread> others;
+    for (size_t i = 1; i < centres.size(); ++i) others.emplace_back(search, i);
+    search(0);
+    refine(0);
+    for (auto& t : others) t.join();
+    for (size_t i = 1; i < centres.size(); ++i) refine(i);
+    return best;
   }
 
  private:
@@ -93,11 +115,9 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   const bool search_first = recovery && guess_is_weak && options.search_without_odometry;
   Searcher search(icp, reference, points, options, stats);
   if (search_first) {
-    auto found = search.Around(guess, options.search_min_score);
-    if (standstill) {
-      auto still = search.Around(*standstill, options.search_min_score);
-      if (still && (!found || still->score > found->score)) found = still;
-    }
+    std::vector<CPose2D> centres = {guess};
+    if (standstill) centres.push_back(*standstill);
+    const auto found = search.Around(centres, options.search_min_score);
     if (found) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};
@@ -110,7 +130,7 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
   // (After a search first, searching again from the same guess would find the same.)
   if (recovery && !search_first) {
-    const auto found = search.Around(guess, options.recovery_min_score, match.pose);
+    const auto found = search.Around({guess}, options.recovery_min_score, match.pose);
     if (found && (!icp_weak_ok || found->score > found->icp_score)) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};
