@@ -64,6 +64,11 @@ int RunEvalSlam(const EvalSlamArgs& a) {
   }
   std::printf("ATE (SE(2)-aligned, %zu poses): RMSE %.4f m, max %.4f m, %.3f deg RMSE\n", ate.pairs, ate.rmse_m,
               ate.max_m, ate.rmse_deg);
+  if (!rel.worst.empty()) std::printf("worst relations (scan i, j: stamps, kind, error)\n");
+  for (const eval::Relation& r : rel.worst) {
+    std::printf("  %6zu %6zu   %.3f s %.3f s   %-11s   %.4f m   %.3f deg\n", r.i, r.j, r.stamp_i.Seconds(),
+                r.stamp_j.Seconds(), r.loop ? "loop" : "consecutive", r.m, r.deg);
+  }
   return 0;
 }
 
@@ -144,6 +149,8 @@ void AddEvalCommand(CLI::App& app, int& exit_code) {
                    "loop relations: reference poses closer than this (m)")->capture_default_str();
   slam->add_option("--loop-separation", args->relations.loop_min_separation,
                    "loop relations: more than this many scans apart")->capture_default_str();
+  slam->add_option("--worst", args->relations.worst_count, "list this many relations with the largest error")
+      ->capture_default_str();
   slam->add_option("--max-dt", args->relations.max_dt_s, "pair poses whose stamps differ by at most this (s)")
       ->capture_default_str();
   slam->callback([args, &exit_code] { exit_code = RunEvalSlam(*args); });

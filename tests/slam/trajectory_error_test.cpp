@@ -1,8 +1,12 @@
 #include "specht/eval/trajectory_error.h"
 
+#include "specht/eval/relation_error.h"
+
 #include "specht/core/error.h"
 
+#include <algorithm>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -52,6 +56,38 @@ TEST(TrajectoryErrorTest, PairsByNearestStampWithinTolerance) {
   EXPECT_EQ(pairs[0], std::make_pair(size_t(0), size_t(0)));
   EXPECT_EQ(pairs[1], std::make_pair(size_t(1), size_t(1)));
   EXPECT_THROW(AbsoluteTrajectoryError2D(a, {}, 0.05), InputError);
+}
+
+TEST(RelationErrorTest, AGlitchAtOneScanShowsInItsTwoConsecutiveRelationsAndHeadsTheWorstList) {
+  // 300 poses on a circle of radius 5 m (10.5 cm apart); the estimate is the reference
+  // with scan 150 pushed 0.3 m sideways. Loop relations (within 3 m, more than 100
+  // scans apart) join the circle's start and end and carry no error.
+  const Trajectory reference = Circle(300);
+  Trajectory estimate = reference;
+  estimate[150].pose.x_incr(0.3);
+  RelationOptions options;
+  options.worst_count = 3;
+  const RelationError e = ComputeRelationError(estimate, reference, options);
+  EXPECT_EQ(e.paired_poses, 300u);
+  EXPECT_EQ(e.consecutive.count, 299u);
+  EXPECT_GT(e.loop.count, 0u);
+  EXPECT_NEAR(e.loop.max_m, 0, 1e-9);
+  EXPECT_NEAR(e.consecutive.max_m, 0.3, 0.01);
+  EXPECT_NEAR(e.all.max_m, e.consecutive.max_m, 1e-12);
+  ASSERT_EQ(e.worst.size(), 3u);
+  std::vector<std::pair<size_t, size_t>> broken = {{e.worst[0].i, e.worst[0].j}, {e.worst[1].i, e.worst[1].j}};
+  std::sort(broken.begin(), broken.end());
+  EXPECT_EQ(broken, (std::vector<std::pair<size_t, size_t>>{{149, 150}, {150, 151}}));
+  EXPECT_GE(e.worst[0].m, e.worst[1].m);
+  EXPECT_NEAR(e.worst[1].m, 0.3, 0.01);
+  EXPECT_FALSE(e.worst[0].loop);
+  EXPECT_EQ(e.worst[0].stamp_j.ns - e.worst[0].stamp_i.ns, 100'000'000);
+  EXPECT_NEAR(e.worst[2].m, 0, 1e-9);  // then the first error-free relation
+  EXPECT_EQ(e.worst[2].i, 0u);
+  EXPECT_NEAR(e.consecutive.mean_m, (e.worst[0].m + e.worst[1].m) / 299, 1e-12);
+
+  options.worst_count = 0;
+  EXPECT_TRUE(ComputeRelationError(estimate, reference, options).worst.empty());
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "specht/eval/relation_error.h"
 
+#include <algorithm>
 #include <cmath>
+#include <queue>
 
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
@@ -38,6 +40,12 @@ class Accumulator {
   double sum_m_ = 0, sum2_m_ = 0, max_m_ = 0, sum_d_ = 0, sum2_d_ = 0, max_d_ = 0;
 };
 
+// Larger translational error first; ties in index order.
+bool Worse(const Relation& a, const Relation& b) {
+  if (a.m != b.m) return a.m > b.m;
+  return a.i != b.i ? a.i < b.i : a.j < b.j;
+}
+
 }  // namespace
 
 RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory& reference,
@@ -52,11 +60,20 @@ RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory&
     ref.emplace_back(reference[j].pose);
   }
   Accumulator consecutive, loop, all;
+  // The worst_count worst so far, the least bad on top.
+  std::priority_queue<Relation, std::vector<Relation>, decltype(&Worse)> worst(&Worse);
   auto add = [&](size_t i, size_t j, Accumulator& kind) {
     const CPose2D e = (est[j] - est[i]) - (ref[j] - ref[i]);
     const double m = e.norm(), deg = std::abs(mrpt::RAD2DEG(mrpt::math::wrapToPi(e.phi())));
     kind.Add(m, deg);
     all.Add(m, deg);
+    const Relation r{i, j, estimate[pairs[i].first].stamp, estimate[pairs[j].first].stamp, &kind == &loop, m, deg};
+    if (worst.size() < options.worst_count) {
+      worst.push(r);
+    } else if (options.worst_count > 0 && Worse(r, worst.top())) {
+      worst.pop();
+      worst.push(r);
+    }
   };
   const size_t n = est.size();
   for (size_t i = 0; i + 1 < n; ++i) add(i, i + 1, consecutive);
@@ -67,7 +84,10 @@ RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory&
       if (dx * dx + dy * dy <= r2) add(i, j, loop);
     }
   }
-  return RelationError{consecutive.Stats(), loop.Stats(), all.Stats(), n};
+  RelationError result{consecutive.Stats(), loop.Stats(), all.Stats(), n, {}};
+  for (; !worst.empty(); worst.pop()) result.worst.push_back(worst.top());
+  std::reverse(result.worst.begin(), result.worst.end());
+  return result;
 }
 
 nlohmann::json ToJson(const RelationStats& s) {
@@ -76,8 +96,13 @@ nlohmann::json ToJson(const RelationStats& s) {
 }
 
 nlohmann::json ToJson(const RelationError& e) {
+  nlohmann::json worst = nlohmann::json::array();
+  for (const Relation& r : e.worst) {
+    worst.push_back({{"i", r.i}, {"j", r.j}, {"t_i", r.stamp_i.Seconds()}, {"t_j", r.stamp_j.Seconds()},
+                     {"kind", r.loop ? "loop" : "consecutive"}, {"m", r.m}, {"deg", r.deg}});
+  }
   return {{"consecutive", ToJson(e.consecutive)}, {"loop", ToJson(e.loop)}, {"all", ToJson(e.all)},
-          {"paired_poses", e.paired_poses}};
+          {"paired_poses", e.paired_poses}, {"worst", worst}};
 }
 
 }  // namespace specht::eval

@@ -25,15 +25,27 @@ struct RelationStats {
   double mean_deg = 0, std_deg = 0, max_deg = 0;
 };
 
+// One relation: scans i < j (indices into the paired poses) and its errors.
+struct Relation {
+  size_t i = 0, j = 0;
+  Stamp stamp_i, stamp_j;  // the estimate's stamps
+  bool loop = false;       // a loop relation (else consecutive)
+  double m = 0, deg = 0;
+};
+
 struct RelationError {
   RelationStats consecutive, loop, all;
   size_t paired_poses = 0;
+  // The relations with the largest translational error, largest first: where a
+  // map broke (ties in index order).
+  std::vector<Relation> worst;
 };
 
 struct RelationOptions {
   double loop_max_distance_m = 3.0;
   int loop_min_separation = 100;
   double max_dt_s = 0.001;  // estimate and reference poses pair by stamp within this
+  size_t worst_count = 10;  // relations kept in RelationError::worst
 };
 
 // Throws InputError when fewer than 2 poses pair up.
@@ -41,7 +53,7 @@ RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory&
                                    const RelationOptions& options = {});
 
 // For reports: {count, mean_m, std_m, max_m, mean_deg, std_deg, max_deg}, and
-// {consecutive, loop, all, paired_poses}.
+// {consecutive, loop, all, paired_poses, worst: [{i, j, t_i, t_j, kind, m, deg}]}.
 nlohmann::json ToJson(const RelationStats& stats);
 nlohmann::json ToJson(const RelationError& error);
 
