@@ -103,8 +103,8 @@ struct ScanMatchingOptions {
     v.Param("recovery_min_score", recovery_min_score, "accept a recovery match from this mean likelihood",
             Range::Of(0.1, 0.95));
     v.Param("search_without_odometry", search_without_odometry,
-            "when the odometry reports no motion, search around the constant-velocity guess (correlative "
-            "matcher) before ICP");
+            "when the odometry reports no motion, search around the constant-velocity guess and where the car "
+            "was (correlative matcher) before ICP");
     v.Param("search_min_score", search_min_score,
             "accept a search without odometry from this mean likelihood (the guess it replaces is only the last "
             "step repeated)",
