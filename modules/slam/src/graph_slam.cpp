@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <functional>
+#include <thread>
 
 #include "specht/slam/correlative_matcher.h"
 
@@ -39,7 +42,8 @@ GraphSlam::GraphSlam(const SlamOptions& slam, const ScanMatchingOptions& matchin
       loops_(loops),
       back_end_(back_end),
       front_end_(matching, frames, std::move(base_frame)),
-      icp_(matching.icp) {}
+      icp_(matching.icp),
+      second_icp_(matching.icp) {}
 
 GraphSlam::~GraphSlam() = default;
 
@@ -119,18 +123,38 @@ void GraphSlam::SearchLoops(size_t k) {
 
   const CSimplePointsMap scan = ScanToPoints(*kfs[k].scan);
   const CSimplePointsMap query = Decimate(WithinRange(scan, loops_.submap_max_range_m), loops_.resolution_m);
-  for (const auto& [distance, s] : candidates) {
-    ++stats_.loop_searches;
-    const CPose2D guess = node - graph_.nodes.at(static_cast<int>(s->anchor));
-    const auto match = s->matcher->Match(query, guess, loops_.window_m, mrpt::DEG2RAD(loops_.window_deg),
-                                         loops_.min_score);
-    if (!match) continue;
-    ++stats_.loops_found;
-    const IcpResult refined = icp_.Align(s->points, scan, match->pose);
-    if (refined.goodness < loops_.min_icp_goodness || (refined.pose - match->pose).norm() > 2 * loops_.resolution_m) {
-      continue;
+  // A candidate's search and its ICP verification read only its own submap and the
+  // scan: every other candidate runs on a second thread (with its own ICP). The edges
+  // are added here in candidate order, so they do not depend on the threads.
+  struct Verified {
+    bool found = false;               // the search scored min_score or more
+    std::optional<CPose2D> accepted;  // ICP confirmed it: the loop's measurement
+  };
+  std::vector<Verified> verified(candidates.size());
+  auto verify = [&](size_t first, IcpAligner& icp) {
+    for (size_t i = first; i < candidates.size(); i += 2) {
+      const Submap& s = *candidates[i].second;
+      const CPose2D guess = node - graph_.nodes.at(static_cast<int>(s.anchor));
+      const auto match = s.matcher->Match(query, guess, loops_.window_m, mrpt::DEG2RAD(loops_.window_deg),
+                                          loops_.min_score);
+      if (!match) continue;
+      verified[i].found = true;
+      const IcpResult refined = icp.Align(s.points, scan, match->pose);
+      if (refined.goodness >= loops_.min_icp_goodness &&
+          (refined.pose - match->pose).norm() <= 2 * loops_.resolution_m) {
+        verified[i].accepted = refined.pose;
+      }
     }
-    graph_.edges.push_back({static_cast<int>(s->anchor), static_cast<int>(k), refined.pose,
+  };
+  std::optional<std::thread> second;
+  if (candidates.size() > 1) second.emplace(verify, 1, std::ref(second_icp_));
+  verify(0, icp_);
+  if (second) second->join();
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    ++stats_.loop_searches;
+    stats_.loops_found += verified[i].found;
+    if (!verified[i].accepted) continue;
+    graph_.edges.push_back({static_cast<int>(candidates[i].second->anchor), static_cast<int>(k), *verified[i].accepted,
                             Information(slam_.loop_sigma_m, slam_.loop_sigma_deg), true});
     ++stats_.loops_accepted;
     ++loops_since_optimize_;

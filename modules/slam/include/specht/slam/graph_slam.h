@@ -8,9 +8,10 @@
 //   loops       every `search_every` keyframes, finished submaps whose centre lies
 //               within `search_radius_m` of the keyframe (and that do not hold any of
 //               the last `exclude_recent_keyframes`) are searched within ±window_m,
-//               ±window_deg; a match scoring `min_score` or more, refined by ICP with
-//               goodness `min_icp_goodness` or more, becomes a loop edge
-//               anchor → keyframe under a robust loss.
+//               ±window_deg (the candidates split over two threads); a
+//               match scoring `min_score` or more, refined by ICP with goodness
+//               `min_icp_goodness` or more, becomes a loop edge anchor → keyframe
+//               under a robust loss.
 //   back end    nodes = keyframes, edges = consecutive front-end matches and loops;
 //               optimised on Ceres (pose_graph_optimizer.h) after every
 //               `optimize_every` new loops and at Finish(); the front end is then
@@ -136,6 +137,7 @@ class GraphSlam {
   PoseGraphOptions back_end_;
   ScanMatchingMapper front_end_;
   IcpAligner icp_;
+  IcpAligner second_icp_;  // loop verification on the second thread
   PoseGraph2D graph_;
   std::vector<std::unique_ptr<Submap>> submaps_;
   std::vector<size_t> open_submap_;  // keyframes of the submap being filled
