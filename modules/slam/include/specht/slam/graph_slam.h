@@ -38,10 +38,10 @@ struct LoopClosureOptions {
   int search_every = 1;
   double search_radius_m = 10.0;
   int exclude_recent_keyframes = 40;
-  int max_candidates = 3;
+  int max_candidates = 6;
   double window_m = 3.0;
   double window_deg = 30.0;
-  double min_score = 0.6;
+  double min_score = 0.55;
   double min_icp_goodness = 0.75;
   int optimize_every = 3;
 
