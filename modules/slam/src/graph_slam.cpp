@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <optional>
 #include <functional>
+#include <optional>
 #include <thread>
 
 #include "specht/slam/correlative_matcher.h"
