@@ -138,6 +138,11 @@ void ScanMatchingMapper::CorrectKeyframes(const std::vector<CPose2D>& poses) {
 void ScanMatchingMapper::RebuildSubmap() {
   Impl& m = *impl_;
   m.submap.clear();
+  // One allocation: each insertAnotherMap reserves exactly what it adds, so without
+  // this the buffers are reallocated and copied once per keyframe.
+  size_t total = 0;
+  for (const CSimplePointsMap& points : m.keyframe_points) total += points.size();
+  m.submap.reserve(total);
   for (size_t i = 0; i < m.keyframe_points.size(); ++i) {
     m.submap.insertAnotherMap(&m.keyframe_points[i], CPose3D(keyframes_[m.keyframe_poses[i]].pose));
   }
