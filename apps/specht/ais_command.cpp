@@ -10,11 +10,13 @@
 //   train <dataset> -o DIR [--resume]   the 1D ResNet (section "ais_model") and the
 //       random forest, as `classify train`.
 //   eval <dataset> -o DIR [--folds 5] [--networks tiny,mlp]   cross-validation
-//       with folds disjoint by MMSI: per model macro/weighted F1 mean ± std,
+//       with folds disjoint by MMSI: per model (each network, the forest, each
+//       network combined with the forest) macro/weighted F1 mean ± std,
 //       per-class F1, pooled confusion matrices (PNG). A trained model is scored on
 //       a dataset with `specht classify eval`.
 //   predict <model dir> <tracks.csv>... -o DIR   classes per vessel (objects.csv) and
-//       per window (windows.csv) with the model's own preprocessing.
+//       per window (windows.csv) with the model's own preprocessing; the network
+//       combined with the forest beside it (--network-only: the network alone).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -45,7 +47,7 @@ struct AisArgs {
   std::vector<std::string> inputs;
   std::string dataset, model_dir, networks = "tiny,mlp";
   int folds = 5;
-  bool resume = false, no_forest = false;
+  bool resume = false, no_forest = false, network_only = false;
 };
 
 double Seconds(std::chrono::steady_clock::time_point t0) {
@@ -248,12 +250,12 @@ int RunEval(const AisArgs& a) {
   report.Write(out);
   std::printf("ais eval: %zu windows, %d folds by MMSI\n", d.windows.size(), a.folds);
   for (const char* level : {"per window", "per vessel (majority of its windows)"}) {
-    std::printf("  %-8s %17s %17s", level[4] == 'w' ? "windows" : "vessels", "macro F1", "weighted F1");
+    std::printf("  %-14s %17s %17s", level[4] == 'w' ? "windows" : "vessels", "macro F1", "weighted F1");
     for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
     std::printf("\n");
     for (const auto& name : result.models) {
       const auto& m = level[4] == 'w' ? j["models"][name] : j["models"][name]["per_object"];
-      std::printf("  %-8s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
+      std::printf("  %-14s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
                   m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
                   m["weighted_f1"]["std"].get<double>());
       for (const auto& c : d.classes) std::printf(" %14.3f", m["per_class_f1"][c]["mean"].get<double>());
@@ -268,7 +270,7 @@ int RunEval(const AisArgs& a) {
 int RunPredict(const AisArgs& a) {
   const params::Params params = LoadParams(a.common);
   const auto& ais_o = params.Get<ais::AisOptions>("ais");
-  const auto classifier = classify::TrajectoryClassifier::Load(a.model_dir + "/model");
+  const classify::TrajectoryClassifier classifier = LoadTrainedClassifier(a.model_dir, a.network_only);
   const ais::Geography geo = ais::Geography::Load(ais_o, DataDirOr(a.common));
   PrepareOutputDir(a.common, params);
   const auto& classes = classifier.classes();
@@ -309,6 +311,7 @@ int RunPredict(const AisArgs& a) {
   io::RunReport report("ais predict");
   auto& j = report.json();
   j["inputs"] = {{"model", a.model_dir}, {"tracks", a.inputs}};
+  j["classifier"] = classifier.combines_forest() ? "network+forest" : "network";
   j["vessels"] = vessels;
   j["windows"] = windows;
   if (!truth.empty()) j["metrics_per_vessel"] = classify::Score(truth, predicted, static_cast<int>(k)).ToJson(classes);
@@ -364,6 +367,7 @@ void AddAisCommand(CLI::App& app, int& exit_code) {
   CLI::App* q = cmd->add_subcommand("predict", "classify vessels from tabular AIS with a trained model");
   q->add_option("model", pr->model_dir, "a directory written by ais train")->required();
   q->add_option("tracks", pr->inputs, "CSV files as for prepare")->required();
+  q->add_flag("--network-only", pr->network_only, "the network alone (default: combined with the model's forest.yml)");
   AddCommonOptions(*q, pr->common, "specht-out/ais-predict");
   q->callback([pr, &exit_code] { exit_code = RunPredict(*pr); });
 }

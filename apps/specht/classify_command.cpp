@@ -9,13 +9,16 @@
 //       held-out validation split by object, and the random-forest baseline on the
 //       same split; progress per epoch; writes model.pt/.json, forest.yml,
 //       training.csv; checkpoint.pt after every epoch (--resume continues from it).
-//   eval <model dir> <dataset> -o DIR   macro/weighted/per-class F1 of both, confusion
+//   eval <model dir> <dataset> -o DIR   macro/weighted/per-class F1 of both and of the
+//       two combined (mean probabilities), confusion
 //       matrices as PNG, inference rate.
 //   predict <model dir> <tracks.csv>... [--scenario S.yaml]... -o DIR   classes of
-//       new tracks with the model's own preprocessing: windows.csv (one row per
+//       new tracks with the model's own preprocessing, the network's probabilities
+//       averaged with the forest's (--network-only: the network's): windows.csv (one row per
 //       window) and objects.csv (per track, mean of its windows' probabilities).
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -42,7 +45,7 @@ struct ClassifyArgs {
   CommonArgs common;
   std::vector<std::string> inputs, scenarios;
   std::string model_dir, dataset;
-  bool resume = false;
+  bool resume = false, network_only = false;
 };
 
 std::map<std::string, classify::MapFeatures> ScenarioMaps(const std::vector<std::string>& paths) {
@@ -106,7 +109,7 @@ int RunPrepare(const ClassifyArgs& a) {
     const classify::MapFeatures& map = MapOf(maps, w.object_id);
     const auto f = classify::Features(w, o, map, bounds);
     d.windows.x.insert(d.windows.x.end(), f.begin(), f.end());
-    const auto h = classify::HandcraftedFeatures(w, map);
+    const auto h = classify::HandcraftedFeatures(w, classify::BaselineMap(map, o.features));
     d.handcrafted.insert(d.handcrafted.end(), h.begin(), h.end());
     d.windows.y.push_back(static_cast<int>(std::find(d.classes.begin(), d.classes.end(), w.label) - d.classes.begin()));
     d.windows.object_ids.push_back(w.object_id);
@@ -141,31 +144,40 @@ int RunEval(const ClassifyArgs& a) {
   const std::string& out = a.common.out_dir;
   const int k = static_cast<int>(model.classes().size());
   const auto t0 = std::chrono::steady_clock::now();
-  const auto predicted = model.PredictClasses(d.windows);
+  const std::vector<float> network_p = model.Predict(d.windows);
   const double infer_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const auto resnet = classify::Score(d.windows.y, predicted, k);
+  const std::vector<float> forest_p = forest.Probabilities(d.handcrafted, k);
+  const auto resnet = classify::Score(d.windows.y, classify::MostProbable(network_p, k), k);
   const auto rf = classify::Score(d.windows.y, forest.Predict(d.handcrafted), k);
+  const auto both =
+      classify::Score(d.windows.y, classify::MostProbable(classify::CombinedProbabilities(network_p, forest_p), k), k);
   classify::WriteConfusionPng(resnet, model.classes(), "1D ResNet (" + model.options().variant + ")",
                               out + "/confusion_resnet.png");
   classify::WriteConfusionPng(rf, model.classes(), "random forest baseline", out + "/confusion_forest.png");
+  classify::WriteConfusionPng(both, model.classes(), "ResNet + forest (mean probabilities)",
+                              out + "/confusion_combined.png");
   io::RunReport report("classify eval");
   auto& j = report.json();
   j["inputs"] = {{"model", a.model_dir}, {"dataset", a.dataset}, {"windows", d.windows.size()}};
-  j["metrics"] = {{"resnet", resnet.ToJson(model.classes())}, {"forest", rf.ToJson(model.classes())}};
+  j["metrics"] = {{"resnet", resnet.ToJson(model.classes())},
+                  {"forest", rf.ToJson(model.classes())},
+                  {"resnet+forest", both.ToJson(model.classes())}};
   j["timing"] = {{"inference_windows_per_s", d.windows.size() / std::max(1e-9, infer_s)}};
-  report.AddOutput("confusion_resnet.png");
-  report.AddOutput("confusion_forest.png");
+  for (const char* f : {"confusion_resnet.png", "confusion_forest.png", "confusion_combined.png"}) report.AddOutput(f);
   report.Write(out);
-  std::printf("classify eval: %zu windows; macro F1 ResNet %.3f (weighted %.3f), forest %.3f (weighted %.3f)\n",
-              d.windows.size(), resnet.macro_f1, resnet.weighted_f1, rf.macro_f1, rf.weighted_f1);
+  std::printf(
+      "classify eval: %zu windows; macro F1 ResNet %.3f (weighted %.3f), forest %.3f (weighted %.3f), both %.3f "
+      "(weighted %.3f)\n",
+      d.windows.size(), resnet.macro_f1, resnet.weighted_f1, rf.macro_f1, rf.weighted_f1, both.macro_f1,
+      both.weighted_f1);
   for (int c = 0; c < k; ++c)
-    std::printf("  %-12s F1 ResNet %.3f  forest %.3f  (%ld windows)\n", model.classes()[c].c_str(), resnet.f1[c],
-                rf.f1[c], resnet.support[c]);
+    std::printf("  %-12s F1 ResNet %.3f  forest %.3f  both %.3f  (%ld windows)\n", model.classes()[c].c_str(),
+                resnet.f1[c], rf.f1[c], both.f1[c], resnet.support[c]);
   return 0;
 }
 
 int RunPredict(const ClassifyArgs& a) {
-  const classify::TrajectoryClassifier classifier = classify::TrajectoryClassifier::Load(a.model_dir + "/model");
+  const classify::TrajectoryClassifier classifier = LoadTrainedClassifier(a.model_dir, a.network_only);
   const auto maps = ScenarioMaps(a.scenarios);
   const std::vector<classify::Trajectory> trajectories = ReadTrajectories(a.inputs, false);
   const std::vector<classify::Window> windows = classifier.Windows(trajectories);
@@ -228,6 +240,7 @@ int RunPredict(const ClassifyArgs& a) {
   io::RunReport report("classify predict");
   auto& j = report.json();
   j["inputs"] = {{"model", a.model_dir}, {"tracks", a.inputs}, {"trajectories", trajectories.size()}};
+  j["classifier"] = classifier.combines_forest() ? "network+forest" : "network";
   j["windows"] = windows.size();
   j["objects_per_class"] = per_class;
   j["timing"] = {{"inference_windows_per_s", windows.size() / std::max(1e-9, infer_s)}};
@@ -297,6 +310,12 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   return 0;
 }
 
+classify::TrajectoryClassifier LoadTrainedClassifier(const std::string& model_dir, bool network_only) {
+  const std::string forest = model_dir + "/forest.yml";
+  const bool combine = !network_only && std::filesystem::exists(forest);
+  return classify::TrajectoryClassifier::Load(model_dir + "/model", combine ? forest : "");
+}
+
 void AddClassifyCommand(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand("classify", "trajectory classification: prepare windows, train, evaluate, predict");
   cmd->require_subcommand(1);
@@ -330,6 +349,7 @@ void AddClassifyCommand(CLI::App& app, int& exit_code) {
   q->add_option("model", pr->model_dir, "a directory written by train")->required();
   q->add_option("tracks", pr->inputs, "object-track CSV files (id,t_s,x_m,y_m[,...])")->required();
   q->add_option("--scenario", pr->scenarios, "scenario files for map features (matched by name in the ids)");
+  q->add_flag("--network-only", pr->network_only, "the network alone (default: combined with the model's forest.yml)");
   AddCommonOptions(*q, pr->common, "specht-out/classify-predict");
   q->callback([pr, &exit_code] { exit_code = RunPredict(*pr); });
 }

@@ -8,6 +8,7 @@
 
 #include "run_setup.h"
 #include "specht/classify/model.h"
+#include "specht/classify/trajectory_classifier.h"
 
 namespace specht::app {
 
@@ -30,5 +31,10 @@ void AddAisCommand(CLI::App& app, int& exit_code);
 // shared by `classify train` and `ais train`.
 int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
                           const std::string& dataset, bool resume, const std::string& label);
+
+// The classifier a train run wrote to `model_dir`: the network combined with the
+// forest beside it (forest.yml), or the network alone when `network_only` is set
+// or the directory holds no forest. Shared by `classify predict` and `ais predict`.
+classify::TrajectoryClassifier LoadTrainedClassifier(const std::string& model_dir, bool network_only);
 
 }  // namespace specht::app

@@ -11,7 +11,8 @@
 //   report.json   CLEAR MOT per run and over all runs, tracker time per frame
 // With --model DIR (a `specht classify train` output) the trajectory classifier runs
 // online: after every tracker update, on each confirmed track's latest window, with
-// the scene's map features; its probabilities go into the track's
+// the scene's map features (the network combined with the model's forest unless
+// --network-only); its probabilities go into the track's
 // class_probabilities, and report.json scores its class per track-frame against the
 // class of the agent the track followed, next to the tracker's own detection vote.
 #include <chrono>
@@ -41,6 +42,7 @@ struct TrackArgs {
   std::vector<std::string> scenarios;
   std::string seeds;
   std::string model_dir;
+  bool network_only = false;
   double match_threshold_m = 1.0;
 };
 
@@ -116,7 +118,7 @@ int RunTrack(const TrackArgs& a) {
   std::vector<std::pair<uint64_t, uint64_t>> seeds;
   for (const auto& s : scenarios) seeds.push_back(ParseSeedRange(a.seeds, s.seed));
   std::optional<classify::TrajectoryClassifier> classifier;
-  if (!a.model_dir.empty()) classifier = classify::TrajectoryClassifier::Load(a.model_dir + "/model");
+  if (!a.model_dir.empty()) classifier = LoadTrainedClassifier(a.model_dir, a.network_only);
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
   // Per labelled track-frame the classifier saw: truth, classifier, tracker vote.
@@ -190,6 +192,7 @@ int RunTrack(const TrackArgs& a) {
     const auto by_vote = classify::Score(online_truth, online_vote, k);
     j["online_classification"] = {
         {"model", a.model_dir},
+        {"combination", classifier->combines_forest() ? "network+forest" : "network"},
         {"track_frames", online_truth.size()},
         {"classifier", by_classifier.ToJson(classifier->classes())},
         {"tracker_vote", by_vote.ToJson(classifier->classes())},
@@ -218,6 +221,8 @@ void AddTrackCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("scenarios", args->scenarios, "scenario files (datasets/scenarios/*.yaml)")->required();
   cmd->add_option("--seeds", args->seeds, "seed N or range A-B (default: each scenario's own seed)");
   cmd->add_option("--model", args->model_dir, "classify confirmed tracks online with this classify-train output");
+  cmd->add_flag("--network-only", args->network_only,
+                "with --model: the network alone (default: combined with the model's forest.yml)");
   cmd->add_option("--match-threshold", args->match_threshold_m, "CLEAR MOT match distance (m)")->capture_default_str();
   AddCommonOptions(*cmd, args->common, "specht-out/track");
   cmd->callback([args, &exit_code] { exit_code = RunTrack(*args); });

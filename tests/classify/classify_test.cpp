@@ -308,6 +308,28 @@ TEST(TrajectoryClassifierTest, CarriesItsPreprocessingAndCutsTheLatestWindow) {
   ASSERT_EQ(p.size(), 2u);
   EXPECT_NEAR(p[0] + p[1], 1.0, 1e-5);
 
+  // With the forest beside it: the mean of both, the forest fed the window's
+  // hand-crafted features exactly as at training.
+  std::vector<float> hx;
+  std::vector<int> hy;
+  for (int i = 0; i < 40; ++i) {
+    const Trajectory line = Line("f" + std::to_string(i), 32, 0.1, 0.5 + 0.1 * i, 0);
+    const auto h = HandcraftedFeatures(Chunk(line, o)[0], {});
+    hx.insert(hx.end(), h.begin(), h.end());
+    hy.push_back(i % 2);
+  }
+  ForestBaseline forest(21, 4, 1);
+  forest.Train(hx, hy);
+  forest.Save(dir + "/forest.yml");
+  const TrajectoryClassifier both = TrajectoryClassifier::Load(dir + "/m", dir + "/forest.yml");
+  EXPECT_TRUE(both.combines_forest());
+  EXPECT_FALSE(t.combines_forest());
+  const auto trees = forest.Probabilities(HandcraftedFeatures(*w, {}), 2);
+  const auto pb = both.Classify({*w});
+  ASSERT_EQ(pb.size(), 2u);
+  for (int c = 0; c < 2; ++c) EXPECT_NEAR(pb[c], 0.5 * (p[c] + trees[c]), 1e-6);
+  EXPECT_THROW(TrajectoryClassifier::Load(dir + "/m", dir + "/no-forest.yml"), InputError);
+
   // A model without preprocessing, or with preprocessing that does not fit it.
   c.Save(dir + "/bare");
   EXPECT_THROW(TrajectoryClassifier::Load(dir + "/bare"), InputError);
@@ -316,6 +338,54 @@ TEST(TrajectoryClassifierTest, CarriesItsPreprocessingAndCutsTheLatestWindow) {
   EXPECT_THROW(TrajectoryClassifier::Load(dir + "/misfit"), InputError);
   c.Save(dir + "/badkey", {{"preprocessing", {{"options_yaml", "lenght: 32\n"}, {"position_bounds", {0, 1, 0, 1}}}}});
   EXPECT_THROW(TrajectoryClassifier::Load(dir + "/badkey"), InputError);
+}
+
+// The forest's probabilities are its trees' vote fractions: rows sum to one and their
+// most probable class is the forest's own prediction (an odd number of trees on two
+// classes: no ties). The combination is the mean, and sizes must agree.
+TEST(ForestBaselineTest, VoteFractionsAgreeWithPredictAndCombine) {
+  const int f = HandcraftedFeatureCount();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> x;
+  std::vector<int> y;
+  for (int i = 0; i < 300; ++i) {
+    for (int j = 0; j < f; ++j) x.push_back(u(rng));
+    y.push_back(x[static_cast<size_t>(i) * f] + 0.3f * u(rng) > 0.65f ? 1 : 0);  // noisy: not every vote unanimous
+  }
+  ForestBaseline forest(51, 6, 1);
+  forest.Train(x, y);
+  const std::vector<float> p = forest.Probabilities(x, 2);
+  ASSERT_EQ(p.size(), 600u);
+  const std::vector<int> predicted = forest.Predict(x);
+  EXPECT_EQ(MostProbable(p, 2), predicted);
+  int split_votes = 0;
+  for (size_t i = 0; i < 300; ++i) {
+    EXPECT_NEAR(p[2 * i] + p[2 * i + 1], 1.0, 1e-6);
+    split_votes += p[2 * i] > 0 && p[2 * i + 1] > 0;
+  }
+  EXPECT_GT(split_votes, 10);  // fractions, not one-hot labels
+
+  const std::vector<float> network = {0.9f, 0.1f, 0.2f, 0.8f};
+  const std::vector<float> trees = {0.3f, 0.7f, 0.4f, 0.6f};
+  const std::vector<float> both = CombinedProbabilities(network, trees);
+  EXPECT_NEAR(both[0], 0.6, 1e-6);
+  EXPECT_NEAR(both[3], 0.7, 1e-6);
+  EXPECT_EQ(MostProbable(both, 2), (std::vector<int>{0, 1}));
+  EXPECT_THROW(CombinedProbabilities(network, {0.5f, 0.5f}), InputError);
+}
+
+// The baseline gets only the geography the network's features name.
+TEST(ForestBaselineTest, BaselineMapKeepsOnlyNamedGeography) {
+  MapFeatures map;
+  map.distance_to_static = [](double, double) { return 1.0; };
+  map.distance_to_poi = [](double, double) { return 2.0; };
+  map.region = [](double, double) { return std::array<double, 2>{0.1, 0.2}; };
+  const MapFeatures none = BaselineMap(map, {"x", "y", "speed"});
+  EXPECT_FALSE(none.distance_to_static || none.distance_to_poi || none.region);
+  const MapFeatures some = BaselineMap(map, {"x", "dist_poi", "region_y"});
+  EXPECT_FALSE(some.distance_to_static);
+  EXPECT_TRUE(some.distance_to_poi && some.region);
 }
 
 TEST(SplitTest, DisjointByObject) {

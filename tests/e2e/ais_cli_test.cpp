@@ -52,6 +52,7 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   const auto cv = Report(dir + "/cv");
   EXPECT_EQ(cv["models"]["tiny"]["folds"].size(), 2u);
   EXPECT_TRUE(cv["models"].contains("forest"));
+  EXPECT_EQ(cv["models"]["tiny+forest"]["folds"].size(), 2u);  // the network and the forest combined
   EXPECT_TRUE(std::filesystem::exists(dir + "/cv/confusion_forest.png"));
   r = testing::RunSpecht("ais train '" + dir + "/data' -q -o '" + dir + "/model'" + quick);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -62,6 +63,12 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' -q -o '" + dir + "/pred'" + data);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(testing::ReadFile(dir + "/pred/objects.csv"), HasSubstr("mmsi,ship_type,label,windows,class"));
+  EXPECT_EQ(Report(dir + "/pred")["classifier"], "network+forest");
+  r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' --network-only -q -o '" + dir +
+                         "/pred1'" + data);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(Report(dir + "/pred1")["classifier"], "network");
+  EXPECT_NE(testing::ReadFile(dir + "/pred/objects.csv"), testing::ReadFile(dir + "/pred1/objects.csv"));
 }
 
 TEST(AisCliTest, BadInputIsAClearError) {

@@ -30,12 +30,7 @@ VesselWindows Process(const Vessel& v, const classify::PreprocessOptions& o, con
   const classify::Trajectory t = ToTrajectory(v, cos_lat0);
   out.windows = classify::MakeWindows({t}, o, &out.counts);
   const classify::MapFeatures map = geo.ForFrame(cos_lat0);
-  // The baseline sees the same geography as the network: only what the features name.
-  auto uses = [&](const char* f) { return std::find(o.features.begin(), o.features.end(), f) != o.features.end(); };
-  classify::MapFeatures baseline_map;
-  if (uses("dist_static")) baseline_map.distance_to_static = map.distance_to_static;
-  if (uses("dist_poi")) baseline_map.distance_to_poi = map.distance_to_poi;
-  if (uses("region_x") || uses("region_y")) baseline_map.region = map.region;
+  const classify::MapFeatures baseline_map = classify::BaselineMap(map, o.features);
   for (const auto& w : out.windows) {
     const auto f = classify::Features(w, o, map);
     out.features.insert(out.features.end(), f.begin(), f.end());

@@ -70,6 +70,24 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map) 
           static_cast<float>(Mean(dp)),     static_cast<float>(Mean(rx)),    static_cast<float>(Mean(ry))};
 }
 
+MapFeatures BaselineMap(const MapFeatures& map, const std::vector<std::string>& features) {
+  auto uses = [&](const char* f) { return std::find(features.begin(), features.end(), f) != features.end(); };
+  MapFeatures out;
+  if (uses("dist_static")) out.distance_to_static = map.distance_to_static;
+  if (uses("dist_poi")) out.distance_to_poi = map.distance_to_poi;
+  if (uses("region_x") || uses("region_y")) out.region = map.region;
+  return out;
+}
+
+std::vector<float> CombinedProbabilities(const std::vector<float>& network, const std::vector<float>& forest) {
+  if (network.size() != forest.size())
+    throw InputError("combining network and forest: " + std::to_string(network.size()) + " against " +
+                     std::to_string(forest.size()) + " probabilities");
+  std::vector<float> out(network.size());
+  for (size_t i = 0; i < out.size(); ++i) out[i] = 0.5f * (network[i] + forest[i]);
+  return out;
+}
+
 ForestBaseline::ForestBaseline(int trees, int max_depth, int seed) : trees_(trees), max_depth_(max_depth), seed_(seed) {}
 
 void ForestBaseline::Train(const std::vector<float>& x, const std::vector<int>& y) {
@@ -92,6 +110,25 @@ std::vector<int> ForestBaseline::Predict(const std::vector<float>& x) const {
   cv::Mat result;
   forest_->predict(cv::Mat(n, f, CV_32F, const_cast<float*>(x.data())), result);
   for (int i = 0; i < n; ++i) out[i] = static_cast<int>(std::lround(result.at<float>(i)));
+  return out;
+}
+
+std::vector<float> ForestBaseline::Probabilities(const std::vector<float>& x, int classes) const {
+  const int f = HandcraftedFeatureCount(), n = static_cast<int>(x.size() / f);
+  std::vector<float> out(static_cast<size_t>(n) * classes, 0.0f);
+  if (n == 0) return out;
+  // getVotes: row 0 holds the class labels, row 1 + i the trees' votes for sample i.
+  cv::Mat votes;
+  forest_->getVotes(cv::Mat(n, f, CV_32F, const_cast<float*>(x.data())), votes, 0);
+  for (int i = 0; i < n; ++i) {
+    double total = 0;
+    for (int c = 0; c < votes.cols; ++c) total += votes.at<int>(i + 1, c);
+    for (int c = 0; c < votes.cols; ++c) {
+      const int label = votes.at<int>(0, c);
+      if (label >= 0 && label < classes && total > 0)
+        out[static_cast<size_t>(i) * classes + label] = static_cast<float>(votes.at<int>(i + 1, c) / total);
+    }
+  }
   return out;
 }
 

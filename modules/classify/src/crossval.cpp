@@ -75,7 +75,10 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed);
   CrossValidationResult result;
   for (const auto& [name, options] : o.networks) result.models.push_back(name);
-  if (o.forest) result.models.push_back("forest");
+  if (o.forest) {
+    result.models.push_back("forest");
+    for (const auto& [name, options] : o.networks) result.models.push_back(name + "+forest");
+  }
   result.per_fold.resize(o.folds);
   result.per_fold_objects.resize(o.folds);
   char line[256];
@@ -90,6 +93,12 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
       result.per_fold_objects[f][name] = Score(ot, op, k);
       return result.per_fold[f][name];
     };
+    auto report = [&](const std::string& name, const Scores& sc, const std::string& details) {
+      std::snprintf(line, sizeof(line), "fold %d/%d %-11s macro F1 %.3f weighted %.3f%s", f + 1, o.folds, name.c_str(),
+                    sc.macro_f1, sc.weighted_f1, details.c_str());
+      if (log) log(line);
+    };
+    std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
     for (const auto& [name, options] : o.networks) {
       std::vector<size_t> fit, val;
       SplitByObject(train_all.object_ids, options.validation_fraction, options.seed + f, fit, val);
@@ -97,19 +106,22 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
       const auto t0 = std::chrono::steady_clock::now();
       const auto epochs = model.Train(train_all.Subset(fit), train_all.Subset(val));
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const Scores sc = record(name, model.PredictClasses(test));
-      std::snprintf(line, sizeof(line), "fold %d/%d %-8s macro F1 %.3f weighted %.3f (%zu train, %zu test windows, %zu epochs, %.0f s)",
-                    f + 1, o.folds, name.c_str(), sc.macro_f1, sc.weighted_f1, train_all.size(), test.size(),
-                    epochs.size(), s);
-      if (log) log(line);
+      network_probabilities.emplace_back(name, model.Predict(test));
+      char details[128];
+      std::snprintf(details, sizeof(details), " (%zu train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
+                    test.size(), epochs.size(), s);
+      report(name, record(name, MostProbable(network_probabilities.back().second, k)), details);
     }
     if (o.forest) {
       ForestBaseline forest(200, 12, o.seed);
       forest.Train(HandcraftedRows(d, train_rows), train_all.y);
-      const Scores sc = record("forest", forest.Predict(HandcraftedRows(d, test_rows)));
-      std::snprintf(line, sizeof(line), "fold %d/%d %-8s macro F1 %.3f weighted %.3f", f + 1, o.folds, "forest",
-                    sc.macro_f1, sc.weighted_f1);
-      if (log) log(line);
+      const std::vector<float> test_x = HandcraftedRows(d, test_rows);
+      report("forest", record("forest", forest.Predict(test_x)), "");
+      const std::vector<float> forest_probabilities = forest.Probabilities(test_x, k);
+      for (const auto& [name, p] : network_probabilities) {
+        const std::vector<int> combined = MostProbable(CombinedProbabilities(p, forest_probabilities), k);
+        report(name + "+forest", record(name + "+forest", combined), "");
+      }
     }
   }
   for (const auto& name : result.models) {

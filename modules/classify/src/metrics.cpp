@@ -10,6 +10,15 @@
 
 namespace specht::classify {
 
+std::vector<int> MostProbable(const std::vector<float>& p, int k) {
+  std::vector<int> out(k > 0 ? p.size() / k : 0);
+  for (size_t i = 0; i < out.size(); ++i) {
+    const auto row = p.begin() + static_cast<long>(i) * k;
+    out[i] = static_cast<int>(std::max_element(row, row + k) - row);
+  }
+  return out;
+}
+
 Scores Score(const std::vector<int>& truth, const std::vector<int>& predicted, int k) {
   Scores s;
   s.confusion.assign(k, std::vector<long>(k, 0));

@@ -401,12 +401,7 @@ std::vector<float> Classifier::Predict(const Dataset& data, int batch_size) cons
 }
 
 std::vector<int> Classifier::PredictClasses(const Dataset& data) const {
-  const std::vector<float> p = Predict(data);
-  const int k = static_cast<int>(classes_.size());
-  std::vector<int> out(data.size());
-  for (size_t i = 0; i < data.size(); ++i)
-    out[i] = static_cast<int>(std::max_element(p.begin() + i * k, p.begin() + (i + 1) * k) - (p.begin() + i * k));
-  return out;
+  return MostProbable(Predict(data), static_cast<int>(classes_.size()));
 }
 
 void Classifier::Save(const std::string& path, const nlohmann::json& extra) const {

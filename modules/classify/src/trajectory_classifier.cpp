@@ -8,7 +8,7 @@ nlohmann::json PreprocessingJson(const PreprocessOptions& o, const PositionBound
   return {{"options_yaml", params::ToYaml(o)}, {"position_bounds", {b.min_x, b.max_x, b.min_y, b.max_y}}};
 }
 
-TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path) {
+TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path, const std::string& forest_path) {
   nlohmann::json extra;
   Classifier model = Classifier::Load(path, &extra);
   const std::string where = path + ".json";
@@ -30,7 +30,9 @@ TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path) {
     throw InputError(where + ": the preprocessing makes windows of " + std::to_string(o.features.size()) + " × " +
                      std::to_string(o.length) + ", the network takes " + std::to_string(model.features()) + " × " +
                      std::to_string(model.length()));
-  return TrajectoryClassifier(std::move(model), std::move(o), bounds);
+  TrajectoryClassifier classifier(std::move(model), std::move(o), bounds);
+  if (!forest_path.empty()) classifier.forest_ = ForestBaseline::Load(forest_path);
+  return classifier;
 }
 
 std::optional<Window> TrajectoryClassifier::LatestWindow(const Trajectory& t) const {
@@ -51,13 +53,20 @@ std::vector<Window> TrajectoryClassifier::Windows(const std::vector<Trajectory>&
 std::vector<float> TrajectoryClassifier::Classify(const std::vector<Window>& windows, const MapFeatures& map) const {
   Dataset d;
   d.features = model_.features(), d.length = model_.length();
+  std::vector<float> handcrafted;
+  const MapFeatures baseline_map = BaselineMap(map, options_.features);
   for (const auto& w : windows) {
     const auto f = Features(w, options_, map, bounds_);
     d.x.insert(d.x.end(), f.begin(), f.end());
     d.y.push_back(-1);
     d.object_ids.push_back(w.object_id);
+    if (!forest_) continue;
+    const auto h = HandcraftedFeatures(w, baseline_map);
+    handcrafted.insert(handcrafted.end(), h.begin(), h.end());
   }
-  return model_.Predict(d);
+  std::vector<float> p = model_.Predict(d);
+  if (forest_) p = CombinedProbabilities(p, forest_->Probabilities(handcrafted, static_cast<int>(classes().size())));
+  return p;
 }
 
 }  // namespace specht::classify

@@ -24,12 +24,24 @@ namespace specht::classify {
 std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map);
 int HandcraftedFeatureCount();
 
+// The geography the baseline is given: only what the network's `features` name
+// (dist_static, dist_poi, region_x / region_y), so that both models compare on the
+// same information and an ablation without geography takes it from both.
+MapFeatures BaselineMap(const MapFeatures& map, const std::vector<std::string>& features);
+
+// The network and the forest combined: the mean of their class probabilities, row
+// by row (the forest's are its trees' vote fractions). On AIS this beats each alone
+// (README); both sizes must agree.
+std::vector<float> CombinedProbabilities(const std::vector<float>& network, const std::vector<float>& forest);
+
 class ForestBaseline {
  public:
   explicit ForestBaseline(int trees = 200, int max_depth = 12, int seed = 1);
   // x: size × HandcraftedFeatureCount(), row-major.
   void Train(const std::vector<float>& x, const std::vector<int>& y);
   std::vector<int> Predict(const std::vector<float>& x) const;
+  // The fraction of trees voting for each class, size × classes, row-major.
+  std::vector<float> Probabilities(const std::vector<float>& x, int classes) const;
   // OpenCV's own YAML model file.
   void Save(const std::string& path) const;
   static ForestBaseline Load(const std::string& path);  // InputError when unreadable

@@ -4,7 +4,8 @@
 //
 // Per fold: every network of `networks` is trained on the other folds (with its own
 // validation split by object for early stopping) and tested on the fold; the
-// random-forest baseline too when `forest` is set. Scores are reported per fold and
+// random-forest baseline too when `forest` is set, and then each network combined
+// with it ("<network>+forest", CombinedProbabilities). Scores are reported per fold and
 // as mean ± std over folds; confusion matrices are summed over folds. Besides the
 // per-window scores (the paper's), each object is classified by the majority of
 // its windows' predictions (ties: the lower class index) and scored per object.

@@ -21,6 +21,10 @@ struct Scores {
   nlohmann::json ToJson(const std::vector<std::string>& classes) const;
 };
 
+// The most probable class of each row of `probabilities` (rows of `classes`; ties: the
+// lower index).
+std::vector<int> MostProbable(const std::vector<float>& probabilities, int classes);
+
 // Labels outside [0, classes) are ignored.
 Scores Score(const std::vector<int>& truth, const std::vector<int>& predicted, int classes);
 

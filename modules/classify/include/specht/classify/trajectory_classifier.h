@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "specht/classify/baseline.h"
 #include "specht/classify/model.h"
 #include "specht/classify/preprocess.h"
 
@@ -27,7 +28,9 @@ class TrajectoryClassifier {
  public:
   // <path>.json/.pt as Classifier::Save writes them. Throws InputError naming the
   // file when the model carries no preprocessing or it does not fit the network.
-  static TrajectoryClassifier Load(const std::string& path);
+  // With `forest_path` (the forest.yml trained beside the network on the same
+  // windows), Classify returns the two combined (CombinedProbabilities).
+  static TrajectoryClassifier Load(const std::string& path, const std::string& forest_path = "");
 
   // The latest window of a trajectory: the last `length` points of its last piece
   // after splitting at gaps and jumps; none when that piece is shorter than
@@ -40,6 +43,7 @@ class TrajectoryClassifier {
 
   const std::vector<std::string>& classes() const { return model_.classes(); }
   const PreprocessOptions& preprocessing() const { return options_; }
+  bool combines_forest() const { return forest_.has_value(); }
 
  private:
   TrajectoryClassifier(Classifier model, PreprocessOptions options, PositionBounds bounds)
@@ -47,6 +51,7 @@ class TrajectoryClassifier {
   Classifier model_;
   PreprocessOptions options_;
   PositionBounds bounds_;
+  std::optional<ForestBaseline> forest_;
 };
 
 }  // namespace specht::classify
