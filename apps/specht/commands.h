@@ -34,7 +34,8 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
 
 // The classifier a train run wrote to `model_dir`: the network combined with the
 // forest beside it (forest.yml), or the network alone when `network_only` is set
-// or the directory holds no forest. Shared by `classify predict` and `ais predict`.
+// or the directory holds no forest. Shared by `classify predict`, `ais predict` and
+// `track --model`.
 classify::TrajectoryClassifier LoadTrainedClassifier(const std::string& model_dir, bool network_only);
 
 }  // namespace specht::app

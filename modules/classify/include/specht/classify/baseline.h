@@ -30,8 +30,8 @@ int HandcraftedFeatureCount();
 MapFeatures BaselineMap(const MapFeatures& map, const std::vector<std::string>& features);
 
 // The network and the forest combined: the mean of their class probabilities, row
-// by row (the forest's are its trees' vote fractions). On AIS this beats each alone
-// (README); both sizes must agree.
+// by row (the forest's are its trees' vote fractions). On AIS and on the robot
+// classes this beat each alone (README); both sizes must agree.
 std::vector<float> CombinedProbabilities(const std::vector<float>& network, const std::vector<float>& forest);
 
 class ForestBaseline {
