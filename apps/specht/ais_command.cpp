@@ -311,7 +311,7 @@ int RunPredict(const AisArgs& a) {
   io::RunReport report("ais predict");
   auto& j = report.json();
   j["inputs"] = {{"model", a.model_dir}, {"tracks", a.inputs}};
-  j["classifier"] = classifier.combines_forest() ? "network+forest" : "network";
+  j["combination"] = classifier.combination();
   j["vessels"] = vessels;
   j["windows"] = windows;
   if (!truth.empty()) j["metrics_per_vessel"] = classify::Score(truth, predicted, static_cast<int>(k)).ToJson(classes);

@@ -204,11 +204,12 @@ int RunPredict(const ClassifyArgs& a) {
   std::map<std::string, std::vector<double>> object_sum;
   std::map<std::string, int> object_windows;
   std::vector<int> truth, predicted;
+  const std::vector<int> most_probable = classify::MostProbable(p, static_cast<int>(k));
   char buf[64];
   for (size_t i = 0; i < windows.size(); ++i) {
     const auto& w = windows[i];
     const float* row = p.data() + i * k;
-    const int best = static_cast<int>(std::max_element(row, row + k) - row);
+    const int best = most_probable[i];
     std::snprintf(buf, sizeof(buf), ",%.3f,%.3f,", w.t0_s, w.points.back().t_s);
     window_csv += w.object_id + buf + classes[best];
     auto& sum = object_sum[w.object_id];
@@ -240,7 +241,7 @@ int RunPredict(const ClassifyArgs& a) {
   io::RunReport report("classify predict");
   auto& j = report.json();
   j["inputs"] = {{"model", a.model_dir}, {"tracks", a.inputs}, {"trajectories", trajectories.size()}};
-  j["classifier"] = classifier.combines_forest() ? "network+forest" : "network";
+  j["combination"] = classifier.combination();
   j["windows"] = windows.size();
   j["objects_per_class"] = per_class;
   j["timing"] = {{"inference_windows_per_s", windows.size() / std::max(1e-9, infer_s)}};

@@ -192,7 +192,7 @@ int RunTrack(const TrackArgs& a) {
     const auto by_vote = classify::Score(online_truth, online_vote, k);
     j["online_classification"] = {
         {"model", a.model_dir},
-        {"combination", classifier->combines_forest() ? "network+forest" : "network"},
+        {"combination", classifier->combination()},
         {"track_frames", online_truth.size()},
         {"classifier", by_classifier.ToJson(classifier->classes())},
         {"tracker_vote", by_vote.ToJson(classifier->classes())},

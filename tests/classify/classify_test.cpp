@@ -322,8 +322,8 @@ TEST(TrajectoryClassifierTest, CarriesItsPreprocessingAndCutsTheLatestWindow) {
   forest.Train(hx, hy);
   forest.Save(dir + "/forest.yml");
   const TrajectoryClassifier both = TrajectoryClassifier::Load(dir + "/m", dir + "/forest.yml");
-  EXPECT_TRUE(both.combines_forest());
-  EXPECT_FALSE(t.combines_forest());
+  EXPECT_EQ(both.combination(), "network+forest");
+  EXPECT_EQ(t.combination(), "network");
   const auto trees = forest.Probabilities(HandcraftedFeatures(*w, {}), 2);
   const auto pb = both.Classify({*w});
   ASSERT_EQ(pb.size(), 2u);

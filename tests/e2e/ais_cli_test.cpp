@@ -63,11 +63,11 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' -q -o '" + dir + "/pred'" + data);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(testing::ReadFile(dir + "/pred/objects.csv"), HasSubstr("mmsi,ship_type,label,windows,class"));
-  EXPECT_EQ(Report(dir + "/pred")["classifier"], "network+forest");
+  EXPECT_EQ(Report(dir + "/pred")["combination"], "network+forest");
   r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' --network-only -q -o '" + dir +
                          "/pred1'" + data);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(Report(dir + "/pred1")["classifier"], "network");
+  EXPECT_EQ(Report(dir + "/pred1")["combination"], "network");
   EXPECT_NE(testing::ReadFile(dir + "/pred/objects.csv"), testing::ReadFile(dir + "/pred1/objects.csv"));
 }
 

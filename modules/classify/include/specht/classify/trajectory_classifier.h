@@ -43,7 +43,8 @@ class TrajectoryClassifier {
 
   const std::vector<std::string>& classes() const { return model_.classes(); }
   const PreprocessOptions& preprocessing() const { return options_; }
-  bool combines_forest() const { return forest_.has_value(); }
+  // What Classify answers with, as the reports name it: "network+forest" or "network".
+  std::string combination() const { return forest_ ? "network+forest" : "network"; }
 
  private:
   TrajectoryClassifier(Classifier model, PreprocessOptions options, PositionBounds bounds)
