@@ -329,6 +329,18 @@ TEST(TrajectoryClassifierTest, CarriesItsPreprocessingAndCutsTheLatestWindow) {
   ASSERT_EQ(pb.size(), 2u);
   for (int c = 0; c < 2; ++c) EXPECT_NEAR(pb[c], 0.5 * (p[c] + trees[c]), 1e-6);
   EXPECT_THROW(TrajectoryClassifier::Load(dir + "/m", dir + "/no-forest.yml"), InputError);
+  // A truncated or corrupted forest file is an error naming it, not a crash.
+  const std::string text = testing::ReadFile(dir + "/forest.yml");
+  testing::WriteFile(dir + "/truncated.yml", text.substr(0, text.size() / 2));
+  testing::WriteFile(dir + "/corrupt.yml", "%YAML:1.0\nopencv_ml_rtrees: [1, 2\n");
+  for (const char* bad : {"/truncated.yml", "/corrupt.yml"}) {
+    try {
+      TrajectoryClassifier::Load(dir + "/m", dir + bad);
+      ADD_FAILURE() << bad << " loaded";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
 
   // A model without preprocessing, or with preprocessing that does not fit it.
   c.Save(dir + "/bare");
