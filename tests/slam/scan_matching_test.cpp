@@ -93,7 +93,7 @@ TEST(IcpTest, PointToLineRefinementRecoversTheMotionToAMillimetre) {
     IcpOptions options;
     options.point_to_line_iterations = point_to_line_iterations;
     IcpAligner icp(options);
-    const CPose2D off = icp.Align(reference, scan, guess).pose - truth;
+    const CPose2D off = icp.Align(IndexedPoints(reference), scan, guess).pose - truth;
     return std::make_pair(off.norm(), std::abs(mrpt::RAD2DEG(off.phi())));
   };
   const auto [point_to_point_m, point_to_point_deg] = error(0);
@@ -137,7 +137,7 @@ TEST(IcpTest, CorridorScanIsNotDraggedAlongTheWallsByAPersonWalking) {
     IcpOptions options;
     options.point_to_line_iterations = point_to_line_iterations;
     IcpAligner icp(options);
-    return icp.Align(map, scan, CPose2D()).pose;
+    return icp.Align(IndexedPoints(map), scan, CPose2D()).pose;
   };
   const CPose2D point_to_point = align(0), refined = align(IcpOptions{}.point_to_line_iterations);
   EXPECT_LT(point_to_point.x(), -0.1) << "point-to-point ICP is no longer dragged: the test lost its point";

@@ -116,10 +116,11 @@ std::vector<Correction> RegisterAgainstGrid(const mrpt::maps::COccupancyGridMap2
       if (grid.getCell(x, y) < kOccupiedFree) walls.insertPoint(grid.idx2x(x), grid.idx2y(y), 0);
     }
   }
+  const slam::IndexedPoints indexed(walls);
   slam::IcpAligner icp(icp_options);
   std::vector<Correction> out;
   for (const auto& kf : keyframes) {
-    const slam::IcpResult match = icp.Align(walls, slam::ScanToPoints(*kf.scan), kf.pose);
+    const slam::IcpResult match = icp.Align(indexed, slam::ScanToPoints(*kf.scan), kf.pose);
     const mrpt::poses::CPose2D delta = match.pose - kf.pose;
     out.push_back({delta.norm(), std::abs(mrpt::RAD2DEG(delta.phi())), match.goodness});
   }

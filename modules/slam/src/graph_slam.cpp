@@ -19,7 +19,7 @@ struct GraphSlam::Submap {
   size_t anchor = 0;        // keyframe whose frame the submap is in
   size_t last = 0;          // its last keyframe
   CPose2D centre_in_anchor;  // mean of its keyframe positions
-  CSimplePointsMap points;  // in the anchor frame
+  IndexedPoints points;      // in the anchor frame
   std::unique_ptr<CorrelativeMatcher> matcher;
 };
 
@@ -92,15 +92,16 @@ void GraphSlam::FinishSubmap() {
   s->last = open_submap_.back();
   const CPose2D anchor = kfs[s->anchor].pose;
   double cx = 0, cy = 0;
+  CSimplePointsMap points;
   for (size_t k : open_submap_) {
     const CPose2D in_anchor = kfs[k].pose - anchor;
     const CSimplePointsMap scan = WithinRange(ScanToPoints(*kfs[k].scan), loops_.submap_max_range_m);
-    s->points.insertAnotherMap(&scan, CPose3D(in_anchor));
+    points.insertAnotherMap(&scan, CPose3D(in_anchor));
     cx += in_anchor.x(), cy += in_anchor.y();
   }
   s->centre_in_anchor = CPose2D(cx / open_submap_.size(), cy / open_submap_.size(), 0);
-  s->points = Decimate(s->points, loops_.resolution_m / 2);
-  s->matcher = std::make_unique<CorrelativeMatcher>(s->points, loops_.resolution_m, loops_.window_m);
+  s->points = IndexedPoints(Decimate(points, loops_.resolution_m / 2));
+  s->matcher = std::make_unique<CorrelativeMatcher>(s->points.points(), loops_.resolution_m, loops_.window_m);
   submaps_.push_back(std::move(s));
   open_submap_.clear();
 }

@@ -15,8 +15,7 @@ namespace specht::slam {
 struct IcpAligner::Impl {
   mrpt::slam::CICP icp;
   IcpOptions options;
-  std::vector<size_t> neighbours;  // scratch for the k-d tree queries
-  std::vector<float> distances2;
+  std::vector<IndexedPoints::Neighbour> neighbours;  // scratch for the k-d tree queries
 };
 
 namespace {
@@ -36,20 +35,22 @@ struct Line {
   double mx = 0, my = 0;
   Eigen::Vector2d normal;
 };
-std::optional<Line> LineNear(const mrpt::maps::CSimplePointsMap& reference, double qx, double qy, const IcpOptions& o,
-                             std::vector<size_t>& idx, std::vector<float>& d2) {
+std::optional<Line> LineNear(const IndexedPoints& reference, double qx, double qy, const IcpOptions& o,
+                             std::vector<IndexedPoints::Neighbour>& near) {
   const size_t k = static_cast<size_t>(o.point_to_line_neighbours);
   const double gate2 = o.point_to_line_gate_m * o.point_to_line_gate_m;
-  reference.kdTreeNClosestPoint2DIdx(static_cast<float>(qx), static_cast<float>(qy), k, idx, d2);
-  if (d2[0] > gate2 || d2[k - 1] > 4 * gate2) return std::nullopt;
-  const auto& rx = reference.getPointsBufferRef_x();
-  const auto& ry = reference.getPointsBufferRef_y();
+  // Every float not above float(4 gate²) is searched; what lies above it is above 4 gate².
+  const float bound2 = std::nextafter(static_cast<float>(4 * gate2), INFINITY);
+  reference.Nearest(static_cast<float>(qx), static_cast<float>(qy), k, bound2, near);
+  if (near.size() < k || near[0].distance2 > gate2 || near[k - 1].distance2 > 4 * gate2) return std::nullopt;
+  const auto& rx = reference.points().getPointsBufferRef_x();
+  const auto& ry = reference.points().getPointsBufferRef_y();
   Line line;
-  for (size_t j : idx) line.mx += rx[j], line.my += ry[j];
+  for (const auto& n : near) line.mx += rx[n.index], line.my += ry[n.index];
   line.mx /= k, line.my /= k;
   Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
-  for (size_t j : idx) {
-    const Eigen::Vector2d v(rx[j] - line.mx, ry[j] - line.my);
+  for (const auto& n : near) {
+    const Eigen::Vector2d v(rx[n.index] - line.mx, ry[n.index] - line.my);
     spread += v * v.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(spread);
@@ -72,9 +73,9 @@ struct LineFit {
 // normal equations H δ = −g, H = Σ w J Jᵀ, g = Σ w J r. With `score`, one more pass
 // computes the cost at the pose returned (only needed to compare two refinements);
 // without it the cost is that of the pose before the last step.
-LineFit RefinePointToLine(const mrpt::maps::CSimplePointsMap& reference, const mrpt::maps::CSimplePointsMap& scan,
-                          mrpt::poses::CPose2D pose, const IcpOptions& o, bool score, std::vector<size_t>& idx,
-                          std::vector<float>& d2) {
+LineFit RefinePointToLine(const IndexedPoints& reference, const mrpt::maps::CSimplePointsMap& scan,
+                          mrpt::poses::CPose2D pose, const IcpOptions& o, bool score,
+                          std::vector<IndexedPoints::Neighbour>& near) {
   LineFit fit;
   const int passes = o.point_to_line_iterations + (score ? 1 : 0);
   const auto& xs = scan.getPointsBufferRef_x();
@@ -87,7 +88,7 @@ LineFit RefinePointToLine(const mrpt::maps::CSimplePointsMap& reference, const m
     fit = LineFit{pose};
     for (size_t i = 0; i < xs.size(); ++i) {
       const double qx = pose.x() + c * xs[i] - s * ys[i], qy = pose.y() + s * xs[i] + c * ys[i];
-      const auto line = LineNear(reference, qx, qy, o, idx, d2);
+      const auto line = LineNear(reference, qx, qy, o, near);
       if (!line) {
         fit.cost += gate2;
         continue;
@@ -135,10 +136,10 @@ IcpAligner::IcpAligner(const IcpOptions& options) : impl_(std::make_unique<Impl>
 
 IcpAligner::~IcpAligner() = default;
 
-IcpResult IcpAligner::Align(const mrpt::maps::CSimplePointsMap& reference, const mrpt::maps::CSimplePointsMap& scan,
+IcpResult IcpAligner::Align(const IndexedPoints& reference, const mrpt::maps::CSimplePointsMap& scan,
                             const mrpt::poses::CPose2D& guess) {
   mrpt::slam::CICP::TReturnInfo info;
-  const auto pdf = impl_->icp.Align(&reference, &scan, guess, info);
+  const auto pdf = impl_->icp.Align(&reference.AsIcpReference(), &scan, guess, info);
   mrpt::poses::CPose2D pose = pdf->getMeanVal();
   const auto& o = impl_->options;
   if (o.point_to_line_iterations > 0 && reference.size() >= static_cast<size_t>(o.point_to_line_neighbours)) {
@@ -147,11 +148,11 @@ IcpResult IcpAligner::Align(const mrpt::maps::CSimplePointsMap& reference, const
     const mrpt::poses::CPose2D moved = pose - guess;
     const bool two_starts = moved.norm() > 0.5 * o.point_to_line_gate_m || std::abs(moved.phi()) > kSameBasinRad;
     const LineFit from_icp =
-        RefinePointToLine(reference, scan, pose, o, two_starts, impl_->neighbours, impl_->distances2);
+        RefinePointToLine(reference, scan, pose, o, two_starts, impl_->neighbours);
     pose = from_icp.pose;
     if (two_starts) {
       const LineFit from_guess =
-          RefinePointToLine(reference, scan, guess, o, true, impl_->neighbours, impl_->distances2);
+          RefinePointToLine(reference, scan, guess, o, true, impl_->neighbours);
       if (!(from_icp.cost < from_guess.cost)) pose = from_guess.pose;
     }
   }

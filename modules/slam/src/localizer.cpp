@@ -35,7 +35,7 @@ struct Localizer::Impl {
   const TransformTree* frames;
   std::string base_frame;
   IcpAligner icp;
-  CSimplePointsMap map;  // every keyframe's points, map frame
+  IndexedPoints map;  // every keyframe's points, map frame
   internal::MotionPrior motion;
 };
 
@@ -47,7 +47,7 @@ Localizer::Localizer(const std::vector<Keyframe>& map, const LocalizationOptions
     const CSimplePointsMap points = ScanToPoints(*kf.scan);
     all.insertAnotherMap(&points, mrpt::poses::CPose3D(kf.pose));
   }
-  impl_->map = Decimate(all, 0.02);
+  impl_->map = IndexedPoints(Decimate(all, 0.02));
 }
 
 Localizer::~Localizer() = default;
@@ -71,13 +71,13 @@ void Localizer::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation
       guess = CPose2D(p[0], p[1], mrpt::DEG2RAD(p[2]));
     } else {
       // Whole-map search: every position of the map, every heading.
-      const auto& xs = m.map.getPointsBufferRef_x();
-      const auto& ys = m.map.getPointsBufferRef_y();
+      const auto& xs = m.map.points().getPointsBufferRef_x();
+      const auto& ys = m.map.points().getPointsBufferRef_y();
       const auto [x0, x1] = std::minmax_element(xs.begin(), xs.end());
       const auto [y0, y1] = std::minmax_element(ys.begin(), ys.end());
       const double cx = (*x0 + *x1) / 2, cy = (*y0 + *y1) / 2;
       const double half = std::max(*x1 - *x0, *y1 - *y0) / 2 + 1.0;
-      const CorrelativeMatcher global(Decimate(m.map, m.options.global_resolution_m / 2),
+      const CorrelativeMatcher global(Decimate(m.map.points(), m.options.global_resolution_m / 2),
                                       m.options.global_resolution_m, half);
       const auto found = global.Match(Decimate(points, m.options.global_resolution_m), CPose2D(cx, cy, 0), half,
                                       M_PI, m.options.global_min_score);

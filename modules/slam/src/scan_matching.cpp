@@ -32,7 +32,7 @@ std::vector<std::string> GridOptions::Relations() const {
 struct ScanMatchingMapper::Impl {
   explicit Impl(const IcpOptions& options) : icp(options) {}
   IcpAligner icp;
-  CSimplePointsMap submap;
+  IndexedPoints submap;  // the keyframes' points in the map frame
   std::deque<CSimplePointsMap> keyframe_points;  // the last submap_keyframes, base frame
   std::deque<size_t> keyframe_poses;             // their indices into keyframes_
   internal::MotionPrior motion;
@@ -137,15 +137,16 @@ void ScanMatchingMapper::CorrectKeyframes(const std::vector<CPose2D>& poses) {
 
 void ScanMatchingMapper::RebuildSubmap() {
   Impl& m = *impl_;
-  m.submap.clear();
+  CSimplePointsMap submap;
   // One allocation: each insertAnotherMap reserves exactly what it adds, so without
   // this the buffers are reallocated and copied once per keyframe.
   size_t total = 0;
   for (const CSimplePointsMap& points : m.keyframe_points) total += points.size();
-  m.submap.reserve(total);
+  submap.reserve(total);
   for (size_t i = 0; i < m.keyframe_points.size(); ++i) {
-    m.submap.insertAnotherMap(&m.keyframe_points[i], CPose3D(keyframes_[m.keyframe_poses[i]].pose));
+    submap.insertAnotherMap(&m.keyframe_points[i], CPose3D(keyframes_[m.keyframe_poses[i]].pose));
   }
+  m.submap = IndexedPoints(submap);
 }
 
 mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes, const GridOptions& options) {

@@ -53,7 +53,7 @@ struct SearchResult {
 };
 class Searcher {
  public:
-  Searcher(IcpAligner& icp, const CSimplePointsMap& reference, const CSimplePointsMap& points,
+  Searcher(IcpAligner& icp, const IndexedPoints& reference, const CSimplePointsMap& points,
            const ScanMatchingOptions& options, MappingStats& stats)
       : icp_(icp), reference_(reference), points_(points), options_(options), stats_(stats) {}
 
@@ -61,7 +61,7 @@ class Searcher {
                                      const std::optional<CPose2D>& icp_pose = std::nullopt) {
     const double res = options_.recovery_resolution_m;
     if (!matcher_) {
-      matcher_.emplace(Decimate(reference_, res / 2), res, options_.recovery_window_m);
+      matcher_.emplace(Decimate(reference_.points(), res / 2), res, options_.recovery_window_m);
       query_ = Decimate(points_, res);
     }
     // Centres after the first are searched on other threads while this one searches
@@ -96,7 +96,7 @@ class Searcher {
 
  private:
   IcpAligner& icp_;
-  const CSimplePointsMap& reference_;
+  const IndexedPoints& reference_;
   const CSimplePointsMap& points_;
   const ScanMatchingOptions& options_;
   MappingStats& stats_;
@@ -106,7 +106,7 @@ class Searcher {
 
 }  // namespace
 
-MatchResult MatchWithRecovery(IcpAligner& icp, const CSimplePointsMap& reference, const CSimplePointsMap& points,
+MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, const CSimplePointsMap& points,
                               const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats,
                               bool guess_is_weak, const std::optional<CPose2D>& standstill) {
   const bool recovery = options.recovery_window_m > 0;

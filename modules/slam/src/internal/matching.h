@@ -39,7 +39,7 @@ struct MatchResult {
 // `search_without_odometry` is on, and so is `standstill` (where the car was: without
 // odometry it may have stopped or turned on the spot); the better score wins.
 // Counts into `stats`.
-MatchResult MatchWithRecovery(IcpAligner& icp, const mrpt::maps::CSimplePointsMap& reference,
+MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference,
                               const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
                               const ScanMatchingOptions& options, MappingStats& stats, bool guess_is_weak = false,
                               const std::optional<mrpt::poses::CPose2D>& standstill = std::nullopt);

@@ -32,6 +32,7 @@
 #include <mrpt/poses/CPose2D.h>
 
 #include "specht/core/params.h"
+#include "specht/slam/indexed_points.h"
 
 namespace specht::slam {
 
@@ -80,7 +81,8 @@ class IcpAligner {
   IcpAligner(const IcpAligner&) = delete;
   IcpAligner& operator=(const IcpAligner&) = delete;
 
-  IcpResult Align(const mrpt::maps::CSimplePointsMap& reference, const mrpt::maps::CSimplePointsMap& scan,
+  // The pose of `scan` in `reference`'s frame, from `guess`.
+  IcpResult Align(const IndexedPoints& reference, const mrpt::maps::CSimplePointsMap& scan,
                   const mrpt::poses::CPose2D& guess);
 
  private:

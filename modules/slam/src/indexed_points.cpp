@@ -1,0 +1,191 @@
+#include "specht/slam/indexed_points.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <mrpt/poses/CPose2D.h>
+
+namespace specht::slam {
+
+namespace {
+
+// Ranges this small are scanned point by point rather than split further.
+constexpr size_t kLeafSize = 16;
+
+float Distance2(float qx, float qy, float px, float py) {
+  const float dx = qx - px, dy = qy - py;
+  return dx * dx + dy * dy;
+}
+
+}  // namespace
+
+IndexedPoints::IndexedPoints(const mrpt::maps::CSimplePointsMap& points) : CSimplePointsMap(points) {
+  const auto& xs = getPointsBufferRef_x();
+  const auto& ys = getPointsBufferRef_y();
+  tree_.resize(xs.size());
+  for (size_t i = 0; i < xs.size(); ++i) tree_[i] = {xs[i], ys[i], static_cast<uint32_t>(i)};
+  axis_.assign(tree_.size(), 0);
+  if (tree_.empty()) return;
+  Box box{xs[0], xs[0], ys[0], ys[0]};
+  for (const TreePoint& p : tree_) {
+    box.x0 = std::min(box.x0, p.x), box.x1 = std::max(box.x1, p.x);
+    box.y0 = std::min(box.y0, p.y), box.y1 = std::max(box.y1, p.y);
+  }
+  Build(0, tree_.size(), box);
+}
+
+// Split [lo, hi) at its median along the longer side of its box. The box is the
+// parent's cut at the split (it bounds the points without a pass over them).
+void IndexedPoints::Build(size_t lo, size_t hi, Box box) {
+  if (hi - lo <= kLeafSize) return;
+  const uint8_t axis = (box.y1 - box.y0) > (box.x1 - box.x0) ? 1 : 0;
+  const size_t mid = lo + (hi - lo) / 2;
+  auto begin = tree_.begin();
+  if (axis == 0) {
+    std::nth_element(begin + lo, begin + mid, begin + hi, [](const TreePoint& a, const TreePoint& b) { return a.x < b.x; });
+  } else {
+    std::nth_element(begin + lo, begin + mid, begin + hi, [](const TreePoint& a, const TreePoint& b) { return a.y < b.y; });
+  }
+  axis_[mid] = axis;
+  Box left = box, right = box;
+  if (axis == 0) {
+    left.x1 = right.x0 = tree_[mid].x;
+  } else {
+    left.y1 = right.y0 = tree_[mid].y;
+  }
+  Build(lo, mid, left);
+  Build(mid + 1, hi, right);
+}
+
+std::optional<IndexedPoints::Neighbour> IndexedPoints::Nearest(float x, float y, float bound2) const {
+  Neighbour best{0, bound2};
+  bool found = false;
+  if (!tree_.empty()) NearestIn(0, tree_.size(), x, y, best, found);
+  if (!found) return std::nullopt;
+  return best;
+}
+
+void IndexedPoints::NearestIn(size_t lo, size_t hi, float x, float y, Neighbour& best, bool& found) const {
+  auto consider = [&](const TreePoint& p) {
+    const float d2 = Distance2(x, y, p.x, p.y);
+    if (d2 < best.distance2) best = {p.index, d2}, found = true;
+  };
+  while (hi - lo > kLeafSize) {
+    const size_t mid = lo + (hi - lo) / 2;
+    const TreePoint& p = tree_[mid];
+    consider(p);
+    const float diff = axis_[mid] == 0 ? x - p.x : y - p.y;
+    // The near half first; the far one only if the split line is nearer than the best.
+    if (diff < 0) {
+      NearestIn(lo, mid, x, y, best, found);
+      if (!(diff * diff < best.distance2)) return;
+      lo = mid + 1;
+    } else {
+      NearestIn(mid + 1, hi, x, y, best, found);
+      if (!(diff * diff < best.distance2)) return;
+      hi = mid;
+    }
+  }
+  for (size_t i = lo; i < hi; ++i) consider(tree_[i]);
+}
+
+void IndexedPoints::Nearest(float x, float y, size_t k, float bound2, std::vector<Neighbour>& out) const {
+  out.clear();
+  if (k == 0 || tree_.empty()) return;
+  KNearestIn(0, tree_.size(), x, y, k, bound2, out);
+}
+
+// `out` holds the best so far, nearest first; `bound2` is what a point must beat to
+// enter it (the k-th's distance once there are k).
+void IndexedPoints::KNearestIn(size_t lo, size_t hi, float x, float y, size_t k, float& bound2,
+                               std::vector<Neighbour>& out) const {
+  auto consider = [&](const TreePoint& p) {
+    const float d2 = Distance2(x, y, p.x, p.y);
+    if (!(d2 < bound2)) return;
+    // Insertion into the sorted list, after any of equal distance; a full list drops its last.
+    size_t i = out.size() < k ? out.size() : k - 1;
+    if (i == out.size()) out.emplace_back();
+    for (; i > 0 && out[i - 1].distance2 > d2; --i) out[i] = out[i - 1];
+    out[i] = Neighbour{p.index, d2};
+    if (out.size() == k) bound2 = out.back().distance2;
+  };
+  while (hi - lo > kLeafSize) {
+    const size_t mid = lo + (hi - lo) / 2;
+    const TreePoint& p = tree_[mid];
+    consider(p);
+    const float diff = axis_[mid] == 0 ? x - p.x : y - p.y;
+    if (diff < 0) {
+      KNearestIn(lo, mid, x, y, k, bound2, out);
+      if (!(diff * diff < bound2)) return;
+      lo = mid + 1;
+    } else {
+      KNearestIn(mid + 1, hi, x, y, k, bound2, out);
+      if (!(diff * diff < bound2)) return;
+      hi = mid;
+    }
+  }
+  for (size_t i = lo; i < hi; ++i) consider(tree_[i]);
+}
+
+// CPointsMap::determineMatching2D with this tree in place of nanoflann's. For every
+// `decimation`-th point s_i of the other cloud (from `offset`), moved by the pose
+// q_i = t + R(θ) s_i, pair it with its nearest point m here when
+//   |q_i − m|² < (max_angular · |q_i − pivot| + max_distance)².
+// q_i is computed as MRPT 2.5 computes it, in float from left to right (a test checks
+// the squared distances bit for bit against MRPT's).
+void IndexedPoints::determineMatching2D(const mrpt::maps::CMetricMap* other_map, const mrpt::poses::CPose2D& other_pose,
+                                        mrpt::tfest::TMatchingPairList& pairs,
+                                        const mrpt::maps::TMatchingParams& params,
+                                        mrpt::maps::TMatchingExtraResults& extra) const {
+  if (params.onlyUniqueRobust || !params.onlyKeepTheClosest) {
+    CSimplePointsMap::determineMatching2D(other_map, other_pose, pairs, params, extra);  // MRPT's own
+    return;
+  }
+  extra = mrpt::maps::TMatchingExtraResults();
+  pairs.clear();
+  const auto* other = dynamic_cast<const mrpt::maps::CPointsMap*>(other_map);
+  if (other == nullptr) throw std::invalid_argument("IndexedPoints: ICP's other map is not a point cloud");
+  if (params.decimation_other_map_points == 0 || params.offset_other_map_points >= params.decimation_other_map_points) {
+    throw std::invalid_argument("IndexedPoints: ICP point decimation must be positive and above its offset");
+  }
+  const size_t n = other->size();
+  if (empty() || n == 0) return;
+
+  const float sf = static_cast<float>(std::sin(other_pose.phi())), cf = static_cast<float>(std::cos(other_pose.phi()));
+  const float x0 = static_cast<float>(other_pose.x()), y0 = static_cast<float>(other_pose.y());
+  const auto& ox = other->getPointsBufferRef_x();
+  const auto& oy = other->getPointsBufferRef_y();
+  const auto& oz = other->getPointsBufferRef_z();
+  const auto& mx = getPointsBufferRef_x();
+  const auto& my = getPointsBufferRef_y();
+  const auto& mz = getPointsBufferRef_z();
+  const auto& pivot = params.angularDistPivotPoint;
+
+  float sum2 = 0;
+  size_t paired = 0;
+  pairs.reserve(n / params.decimation_other_map_points + 1);
+  for (size_t i = params.offset_other_map_points; i < n; i += params.decimation_other_map_points) {
+    const float qx = x0 + cf * ox[i] - sf * oy[i], qy = y0 + sf * ox[i] + cf * oy[i];
+    const double from_pivot = std::sqrt((pivot.x - qx) * (pivot.x - qx) + (pivot.y - qy) * (pivot.y - qy));
+    const double gate = params.maxAngularDistForCorrespondence * from_pivot + params.maxDistForCorrespondence;
+    const double gate2 = gate * gate;
+    // Every float not above float(gate2) is searched; what lies above it is above gate2.
+    const auto nearest = Nearest(qx, qy, std::nextafter(static_cast<float>(gate2), INFINITY));
+    if (!nearest || !(nearest->distance2 < gate2)) continue;
+    const uint32_t j = nearest->index;
+    mrpt::tfest::TMatchingPair& p = pairs.emplace_back();
+    p.globalIdx = j;
+    p.global = {mx[j], my[j], mz[j]};
+    p.localIdx = static_cast<uint32_t>(i);
+    p.local = {ox[i], oy[i], oz[i]};
+    p.errorSquareAfterTransformation = nearest->distance2;
+    sum2 += nearest->distance2;
+    ++paired;
+  }
+  extra.sumSqrDist = paired > 0 ? static_cast<float>(sum2 / static_cast<double>(paired)) : 0.0f;
+  extra.correspondencesRatio =
+      static_cast<float>(params.decimation_other_map_points * paired) / static_cast<float>(n);
+}
+
+}  // namespace specht::slam
