@@ -9,6 +9,7 @@ out=$build/bench-results.jsonl
 run() { "$@" | tee -a "$out"; }
 
 mrpt=/usr/share/mrpt/datasets
+run "$build/bench/point_index_bench"
 run "$build/bench/slam_bench" "$mrpt/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog" builtin-telecom-faculty
 for f in simul range_030_bearing_015; do
   run "$build/bench/slam_bench" "$mrpt/graphslam-engine-demos/action_observations_map/$f.rawlog" "mrpt-$f"

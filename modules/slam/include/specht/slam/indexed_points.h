@@ -62,8 +62,6 @@ class IndexedPoints : private mrpt::maps::CSimplePointsMap {
     float x0, x1, y0, y1;
   };
   void Build(size_t lo, size_t hi, Box box);
-  void NearestIn(size_t lo, size_t hi, float x, float y, Neighbour& best, bool& found) const;
-  void KNearestIn(size_t lo, size_t hi, float x, float y, size_t k, float& bound2, std::vector<Neighbour>& out) const;
 
   void determineMatching2D(const mrpt::maps::CMetricMap* other_map, const mrpt::poses::CPose2D& other_pose,
                            mrpt::tfest::TMatchingPairList& pairs, const mrpt::maps::TMatchingParams& params,
