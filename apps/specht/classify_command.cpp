@@ -109,7 +109,7 @@ int RunPrepare(const ClassifyArgs& a) {
     const classify::MapFeatures& map = MapOf(maps, w.object_id);
     const auto f = classify::Features(w, o, map, bounds);
     d.windows.x.insert(d.windows.x.end(), f.begin(), f.end());
-    const auto h = classify::HandcraftedFeatures(w, classify::BaselineMap(map, o.features));
+    const auto h = classify::HandcraftedFeatures(w, map, o.features);
     d.handcrafted.insert(d.handcrafted.end(), h.begin(), h.end());
     d.windows.y.push_back(static_cast<int>(std::find(d.classes.begin(), d.classes.end(), w.label) - d.classes.begin()));
     d.windows.object_ids.push_back(w.object_id);

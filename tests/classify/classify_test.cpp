@@ -314,7 +314,7 @@ TEST(TrajectoryClassifierTest, CarriesItsPreprocessingAndCutsTheLatestWindow) {
   std::vector<int> hy;
   for (int i = 0; i < 40; ++i) {
     const Trajectory line = Line("f" + std::to_string(i), 32, 0.1, 0.5 + 0.1 * i, 0);
-    const auto h = HandcraftedFeatures(Chunk(line, o)[0], {});
+    const auto h = HandcraftedFeatures(Chunk(line, o)[0], {}, o.features);
     hx.insert(hx.end(), h.begin(), h.end());
     hy.push_back(i % 2);
   }
@@ -324,7 +324,7 @@ TEST(TrajectoryClassifierTest, CarriesItsPreprocessingAndCutsTheLatestWindow) {
   const TrajectoryClassifier both = TrajectoryClassifier::Load(dir + "/m", dir + "/forest.yml");
   EXPECT_EQ(both.combination(), "network+forest");
   EXPECT_EQ(t.combination(), "network");
-  const auto trees = forest.Probabilities(HandcraftedFeatures(*w, {}), 2);
+  const auto trees = forest.Probabilities(HandcraftedFeatures(*w, {}, o.features), 2);
   const auto pb = both.Classify({*w});
   ASSERT_EQ(pb.size(), 2u);
   for (int c = 0; c < 2; ++c) EXPECT_NEAR(pb[c], 0.5 * (p[c] + trees[c]), 1e-6);
@@ -387,17 +387,27 @@ TEST(ForestBaselineTest, VoteFractionsAgreeWithPredictAndCombine) {
   EXPECT_THROW(CombinedProbabilities(network, {0.5f, 0.5f}), InputError);
 }
 
-// The baseline gets only the geography the network's features name.
-TEST(ForestBaselineTest, BaselineMapKeepsOnlyNamedGeography) {
+// The baseline gets only the geography the network's features name: the last five
+// handcrafted features are static distance mean and min, harbour distance mean and
+// the region (x, y).
+TEST(ForestBaselineTest, HandcraftedFeaturesUseOnlyNamedGeography) {
   MapFeatures map;
   map.distance_to_static = [](double, double) { return 1.0; };
   map.distance_to_poi = [](double, double) { return 2.0; };
   map.region = [](double, double) { return std::array<double, 2>{0.1, 0.2}; };
-  const MapFeatures none = BaselineMap(map, {"x", "y", "speed"});
-  EXPECT_FALSE(none.distance_to_static || none.distance_to_poi || none.region);
-  const MapFeatures some = BaselineMap(map, {"x", "dist_poi", "region_y"});
-  EXPECT_FALSE(some.distance_to_static);
-  EXPECT_TRUE(some.distance_to_poi && some.region);
+  PreprocessOptions o;
+  o.length = 16;
+  const Window w = Chunk(Line("a", 16, 1.0, 0.5, 0), o).at(0);
+  auto geography = [&](const std::vector<std::string>& features) {
+    const auto h = HandcraftedFeatures(w, map, features);
+    return std::vector<float>(h.end() - 5, h.end());
+  };
+  EXPECT_EQ(geography({"x", "y", "speed"}), (std::vector<float>{0, 0, 0, 0, 0}));
+  EXPECT_EQ(geography({"x", "dist_poi", "region_y"}), (std::vector<float>{0, 0, 2, 0.1f, 0.2f}));
+  EXPECT_EQ(geography({"dist_static", "dist_poi", "region_x"}), (std::vector<float>{1, 1, 2, 0.1f, 0.2f}));
+  // The motion features do not depend on the geography at all.
+  const auto all = HandcraftedFeatures(w, map, {"dist_static"}), none = HandcraftedFeatures(w, {}, {});
+  EXPECT_EQ(std::vector<float>(all.begin(), all.end() - 5), std::vector<float>(none.begin(), none.end() - 5));
 }
 
 TEST(SplitTest, DisjointByObject) {

@@ -30,11 +30,10 @@ VesselWindows Process(const Vessel& v, const classify::PreprocessOptions& o, con
   const classify::Trajectory t = ToTrajectory(v, cos_lat0);
   out.windows = classify::MakeWindows({t}, o, &out.counts);
   const classify::MapFeatures map = geo.ForFrame(cos_lat0);
-  const classify::MapFeatures baseline_map = classify::BaselineMap(map, o.features);
   for (const auto& w : out.windows) {
     const auto f = classify::Features(w, o, map);
     out.features.insert(out.features.end(), f.begin(), f.end());
-    const auto h = classify::HandcraftedFeatures(w, baseline_map);
+    const auto h = classify::HandcraftedFeatures(w, map, o.features);
     out.handcrafted.insert(out.handcrafted.end(), h.begin(), h.end());
   }
   return out;

@@ -31,7 +31,11 @@ double Quantile(std::vector<double> v, double q) {
 
 int HandcraftedFeatureCount() { return 19; }
 
-std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map) {
+std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, const std::vector<std::string>& features) {
+  auto named = [&](const char* f) { return std::find(features.begin(), features.end(), f) != features.end(); };
+  const bool use_static = map.distance_to_static && named("dist_static");
+  const bool use_poi = map.distance_to_poi && named("dist_poi");
+  const bool use_region = map.region && (named("region_x") || named("region_y"));
   const auto& p = w.points;
   std::vector<double> speed, accel, turn, ds, dp, rx, ry;
   double path = 0, prev_course = 0;
@@ -48,9 +52,9 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map) 
     prev_course = course;
   }
   for (const auto& q : p) {
-    if (map.distance_to_static) ds.push_back(map.distance_to_static(q.x, q.y));
-    if (map.distance_to_poi) dp.push_back(map.distance_to_poi(q.x, q.y));
-    if (map.region) {
+    if (use_static) ds.push_back(map.distance_to_static(q.x, q.y));
+    if (use_poi) dp.push_back(map.distance_to_poi(q.x, q.y));
+    if (use_region) {
       const auto r = map.region(q.x, q.y);
       rx.push_back(r[0]), ry.push_back(r[1]);
     }
@@ -68,15 +72,6 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map) 
           static_cast<float>(p.empty() ? 0 : p.back().t_s - p.front().t_s),
           static_cast<float>(Mean(ds)),     static_cast<float>(ds.empty() ? 0 : *std::min_element(ds.begin(), ds.end())),
           static_cast<float>(Mean(dp)),     static_cast<float>(Mean(rx)),    static_cast<float>(Mean(ry))};
-}
-
-MapFeatures BaselineMap(const MapFeatures& map, const std::vector<std::string>& features) {
-  auto uses = [&](const char* f) { return std::find(features.begin(), features.end(), f) != features.end(); };
-  MapFeatures out;
-  if (uses("dist_static")) out.distance_to_static = map.distance_to_static;
-  if (uses("dist_poi")) out.distance_to_poi = map.distance_to_poi;
-  if (uses("region_x") || uses("region_y")) out.region = map.region;
-  return out;
 }
 
 std::vector<float> CombinedProbabilities(const std::vector<float>& network, const std::vector<float>& forest) {

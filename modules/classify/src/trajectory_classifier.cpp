@@ -54,14 +54,13 @@ std::vector<float> TrajectoryClassifier::Classify(const std::vector<Window>& win
   Dataset d;
   d.features = model_.features(), d.length = model_.length();
   std::vector<float> handcrafted;
-  const MapFeatures baseline_map = BaselineMap(map, options_.features);
   for (const auto& w : windows) {
     const auto f = Features(w, options_, map, bounds_);
     d.x.insert(d.x.end(), f.begin(), f.end());
     d.y.push_back(-1);
     d.object_ids.push_back(w.object_id);
     if (!forest_) continue;
-    const auto h = HandcraftedFeatures(w, baseline_map);
+    const auto h = HandcraftedFeatures(w, map, options_.features);
     handcrafted.insert(handcrafted.end(), h.begin(), h.end());
   }
   std::vector<float> p = model_.Predict(d);

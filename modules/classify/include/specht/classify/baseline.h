@@ -21,13 +21,12 @@ class RTrees;
 
 namespace specht::classify {
 
-std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map);
+// The baseline's features of one window. Its geography is only what the network's
+// `features` name (dist_static, dist_poi, region_x / region_y; 0 where not named),
+// so that both models compare on the same information, an ablation without
+// geography takes it from both, and training and prediction cannot disagree.
+std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, const std::vector<std::string>& features);
 int HandcraftedFeatureCount();
-
-// The geography the baseline is given: only what the network's `features` name
-// (dist_static, dist_poi, region_x / region_y), so that both models compare on the
-// same information and an ablation without geography takes it from both.
-MapFeatures BaselineMap(const MapFeatures& map, const std::vector<std::string>& features);
 
 // The network and the forest combined: the mean of their class probabilities, row
 // by row (the forest's are its trees' vote fractions). On AIS and on the robot
