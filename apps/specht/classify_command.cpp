@@ -148,7 +148,7 @@ int RunEval(const ClassifyArgs& a) {
   const double infer_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::vector<float> forest_p = forest.Probabilities(d.handcrafted, k);
   const auto resnet = classify::Score(d.windows.y, classify::MostProbable(network_p, k), k);
-  const auto rf = classify::Score(d.windows.y, forest.Predict(d.handcrafted), k);
+  const auto rf = classify::Score(d.windows.y, classify::MostProbable(forest_p, k), k);  // = RTrees::predict
   const auto both =
       classify::Score(d.windows.y, classify::MostProbable(classify::CombinedProbabilities(network_p, forest_p), k), k);
   classify::WriteConfusionPng(resnet, model.classes(), "1D ResNet (" + model.options().variant + ")",
