@@ -29,8 +29,9 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, 
 int HandcraftedFeatureCount();
 
 // The network and the forest combined: the mean of their class probabilities, row
-// by row (the forest's are its trees' vote fractions). On AIS and on the robot
-// classes this beat each alone (README); both sizes must agree.
+// by row (the forest's are its trees' vote fractions). On AIS this beat each alone
+// in every fold, on the robot classes it matched or beat both (README); both sizes
+// must agree.
 std::vector<float> CombinedProbabilities(const std::vector<float>& network, const std::vector<float>& forest);
 
 class ForestBaseline {
