@@ -8,6 +8,7 @@
 
 #include "specht/core/statistics.h"
 #include "specht/eval/trajectory_error.h"
+#include "specht/slam/indexed_points.h"
 
 namespace specht::eval {
 namespace {
@@ -63,24 +64,25 @@ MapEntropy MeanMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Ma
     const mrpt::maps::CSimplePointsMap scan = slam::WithinRange(slam::ScanToPoints(*kf.scan), options.max_range_m);
     cloud.insertAnotherMap(&scan, mrpt::poses::CPose3D(kf.pose));
   }
+  const slam::IndexedPoints indexed(cloud);
   const auto& xs = cloud.getPointsBufferRef_x();
   const auto& ys = cloud.getPointsBufferRef_y();
-  const float radius2 = static_cast<float>(options.radius_m * options.radius_m);
+  const float bound2 = static_cast<float>(options.radius_m * options.radius_m);
   const double two_pi_e = 2.0 * M_PI * M_E;
-  std::vector<nanoflann::ResultItem<size_t, float>> near;
+  std::vector<slam::IndexedPoints::Neighbour> near;
   double sum = 0;
   MapEntropy r;
   const size_t most = std::max<size_t>(1, options.max_points);
   const size_t stride = std::max<size_t>(1, (xs.size() + most - 1) / most);
   for (size_t i = 0; i < xs.size(); i += stride) {
-    cloud.kdTreeRadiusSearch2D(xs[i], ys[i], radius2, near);
+    indexed.Within(xs[i], ys[i], bound2, near);
     if (static_cast<int>(near.size()) < options.min_neighbours) continue;
     double mx = 0, my = 0;
-    for (const auto& n : near) mx += xs[n.first], my += ys[n.first];
+    for (const auto& n : near) mx += xs[n.index], my += ys[n.index];
     mx /= near.size(), my /= near.size();
     double sxx = 0, syy = 0, sxy = 0;
     for (const auto& n : near) {
-      const double dx = xs[n.first] - mx, dy = ys[n.first] - my;
+      const double dx = xs[n.index] - mx, dy = ys[n.index] - my;
       sxx += dx * dx, syy += dy * dy, sxy += dx * dy;
     }
     // det(2πe Σ) = (2πe)² det Σ, with Σ + ε²I (ε = 1 mm, below any laser's noise) so

@@ -123,6 +123,20 @@ void IndexedPoints::Nearest(float x, float y, size_t k, float bound2, std::vecto
   Search(tree_, axis_, 0, tree_.size(), x, y, best);
 }
 
+void IndexedPoints::Within(float x, float y, float bound2, std::vector<Neighbour>& out) const {
+  out.clear();
+  struct All {
+    float qx, qy;
+    const float bound2;
+    std::vector<Neighbour>& out;
+    void operator()(const TreePoint& p) {
+      const float d2 = Distance2(qx, qy, p.x, p.y);
+      if (d2 < bound2) out.push_back({p.index, d2});
+    }
+  } all{x, y, bound2, out};
+  Search(tree_, axis_, 0, tree_.size(), x, y, all);
+}
+
 // CPointsMap::determineMatching2D with this tree in place of nanoflann's. For every
 // `decimation`-th point s_i of the other cloud (from `offset`), moved by the pose
 // q_i = t + R(θ) s_i, pair it with its nearest point m here when

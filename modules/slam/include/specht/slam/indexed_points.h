@@ -52,6 +52,9 @@ class IndexedPoints : private mrpt::maps::CSimplePointsMap {
   // The (up to) k nearest points with squared distance below `bound2`, nearest first.
   void Nearest(float x, float y, size_t k, float bound2, std::vector<Neighbour>& out) const;
 
+  // Every point with squared distance below `bound2`, in no particular order.
+  void Within(float x, float y, float bound2, std::vector<Neighbour>& out) const;
+
   // The cloud as MRPT's ICP takes its reference map (pairs through this tree).
   const mrpt::maps::CMetricMap& AsIcpReference() const { return *this; }
 
