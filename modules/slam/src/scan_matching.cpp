@@ -32,7 +32,8 @@ std::vector<std::string> GridOptions::Relations() const {
 struct ScanMatchingMapper::Impl {
   explicit Impl(const IcpOptions& options) : icp(options) {}
   IcpAligner icp;
-  IndexedPoints submap;  // the keyframes' points in the map frame
+  CSimplePointsMap submap_points;       // the keyframes' points in the map frame
+  std::optional<IndexedPoints> submap;  // their tree, built when the next scan needs it
   std::deque<CSimplePointsMap> keyframe_points;  // the last submap_keyframes, base frame
   std::deque<size_t> keyframe_poses;             // their indices into keyframes_
   internal::MotionPrior motion;
@@ -86,7 +87,7 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
     // Without odometry the car may as well have stopped or turned on the spot.
     const bool guess_moved = guess.distanceTo(last) > 0 || guess.phi() != last.phi();
     const internal::MatchResult match = internal::MatchWithRecovery(
-        m.icp, m.submap, points, guess, options_, stats_, weak,
+        m.icp, Submap(), points, guess, options_, stats_, weak,
         weak && guess_moved ? std::optional<CPose2D>(last) : std::nullopt);
     pose = match.pose;
     matched = match.source != internal::MatchSource::kGuess;
@@ -137,7 +138,8 @@ void ScanMatchingMapper::CorrectKeyframes(const std::vector<CPose2D>& poses) {
 
 void ScanMatchingMapper::RebuildSubmap() {
   Impl& m = *impl_;
-  CSimplePointsMap submap;
+  CSimplePointsMap& submap = m.submap_points;
+  submap.clear();
   // One allocation: each insertAnotherMap reserves exactly what it adds, so without
   // this the buffers are reallocated and copied once per keyframe.
   size_t total = 0;
@@ -146,7 +148,14 @@ void ScanMatchingMapper::RebuildSubmap() {
   for (size_t i = 0; i < m.keyframe_points.size(); ++i) {
     submap.insertAnotherMap(&m.keyframe_points[i], CPose3D(keyframes_[m.keyframe_poses[i]].pose));
   }
-  m.submap = IndexedPoints(submap);
+  // An optimisation often rebuilds the points again before any scan is matched:
+  // the tree waits for the next scan.
+  m.submap.reset();
+}
+
+const IndexedPoints& ScanMatchingMapper::Submap() {
+  if (!impl_->submap) impl_->submap.emplace(impl_->submap_points);
+  return *impl_->submap;
 }
 
 mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes, const GridOptions& options) {

@@ -198,6 +198,7 @@ class ScanMatchingMapper {
   void AddScan(Stamp stamp, const mrpt::obs::CObservation2DRangeScan& scan);
   mrpt::poses::CPose2D LastPlacedPose() const;
   void RebuildSubmap();
+  const IndexedPoints& Submap();  // the submap's tree, built on first use after a rebuild
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
