@@ -139,6 +139,89 @@ TEST(CorrelativeMatcherTest, BranchAndBoundFindsTheBestScoreOfTheWholeLattice) {
   EXPECT_NEAR(r->pose.y(), b.y(), 0.11);
 }
 
+TEST(DrivePriorTest, ExcessIsTheMotionSidewaysOrBackwardsBeyondTheSlack) {
+  DrivePrior prior{CPose2D(1.0, 2.0, M_PI / 2), 0.1, 0.2, false};  // facing +y
+  EXPECT_DOUBLE_EQ(prior.ExcessM(1.0, 4.0, M_PI / 2), 0.0);        // 2 m straight ahead
+  EXPECT_NEAR(prior.ExcessM(2.0, 2.0, M_PI / 2), 0.8, 1e-12);      // 1 m to the right
+  EXPECT_NEAR(prior.ExcessM(1.0, 1.0, M_PI / 2), 0.8, 1e-12);      // 1 m back
+  EXPECT_NEAR(prior.ExcessM(2.0, 1.0, M_PI / 2), 1.6, 1e-12);      // both
+  EXPECT_DOUBLE_EQ(prior.ExcessM(1.1, 2.0, M_PI / 2), 0.0);        // within the slack
+  // A quarter circle of radius 1 to the left: the chord points along the mean heading.
+  EXPECT_NEAR(prior.ExcessM(0.0, 3.0, M_PI), 0.0, 1e-12);
+  prior.reverse = true;
+  EXPECT_DOUBLE_EQ(prior.ExcessM(1.0, 1.0, M_PI / 2), 0.0);
+  // The least excess over a box is at most the excess anywhere in it.
+  prior.reverse = false;
+  for (double x = -1.0; x <= 3.0; x += 0.25) {
+    for (double y = 0.0; y <= 4.0; y += 0.25) {
+      EXPECT_LE(prior.MinExcessM(-1.0, 3.0, 0.0, 4.0, 2.0), prior.ExcessM(x, y, 2.0) + 1e-12);
+      EXPECT_LE(prior.MinExcessM(x, x + 0.5, y, y + 0.5, 2.0), prior.ExcessM(x + 0.25, y + 0.5, 2.0) + 1e-12);
+    }
+  }
+}
+
+TEST(CorrelativeMatcherTest, ADrivePriorPrefersTheStepAheadToABetterFittingAliasBeside) {
+  // Two copies of a U-shaped bay: one 1.5 m ahead of where the car was, one 1.5 m to
+  // its left. The car drove to the one ahead, but that copy lost a tenth of its points
+  // (unseen so far), so the copy beside fits the scan better.
+  auto bay = [](double cx, double cy, bool gap, CSimplePointsMap& out) {
+    int i = 0;
+    auto add = [&](double x, double y) {
+      if (!(gap && i++ % 10 == 0)) out.insertPoint(static_cast<float>(cx + x), static_cast<float>(cy + y), 0);
+    };
+    for (double t = -1.0; t <= 1.0; t += 0.02) add(2.0, t);  // back wall
+    for (double t = 0.5; t < 2.0; t += 0.02) add(t, -1.0), add(t, 1.0);
+  };
+  CSimplePointsMap map, scan;
+  bay(1.5, 0.0, true, map);
+  bay(0.0, 1.5, false, map);
+  bay(0.0, 0.0, false, scan);  // the full bay as the car sees it, in its own frame
+  const CPose2D from(0, 0, 0), ahead(1.5, 0, 0), beside(0, 1.5, 0);
+  const CorrelativeMatcher matcher(map, 0.05, 2.0);
+  const auto plain = matcher.Match(scan, from, 2.0, mrpt::DEG2RAD(10), 0.3);
+  ASSERT_TRUE(plain.has_value());
+  EXPECT_LT(plain->pose.distanceTo(beside), 0.06);
+  const DrivePrior prior{from, 0.1, 0.2, false};
+  const auto driven = matcher.Match(scan, from, 2.0, mrpt::DEG2RAD(10), 0.3, prior);
+  ASSERT_TRUE(driven.has_value());
+  EXPECT_LT(driven->pose.distanceTo(ahead), 0.06);
+  // The score is the likelihood less the penalty: the alias beside pays 0.1 × 1.3 m.
+  EXPECT_NEAR(driven->score, matcher.Score(scan, driven->pose, prior), 1.0 / scan.size());
+  EXPECT_NEAR(matcher.Score(scan, beside) - matcher.Score(scan, beside, prior), 0.13, 1e-9);
+}
+
+TEST(CorrelativeMatcherTest, WithADrivePriorBranchAndBoundStillFindsTheBestOfTheWholeLattice) {
+  // As BranchAndBoundFindsTheBestScoreOfTheWholeLattice, with a prior strong enough to
+  // move the answer: the bound of a block must stay above every penalised leaf in it.
+  const CPose2D a(2.0, 2.0, 0.0), b(2.3, 1.8, 0.1);
+  const double res = 0.1;
+  const CorrelativeMatcher matcher(InWorld(RoomScan(a), a), res, 0.5);
+  const CSimplePointsMap scan = Decimate(RoomScan(b), res);
+  const DrivePrior prior{CPose2D(2.0, 2.0, 0.3), 0.5, 0.05, false};
+  const auto r = matcher.Match(scan, a, 0.5, mrpt::DEG2RAD(10), 0.05, prior);
+  ASSERT_TRUE(r.has_value());
+  double max_range = 0;
+  for (size_t i = 0; i < scan.size(); ++i) {
+    float x, y, z;
+    scan.getPoint(i, x, y, z);
+    max_range = std::max<double>(max_range, std::hypot(x, y));
+  }
+  const double step = std::acos(1.0 - res * res / (2.0 * max_range * max_range));
+  const int half_angles = static_cast<int>(std::ceil(mrpt::DEG2RAD(10) / step));
+  double best = -1e9;
+  for (int k = -half_angles; k <= half_angles; ++k) {
+    for (int dx = -5; dx <= 5; ++dx) {
+      for (int dy = -5; dy <= 5; ++dy) {
+        best = std::max(best, matcher.Score(scan, CPose2D(a.x() + dx * res, a.y() + dy * res, a.phi() + k * step),
+                                            prior));
+      }
+    }
+  }
+  // One point on a cell border, and the penalty rounded down to a sum unit per block.
+  EXPECT_NEAR(r->score, best, 2.0 / scan.size());
+  EXPECT_LT(r->score, matcher.Match(scan, a, 0.5, mrpt::DEG2RAD(10), 0.05)->score - 0.01);  // the prior bit
+}
+
 TEST(CorrelativeMatcherTest, NothingAboveTheMinimumScoreIsNoMatch) {
   const CPose2D a(2.0, 2.0, 0.0);
   const CorrelativeMatcher matcher(InWorld(RoomScan(a), a), 0.05, 1.0);

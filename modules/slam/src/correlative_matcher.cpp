@@ -7,11 +7,43 @@
 #include <stdexcept>
 #include <unordered_set>
 
+#include <mrpt/math/wrap2pi.h>
 #include <opencv2/core.hpp>
 
 namespace specht::slam {
 
 using mrpt::poses::CPose2D;
+
+namespace {
+
+// The least of max(0, |v| − slack) and of max(0, −v − slack) over v in [lo, hi].
+double SidewaysExcess(double lo, double hi, double slack) {
+  if (lo > slack) return lo - slack;
+  if (hi < -slack) return -hi - slack;
+  return 0;
+}
+double BackwardExcess(double hi, double slack) { return std::max(0.0, -hi - slack); }
+
+}  // namespace
+
+double DrivePrior::ExcessM(double x, double y, double phi) const { return MinExcessM(x, x, y, y, phi); }
+
+double DrivePrior::MinExcessM(double x0, double x1, double y0, double y1, double phi) const {
+  const double mean_heading = from.phi() + mrpt::math::wrapToPi(phi - from.phi()) / 2;
+  const double c = std::cos(mean_heading), s = std::sin(mean_heading);
+  // f and ℓ are linear in (x, y): their extremes over the box are at its corners.
+  double f_hi = -std::numeric_limits<double>::infinity();
+  double l_lo = std::numeric_limits<double>::infinity(), l_hi = -l_lo;
+  for (const double x : {x0, x1}) {
+    for (const double y : {y0, y1}) {
+      const double dx = x - from.x(), dy = y - from.y();
+      f_hi = std::max(f_hi, c * dx + s * dy);
+      const double l = -s * dx + c * dy;
+      l_lo = std::min(l_lo, l), l_hi = std::max(l_hi, l);
+    }
+  }
+  return SidewaysExcess(l_lo, l_hi, slack_m) + (reverse ? 0.0 : BackwardExcess(f_hi, slack_m));
+}
 
 CorrelativeMatcher::CorrelativeMatcher(const mrpt::maps::CSimplePointsMap& map_points, double resolution_m,
                                        double max_window_m, double blur_cells)
@@ -93,7 +125,8 @@ uint8_t CorrelativeMatcher::At(int level, int cx, int cy) const {
 
 size_t CorrelativeMatcher::MemoryBytes() const { return levels_.size() * static_cast<size_t>(width_) * height_; }
 
-double CorrelativeMatcher::Score(const mrpt::maps::CSimplePointsMap& scan, const CPose2D& pose) const {
+double CorrelativeMatcher::Score(const mrpt::maps::CSimplePointsMap& scan, const CPose2D& pose,
+                                 const DrivePrior& prior) const {
   const auto& xs = scan.getPointsBufferRef_x();
   const auto& ys = scan.getPointsBufferRef_y();
   if (xs.empty()) return 0;
@@ -104,7 +137,8 @@ double CorrelativeMatcher::Score(const mrpt::maps::CSimplePointsMap& scan, const
     sum += At(0, static_cast<int>(std::floor((x - x0_) / resolution_)),
               static_cast<int>(std::floor((y - y0_) / resolution_)));
   }
-  return sum / (255.0 * xs.size());
+  const double penalty = prior.weight_per_m > 0 ? prior.weight_per_m * prior.ExcessM(pose.x(), pose.y(), pose.phi()) : 0;
+  return sum / (255.0 * xs.size()) - penalty;
 }
 
 namespace {
@@ -120,7 +154,7 @@ struct Candidate {
 
 std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSimplePointsMap& scan,
                                                            const CPose2D& guess, double window_m, double window_rad,
-                                                           double min_score) const {
+                                                           double min_score, const DrivePrior& prior) const {
   const auto& xs = scan.getPointsBufferRef_x();
   const auto& ys = scan.getPointsBufferRef_y();
   const size_t n = xs.size();
@@ -185,6 +219,22 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
     }
     return sum;
   };
+  // The prior's least penalty over the translations a candidate at `level` stands for
+  // (dx .. dx + 2^level − 1, the same in y), in the sums' units, rounded down so that
+  // no leaf below loses less.
+  const double penalty_units_per_m = prior.weight_per_m * 255.0 * n;
+  auto penalty = [&](int level, const Candidate& c) {
+    if (penalty_units_per_m <= 0) return 0;
+    const double span = ((1 << level) - 1) * resolution_;
+    const double x0 = guess.x() + c.dx * resolution_, y0 = guess.y() + c.dy * resolution_;
+    const double th = guess.phi() + (c.angle - half_angles) * step;
+    return static_cast<int>(std::floor(penalty_units_per_m * prior.MinExcessM(x0, x0 + span, y0, y0 + span, th)));
+  };
+  // The bound less the penalty. A sum must now beat `beat` + penalty to matter.
+  auto scored = [&](int level, const Candidate& c, int beat = 0) {
+    const int p = penalty(level, c);
+    return bound(level, c, beat > 0 ? beat + p : beat) - p;
+  };
 
   // Top level: translations on a lattice of 2^top cells.
   const int min_sum = static_cast<int>(std::ceil(min_score * 255.0 * n));
@@ -193,7 +243,7 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
     for (int dx = -w; dx <= w; dx += 1 << top) {
       for (int dy = -w; dy <= w; dy += 1 << top) {
         Candidate c{static_cast<int>(a), dx, dy, 0};
-        c.score = bound(top, c, min_sum - 1);
+        c.score = scored(top, c, min_sum - 1);
         roots.push_back(c);
       }
     }
@@ -217,7 +267,7 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
       for (int oy : {0, s}) {
         Candidate child{c.angle, c.dx + ox, c.dy + oy, 0};
         if (child.dx > w || child.dy > w) continue;
-        child.score = bound(level - 1, child, best.score);
+        child.score = scored(level - 1, child, best.score);
         children[count++] = child;
       }
     }

@@ -84,11 +84,8 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   bool matched = false;
   if (!m.keyframe_points.empty() && !points.empty()) {
     const bool weak = !m.motion.predicted_from_odometry();
-    // Without odometry the car may as well have stopped or turned on the spot.
-    const bool guess_moved = guess.distanceTo(last) > 0 || guess.phi() != last.phi();
-    const internal::MatchResult match = internal::MatchWithRecovery(
-        m.icp, Submap(), points, guess, options_, stats_, weak,
-        weak && guess_moved ? std::optional<CPose2D>(last) : std::nullopt);
+    const internal::MatchResult match =
+        internal::MatchWithRecovery(m.icp, Submap(), points, guess, options_, stats_, weak, last);
     pose = match.pose;
     matched = match.source != internal::MatchSource::kGuess;
     // Where the scan leaves a direction unconstrained (a corridor), the odometry decides it.

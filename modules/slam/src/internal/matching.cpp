@@ -54,8 +54,8 @@ struct SearchResult {
 class Searcher {
  public:
   Searcher(IcpAligner& icp, const IndexedPoints& reference, const CSimplePointsMap& points,
-           const ScanMatchingOptions& options, MappingStats& stats)
-      : icp_(icp), reference_(reference), points_(points), options_(options), stats_(stats) {}
+           const ScanMatchingOptions& options, MappingStats& stats, const DrivePrior& prior)
+      : icp_(icp), reference_(reference), points_(points), options_(options), stats_(stats), prior_(prior) {}
 
   std::optional<SearchResult> Around(const std::vector<CPose2D>& centres, double min_score,
                                      const std::optional<CPose2D>& icp_pose = std::nullopt) {
@@ -69,7 +69,7 @@ class Searcher {
     std::vector<std::optional<CorrelativeResult>> coarse(centres.size());
     auto search = [&](size_t i) {
       coarse[i] = matcher_->Match(query_, centres[i], options_.recovery_window_m,
-                                  mrpt::DEG2RAD(options_.recovery_window_deg), min_score);
+                                  mrpt::DEG2RAD(options_.recovery_window_deg), min_score, prior_);
     };
     std::optional<SearchResult> best;
     auto refine = [&](size_t i) {
@@ -80,9 +80,9 @@ class Searcher {
           !WithinCorrectionBounds(refined.pose, coarse[i]->pose, options_)) {
         return;
       }
-      const double score = matcher_->Score(query_, refined.pose);
+      const double score = matcher_->Score(query_, refined.pose, prior_);
       if (!best || score > best->score) {
-        best = SearchResult{refined.pose, score, icp_pose ? matcher_->Score(query_, *icp_pose) : 0.0};
+        best = SearchResult{refined.pose, score, icp_pose ? matcher_->Score(query_, *icp_pose, prior_) : 0.0};
       }
     };
     std::vector<std::thread> others;
@@ -100,6 +100,7 @@ class Searcher {
   const CSimplePointsMap& points_;
   const ScanMatchingOptions& options_;
   MappingStats& stats_;
+  const DrivePrior prior_;
   std::optional<CorrelativeMatcher> matcher_;
   CSimplePointsMap query_;
 };
@@ -108,15 +109,21 @@ class Searcher {
 
 MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, const CSimplePointsMap& points,
                               const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats,
-                              bool guess_is_weak, const std::optional<CPose2D>& standstill) {
+                              bool guess_is_weak, const std::optional<CPose2D>& last) {
   const bool recovery = options.recovery_window_m > 0;
   // A guess no odometry backs (constant velocity) may be off by a whole step:
   // search around it before ICP, which would settle in the nearest minimum.
   const bool search_first = recovery && guess_is_weak && options.search_without_odometry;
-  Searcher search(icp, reference, points, options, stats);
+  // Without odometry, only what a wheeled robot can do tells a step from its aliases.
+  DrivePrior prior;
+  if (guess_is_weak && last) {
+    prior = {*last, options.search_drive_penalty, options.search_drive_slack_m, options.search_drive_reverse};
+  }
+  Searcher search(icp, reference, points, options, stats, prior);
   if (search_first) {
     std::vector<CPose2D> centres = {guess};
-    if (standstill) centres.push_back(*standstill);
+    const bool guess_moved = last && (guess.distanceTo(*last) > 0 || guess.phi() != last->phi());
+    if (guess_moved) centres.push_back(*last);
     const auto found = search.Around(centres, options.search_min_score);
     if (found) {
       ++stats.recovered_matches;

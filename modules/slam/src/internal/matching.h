@@ -36,13 +36,14 @@ struct MatchResult {
 // its refined pose competes with ICP's on the same likelihood score; otherwise (or
 // when nothing scores) ICP's pose stands if at least half min_goodness paired, else
 // the guess. A weak guess (no odometry behind it) is searched around first when
-// `search_without_odometry` is on, and so is `standstill` (where the car was: without
-// odometry it may have stopped or turned on the spot); the better score wins.
-// Counts into `stats`.
+// `search_without_odometry` is on, and so is `last` (where the car was: without
+// odometry it may have stopped or turned on the spot); the better score wins. Those
+// searches score with the drive prior from `last` (options search_drive_*;
+// correlative_matcher.h's DrivePrior). Counts into `stats`.
 MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference,
                               const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
                               const ScanMatchingOptions& options, MappingStats& stats, bool guess_is_weak = false,
-                              const std::optional<mrpt::poses::CPose2D>& standstill = std::nullopt);
+                              const std::optional<mrpt::poses::CPose2D>& last = std::nullopt);
 
 // The information of a scan alignment, point to line: with n_i the normal of the
 // surface at scan point p_i (from its beam neighbours) turned into the map frame,

@@ -14,6 +14,10 @@
 // below a candidate. Candidates are expanded best first; a branch whose bound is not
 // above the best leaf found is cut. The result is the exact best-scoring pose on the
 // search lattice.
+//
+// With a DrivePrior the score loses what the motion from `from` to the pose cannot
+// be for a wheeled robot between two scans (DrivePrior::ExcessM below); the bound of a
+// block then loses the least excess over the block, so the search stays exact.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +34,27 @@ struct CorrelativeResult {
   double score = 0;           // mean likelihood of the scan points, in [0, 1]
 };
 
+// What a wheeled robot (differential drive or car) can do between two scans. On an
+// arc the chord from `from` to the pose points along the mean heading
+//   φ̄ = φ_from + wrap(φ − φ_from) / 2,
+// so the motion's sideways part ℓ = −sin φ̄ Δx + cos φ̄ Δy is zero and its forward
+// part f = cos φ̄ Δx + sin φ̄ Δy is not negative unless the robot reverses. A match
+// loses weight_per_m of score per metre of
+//   excess = max(0, |ℓ| − slack_m) + (reverse ? 0 : max(0, −f − slack_m)).
+// Without odometry this is what tells a corridor's step forward from its aliases
+// beside or behind the robot.
+struct DrivePrior {
+  mrpt::poses::CPose2D from;  // where the robot was (map frame)
+  double weight_per_m = 0;    // score lost per metre of excess; 0 = no prior
+  double slack_m = 0.2;       // sideways / backward motion allowed freely (several arcs, wheel slip)
+  bool reverse = true;        // whether the robot may back up between scans
+
+  // Excess (m) of the pose (x, y, φ).
+  double ExcessM(double x, double y, double phi) const;
+  // The least excess over positions in [x0, x1] × [y0, y1] at heading φ (a lower bound).
+  double MinExcessM(double x0, double x1, double y0, double y1, double phi) const;
+};
+
 class CorrelativeMatcher {
  public:
   // Builds the likelihood grid and its max pyramid for `map_points` (in the map
@@ -41,11 +66,14 @@ class CorrelativeMatcher {
 
   // Best pose within ±window_m, ±window_rad of `guess` whose score reaches
   // `min_score`, or nullopt. `scan` is in the scan's own frame.
+  // With `prior`, the score is the likelihood less the prior's penalty.
   std::optional<CorrelativeResult> Match(const mrpt::maps::CSimplePointsMap& scan, const mrpt::poses::CPose2D& guess,
-                                         double window_m, double window_rad, double min_score) const;
+                                         double window_m, double window_rad, double min_score,
+                                         const DrivePrior& prior = {}) const;
 
-  // Score of one pose (for tests and diagnostics).
-  double Score(const mrpt::maps::CSimplePointsMap& scan, const mrpt::poses::CPose2D& pose) const;
+  // Score of one pose (less the prior's penalty), as Match scores it.
+  double Score(const mrpt::maps::CSimplePointsMap& scan, const mrpt::poses::CPose2D& pose,
+               const DrivePrior& prior = {}) const;
 
   // Bytes held by the grid pyramid.
   size_t MemoryBytes() const;

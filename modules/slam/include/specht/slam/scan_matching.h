@@ -67,6 +67,9 @@ struct ScanMatchingOptions {
   double recovery_min_score = 0.5;
   bool search_without_odometry = true;
   double search_min_score = 0.3;
+  double search_drive_penalty = 0.1;
+  double search_drive_slack_m = 0.2;
+  bool search_drive_reverse = false;
   bool fuse_odometry = false;
   double point_sigma_m = 0.03;
   double prior_fraction = 0.1;
@@ -109,6 +112,15 @@ struct ScanMatchingOptions {
             "accept a search without odometry from this mean likelihood (the guess it replaces is only the last "
             "step repeated)",
             Range::Of(0.1, 0.95));
+    v.Param("search_drive_penalty", search_drive_penalty,
+            "searches without odometry: score lost per metre the car would have moved sideways (or backwards, "
+            "unless search_drive_reverse) beyond the slack; 0 = off",
+            Range::Of(0.0, 1.0));
+    v.Param("search_drive_slack_m", search_drive_slack_m,
+            "searches without odometry: sideways or backward motion between scans that costs nothing",
+            Range::Of(0.0, 2.0));
+    v.Param("search_drive_reverse", search_drive_reverse,
+            "searches without odometry: the car may back up between scans at no cost");
     v.Param("fuse_odometry", fuse_odometry,
             "fuse each ICP match with the odometry step by their information (corridors: odometry decides "
             "the direction the scan cannot)");
