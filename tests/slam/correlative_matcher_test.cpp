@@ -93,14 +93,24 @@ TEST(CorrelativeMatcherTest, LikelihoodFallsAsAGaussianOfTheDistanceToTheNearest
   }
 }
 
-// The best pose of the search lattice, by trying every pose of it.
+// The best score of the search lattice around `guess` (±window_cells, ±window_rad in
+// the matcher's angle steps), by trying every pose of it.
 double BestLatticeScore(const CorrelativeMatcher& m, const CSimplePointsMap& scan, const CPose2D& guess, double res,
-                        int window_cells, double step, int half_angles) {
-  double best = 0;
+                        int window_cells, double window_rad, const DrivePrior& prior = {}) {
+  double max_range = 0;
+  for (size_t i = 0; i < scan.size(); ++i) {
+    float x, y, z;
+    scan.getPoint(i, x, y, z);
+    max_range = std::max<double>(max_range, std::hypot(x, y));
+  }
+  const double step = std::acos(1.0 - res * res / (2.0 * max_range * max_range));
+  const int half_angles = static_cast<int>(std::ceil(window_rad / step));
+  double best = -1e9;
   for (int a = -half_angles; a <= half_angles; ++a) {
     for (int dx = -window_cells; dx <= window_cells; ++dx) {
       for (int dy = -window_cells; dy <= window_cells; ++dy) {
-        best = std::max(best, m.Score(scan, CPose2D(guess.x() + dx * res, guess.y() + dy * res, guess.phi() + a * step)));
+        const CPose2D pose(guess.x() + dx * res, guess.y() + dy * res, guess.phi() + a * step);
+        best = std::max(best, m.Score(scan, pose, prior));
       }
     }
   }
@@ -123,17 +133,9 @@ TEST(CorrelativeMatcherTest, BranchAndBoundFindsTheBestScoreOfTheWholeLattice) {
   const CSimplePointsMap scan = Decimate(RoomScan(b), res);
   const auto r = matcher.Match(scan, a, 0.5, mrpt::DEG2RAD(10), 0.1);
   ASSERT_TRUE(r.has_value());
-  double max_range = 0;
-  for (size_t i = 0; i < scan.size(); ++i) {
-    float x, y, z;
-    scan.getPoint(i, x, y, z);
-    max_range = std::max<double>(max_range, std::hypot(x, y));
-  }
-  const double step = std::acos(1.0 - res * res / (2.0 * max_range * max_range));
-  const int half_angles = static_cast<int>(std::ceil(mrpt::DEG2RAD(10) / step));
   // Score() places points by the pose directly, Match() by integer cell offsets from
   // the guess: the two may differ on a point lying on a cell border, hence one point.
-  EXPECT_NEAR(r->score, BestLatticeScore(matcher, scan, a, res, 5, step, half_angles), 1.0 / scan.size());
+  EXPECT_NEAR(r->score, BestLatticeScore(matcher, scan, a, res, 5, mrpt::DEG2RAD(10)), 1.0 / scan.size());
   EXPECT_NEAR(r->score, matcher.Score(scan, r->pose), 1.0 / scan.size());
   EXPECT_NEAR(r->pose.x(), b.x(), 0.11);
   EXPECT_NEAR(r->pose.y(), b.y(), 0.11);
@@ -200,25 +202,8 @@ TEST(CorrelativeMatcherTest, WithADrivePriorBranchAndBoundStillFindsTheBestOfThe
   const DrivePrior prior{CPose2D(2.0, 2.0, 0.3), 0.5, 0.05, false};
   const auto r = matcher.Match(scan, a, 0.5, mrpt::DEG2RAD(10), 0.05, prior);
   ASSERT_TRUE(r.has_value());
-  double max_range = 0;
-  for (size_t i = 0; i < scan.size(); ++i) {
-    float x, y, z;
-    scan.getPoint(i, x, y, z);
-    max_range = std::max<double>(max_range, std::hypot(x, y));
-  }
-  const double step = std::acos(1.0 - res * res / (2.0 * max_range * max_range));
-  const int half_angles = static_cast<int>(std::ceil(mrpt::DEG2RAD(10) / step));
-  double best = -1e9;
-  for (int k = -half_angles; k <= half_angles; ++k) {
-    for (int dx = -5; dx <= 5; ++dx) {
-      for (int dy = -5; dy <= 5; ++dy) {
-        best = std::max(best, matcher.Score(scan, CPose2D(a.x() + dx * res, a.y() + dy * res, a.phi() + k * step),
-                                            prior));
-      }
-    }
-  }
   // One point on a cell border, and the penalty rounded down to a sum unit per block.
-  EXPECT_NEAR(r->score, best, 2.0 / scan.size());
+  EXPECT_NEAR(r->score, BestLatticeScore(matcher, scan, a, res, 5, mrpt::DEG2RAD(10), prior), 2.0 / scan.size());
   EXPECT_LT(r->score, matcher.Match(scan, a, 0.5, mrpt::DEG2RAD(10), 0.05)->score - 0.01);  // the prior bit
 }
 
