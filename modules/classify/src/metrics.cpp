@@ -61,6 +61,30 @@ nlohmann::json Scores::ToJson(const std::vector<std::string>& classes) const {
   return j;
 }
 
+namespace {
+
+// A column heading within `width` pixels, bottom line at `baseline`: split into two
+// lines at the last space or hyphen when too wide ("Pleasure Craft", "Cargo-Tanker"),
+// then shrunk until the wider line fits.
+void PutColumnHeading(cv::Mat& img, const std::string& text, int x, int baseline, int width) {
+  const int font = cv::FONT_HERSHEY_SIMPLEX;
+  double scale = 0.45;
+  auto wide = [&](const std::string& t) { return cv::getTextSize(t, font, scale, 1, nullptr).width; };
+  std::vector<std::string> lines = {text};
+  const size_t cut = text.find_last_of(" -");
+  if (wide(text) > width && cut != std::string::npos && cut > 0) {
+    lines = {text.substr(0, text[cut] == '-' ? cut + 1 : cut), text.substr(cut + 1)};
+  }
+  const int widest = std::max(wide(lines.front()), wide(lines.back()));
+  if (widest > width) scale *= static_cast<double>(width) / widest;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const int y = baseline - static_cast<int>(lines.size() - 1 - i) * 17;
+    cv::putText(img, lines[i], {x, y}, font, scale, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+}
+
+}  // namespace
+
 void WriteConfusionPng(const Scores& s, const std::vector<std::string>& classes, const std::string& title,
                        const std::string& path) {
   const int k = static_cast<int>(classes.size()), cell = 90, left = 150, top = 70;
@@ -84,9 +108,7 @@ void WriteConfusionPng(const Scores& s, const std::vector<std::string>& classes,
     cv::putText(img, classes[r], {8, top + r * cell + cell / 2 + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.5,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   }
-  for (int c = 0; c < k; ++c)
-    cv::putText(img, classes[c].substr(0, 11), {left + c * cell + 4, top - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
-                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  for (int c = 0; c < k; ++c) PutColumnHeading(img, classes[c], left + c * cell + 4, top - 8, cell - 8);
   cv::putText(img, "rows: truth, columns: predicted (fraction of the row, count)", {10, top + k * cell + 35},
               cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
   io::WritePng(img, path);
