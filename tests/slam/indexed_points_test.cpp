@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/poses/CPose2D.h>
 
@@ -138,6 +139,30 @@ TEST(IndexedPointsTest, PairsExactlyAsMrptsOwnMatching) {
     compared_pairs += static_cast<int>(ours.size());
   }
   EXPECT_GT(compared_pairs, 5000);  // the gates were wide enough to pair most points
+}
+
+TEST(IndexedPointsTest, MatchingRefusesWhatIcpNeverPasses) {
+  // Another map that is not a point cloud, and a decimation that would skip every
+  // point: both are programming errors, refused with the reason.
+  std::mt19937 rng(3);
+  const IndexedPoints indexed(SubmapLike(rng, 100));
+  const CSimplePointsMap scan = SubmapLike(rng, 50);
+  mrpt::tfest::TMatchingPairList pairs;
+  mrpt::maps::TMatchingExtraResults extra;
+  mrpt::maps::TMatchingParams params;
+  const mrpt::maps::COccupancyGridMap2D grid;
+  EXPECT_THROW(indexed.AsIcpReference().determineMatching2D(&grid, mrpt::poses::CPose2D(), pairs, params, extra),
+               std::invalid_argument);
+  for (const auto& [decimation, offset] : {std::pair{0u, 0u}, std::pair{2u, 2u}, std::pair{3u, 5u}}) {
+    params.decimation_other_map_points = decimation;
+    params.offset_other_map_points = offset;
+    EXPECT_THROW(indexed.AsIcpReference().determineMatching2D(&scan, mrpt::poses::CPose2D(), pairs, params, extra),
+                 std::invalid_argument)
+        << decimation << ", " << offset;
+  }
+  params.decimation_other_map_points = 2;
+  params.offset_other_map_points = 1;
+  EXPECT_NO_THROW(indexed.AsIcpReference().determineMatching2D(&scan, mrpt::poses::CPose2D(), pairs, params, extra));
 }
 
 }  // namespace
