@@ -26,7 +26,10 @@
 // the next scan predicted from it (the last matched pose is): an unverified pose
 // would blur the submap and be carried on to the next guess. And without odometry a
 // constant-velocity guess may be wrong because the car stopped or turned on the spot:
-// when nothing scores around it, the search is repeated around the last matched pose.
+// the last placed pose is searched around too, and the better score wins. These
+// searches without odometry score with a drive prior (correlative_matcher.h): a wheeled
+// car moves along its heading, so a pose that would have it slide sideways or back up
+// (search_drive_*) loses score, which tells a corridor's step from its aliases.
 //
 // Every scan's pose is kept relative to the keyframe before it, so correcting the
 // keyframes (graph SLAM) corrects every scan.
@@ -109,8 +112,8 @@ struct ScanMatchingOptions {
             "when the odometry reports no motion, search around the constant-velocity guess and where the car "
             "was (correlative matcher) before ICP");
     v.Param("search_min_score", search_min_score,
-            "accept a search without odometry from this mean likelihood (the guess it replaces is only the last "
-            "step repeated)",
+            "accept a search without odometry from this score (mean likelihood less the drive prior's penalty; "
+            "the guess it replaces is only the last step repeated)",
             Range::Of(0.1, 0.95));
     v.Param("search_drive_penalty", search_drive_penalty,
             "searches without odometry: score lost per metre the car would have moved sideways (or backwards, "
