@@ -195,16 +195,22 @@ TEST(CorrelativeMatcherTest, ADrivePriorPrefersTheStepAheadToABetterFittingAlias
 TEST(CorrelativeMatcherTest, WithADrivePriorBranchAndBoundStillFindsTheBestOfTheWholeLattice) {
   // As BranchAndBoundFindsTheBestScoreOfTheWholeLattice, with a prior strong enough to
   // move the answer: the bound of a block must stay above every penalised leaf in it.
+  // A window of ±1.2 m makes the top blocks 16 cells wide, so a bound that took the
+  // penalty at one corner of a block instead of its least would cut the best leaf.
   const CPose2D a(2.0, 2.0, 0.0), b(2.3, 1.8, 0.1);
-  const double res = 0.1;
-  const CorrelativeMatcher matcher(InWorld(RoomScan(a), a), res, 0.5);
+  const double res = 0.1, window = 1.2;
+  const CorrelativeMatcher matcher(InWorld(RoomScan(a), a), res, window);
   const CSimplePointsMap scan = Decimate(RoomScan(b), res);
-  const DrivePrior prior{CPose2D(2.0, 2.0, 0.3), 0.5, 0.05, false};
-  const auto r = matcher.Match(scan, a, 0.5, mrpt::DEG2RAD(10), 0.05, prior);
-  ASSERT_TRUE(r.has_value());
-  // One point on a cell border, and the penalty rounded down to a sum unit per block.
-  EXPECT_NEAR(r->score, BestLatticeScore(matcher, scan, a, res, 5, mrpt::DEG2RAD(10), prior), 2.0 / scan.size());
-  EXPECT_LT(r->score, matcher.Match(scan, a, 0.5, mrpt::DEG2RAD(10), 0.05)->score - 0.01);  // the prior bit
+  const double plain = matcher.Match(scan, a, window, mrpt::DEG2RAD(10), 0.05)->score;
+  for (const CPose2D& from : {CPose2D(2.0, 2.0, 0.3), CPose2D(2.9, 1.3, -0.5), CPose2D(1.4, 2.6, 1.2)}) {
+    const DrivePrior prior{from, 0.3, 0.05, false};
+    const auto r = matcher.Match(scan, a, window, mrpt::DEG2RAD(10), 0.05, prior);
+    ASSERT_TRUE(r.has_value());
+    // One point on a cell border, and the penalty rounded down to a sum unit per block.
+    EXPECT_NEAR(r->score, BestLatticeScore(matcher, scan, a, res, 12, mrpt::DEG2RAD(10), prior), 2.0 / scan.size())
+        << "from " << from;
+    EXPECT_LT(r->score, plain - 0.01) << "from " << from;  // the prior bit
+  }
 }
 
 TEST(CorrelativeMatcherTest, NothingAboveTheMinimumScoreIsNoMatch) {
