@@ -12,8 +12,10 @@
 //   eval <dataset> -o DIR [--folds 5] [--networks tiny,mlp]   cross-validation
 //       with folds disjoint by MMSI: per model (each network, the forest, each
 //       network combined with the forest) macro/weighted F1 mean ± std,
-//       per-class F1, pooled confusion matrices (PNG). A trained model is scored on
-//       a dataset with `specht classify eval`.
+//       per-class F1, pooled confusion matrices (PNG), scored per window, per vessel
+//       and per window from the vessel's windows so far; every window's test
+//       probabilities in predictions.csv. A trained model is scored on a dataset
+//       with `specht classify eval`.
 //   predict <model dir> <tracks.csv>... -o DIR   classes per vessel (objects.csv) and
 //       per window (windows.csv) with the model's own preprocessing; the network
 //       combined with the forest beside it (--network-only: the network alone).
@@ -21,7 +23,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -213,6 +214,32 @@ std::vector<std::string> SplitList(const std::string& s) {
   return out;
 }
 
+// predictions.csv: per window and model, the fold that tested it, the truth, the
+// prediction and the class probabilities (join with the dataset's windows.csv by index).
+void WritePredictions(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
+                      const std::string& path) {
+  const size_t k = d.classes.size();
+  std::string csv = "index,object_id,fold,model,truth,predicted";
+  for (const auto& c : d.classes) csv += ",p_" + c;
+  csv += "\n";
+  char buf[32];
+  for (const auto& name : result.models) {
+    const std::vector<float>& p = result.probabilities.at(name);
+    const std::vector<int> predicted = classify::MostProbable(p, static_cast<int>(k));
+    for (size_t i = 0; i < d.windows.size(); ++i) {
+      csv += std::to_string(i) + ',' + d.windows.object_ids[i] + ',' + std::to_string(result.fold_of[i]) + ',' +
+             name + ',' + d.classes[static_cast<size_t>(d.windows.y[i])] + ',' +
+             d.classes[static_cast<size_t>(predicted[i])];
+      for (size_t c = 0; c < k; ++c) {
+        std::snprintf(buf, sizeof(buf), ",%.4f", static_cast<double>(p[i * k + c]));
+        csv += buf;
+      }
+      csv += '\n';
+    }
+  }
+  io::WriteTextAtomically(path, csv);
+}
+
 int RunEval(const AisArgs& a) {
   const params::Params params = LoadParams(a.common);
   const classify::ModelOptions base = params.Get<ais::AisModelOptions>("ais_model");
@@ -247,14 +274,21 @@ int RunEval(const AisArgs& a) {
                                 out + "/confusion_" + name + ".png");
     report.AddOutput("confusion_" + name + ".png");
   }
+  WritePredictions(result, d, out + "/predictions.csv");
+  report.AddOutput("predictions.csv");
   report.Write(out);
   std::printf("ais eval: %zu windows, %d folds by MMSI\n", d.windows.size(), a.folds);
-  for (const char* level : {"per window", "per vessel (majority of its windows)"}) {
-    std::printf("  %-14s %17s %17s", level[4] == 'w' ? "windows" : "vessels", "macro F1", "weighted F1");
+  // Per window (the paper's), per vessel (majority of its windows), and per window
+  // from the vessel's windows so far (mean probabilities).
+  for (const char* level : {"windows", "vessels", "so far"}) {
+    std::printf("  %-14s %17s %17s", level, "macro F1", "weighted F1");
     for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
     std::printf("\n");
     for (const auto& name : result.models) {
-      const auto& m = level[4] == 'w' ? j["models"][name] : j["models"][name]["per_object"];
+      const std::string l = level;
+      const auto& m = l == "windows"   ? j["models"][name]
+                      : l == "vessels" ? j["models"][name]["per_object"]
+                                       : j["models"][name]["with_history"];
       std::printf("  %-14s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
                   m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
                   m["weighted_f1"]["std"].get<double>());

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "specht/classify/baseline.h"
+#include "specht/classify/crossval.h"
 #include "specht/classify/map_features.h"
 #include "specht/classify/metrics.h"
 #include "specht/classify/model.h"
@@ -420,6 +421,19 @@ TEST(SplitTest, DisjointByObject) {
   for (size_t i : held) b.insert(ids[i]);
   for (const auto& id : b) EXPECT_EQ(a.count(id), 0u);
   EXPECT_NEAR(static_cast<double>(held.size()) / ids.size(), 0.25, 0.12);
+}
+
+TEST(CrossValidationTest, HistoryIsTheMeanOfTheObjectsWindowsSoFar) {
+  // Two objects interleaved, two classes: each row is the mean of its object's rows up to it.
+  const std::vector<std::string> ids = {"a", "b", "a", "a", "b"};
+  const std::vector<float> p = {1.0f, 0.0f, 0.2f, 0.8f, 0.0f, 1.0f, 0.5f, 0.5f, 0.4f, 0.6f};
+  const std::vector<float> mean = RunningMeanByObject(ids, p, 2);
+  const std::vector<float> expected = {1.0f, 0.0f, 0.2f, 0.8f, 0.5f, 0.5f, 0.5f, 0.5f, 0.3f, 0.7f};
+  ASSERT_EQ(mean.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(mean[i], expected[i], 1e-6) << i;
+  // Row 2 alone says class 1; with its object's history it is a tie, which goes to class 0.
+  EXPECT_EQ(MostProbable(mean, 2)[2], 0);
+  EXPECT_THROW(RunningMeanByObject(ids, std::vector<float>(9), 2), InputError);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // `specht ais` as a user runs it: decode a real NMEA log, prepare a slice of the
 // Brest tracks, cross-validate and train on it, predict with the model; and the
 // errors a user meets first.
+#include <algorithm>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
@@ -53,6 +54,11 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   EXPECT_EQ(cv["models"]["tiny"]["folds"].size(), 2u);
   EXPECT_TRUE(cv["models"].contains("forest"));
   EXPECT_EQ(cv["models"]["tiny+forest"]["folds"].size(), 2u);  // the network and the forest combined
+  EXPECT_EQ(cv["models"]["tiny"]["with_history"]["folds"].size(), 2u);  // each window from its vessel's so far
+  // One row per window and model (tiny, forest, tiny+forest), with the header.
+  const std::string predictions = testing::ReadFile(dir + "/cv/predictions.csv");
+  EXPECT_THAT(predictions, ::testing::StartsWith("index,object_id,fold,model,truth,predicted,p_"));
+  EXPECT_EQ(std::count(predictions.begin(), predictions.end(), '\n'), 1 + 3 * cv["windows"].get<long>());
   EXPECT_TRUE(std::filesystem::exists(dir + "/cv/confusion_forest.png"));
   r = testing::RunSpecht("ais train '" + dir + "/data' -q -o '" + dir + "/model'" + quick);
   ASSERT_EQ(r.exit_code, 0) << r.err;

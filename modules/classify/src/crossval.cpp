@@ -50,6 +50,24 @@ void VoteByObject(const std::vector<std::string>& ids, const std::vector<int>& t
   }
 }
 
+std::vector<float> RunningMeanByObject(const std::vector<std::string>& ids, const std::vector<float>& p,
+                                       int classes) {
+  const size_t k = static_cast<size_t>(classes);
+  if (p.size() != ids.size() * k) throw InputError("RunningMeanByObject: probabilities must be windows × classes");
+  std::map<std::string, std::pair<long, std::vector<double>>> sums;  // id → (windows so far, Σ p)
+  std::vector<float> out(p.size());
+  for (size_t i = 0; i < ids.size(); ++i) {
+    auto& [count, sum] = sums[ids[i]];
+    if (sum.empty()) sum.assign(k, 0.0);
+    ++count;
+    for (size_t c = 0; c < k; ++c) {
+      sum[c] += p[i * k + c];
+      out[i * k + c] = static_cast<float>(sum[c] / static_cast<double>(count));
+    }
+  }
+  return out;
+}
+
 std::vector<int> FoldsByObject(const std::vector<std::string>& ids, const std::vector<int>& labels, int folds,
                                int seed) {
   if (folds < 2) throw InputError("cross-validation needs at least 2 folds");
@@ -81,16 +99,29 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   }
   result.per_fold.resize(o.folds);
   result.per_fold_objects.resize(o.folds);
+  result.per_fold_history.resize(o.folds);
+  result.fold_of = fold;
+  const size_t kc = d.classes.size();
+  for (const auto& name : result.models) result.probabilities[name].assign(fold.size() * kc, 0.0f);
   char line[256];
   for (int f = 0; f < o.folds; ++f) {
     std::vector<size_t> train_rows, test_rows;
     for (size_t i = 0; i < fold.size(); ++i) (fold[i] == f ? test_rows : train_rows).push_back(i);
     const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
-    auto record = [&](const std::string& name, const std::vector<int>& predicted) {
+    // Scores a model's test probabilities three ways and keeps them.
+    auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
+      const std::vector<int> predicted = MostProbable(probabilities, k);
       result.per_fold[f][name] = Score(test.y, predicted, k);
       std::vector<int> ot, op;
       VoteByObject(test.object_ids, test.y, predicted, k, ot, op);
       result.per_fold_objects[f][name] = Score(ot, op, k);
+      result.per_fold_history[f][name] =
+          Score(test.y, MostProbable(RunningMeanByObject(test.object_ids, probabilities, k), k), k);
+      auto& all = result.probabilities[name];
+      for (size_t r = 0; r < test_rows.size(); ++r) {
+        std::copy_n(probabilities.begin() + static_cast<long>(r * kc), kc,
+                    all.begin() + static_cast<long>(test_rows[r] * kc));
+      }
       return result.per_fold[f][name];
     };
     auto report = [&](const std::string& name, const Scores& sc, const std::string& details) {
@@ -110,7 +141,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
       char details[128];
       std::snprintf(details, sizeof(details), " (%zu train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
                     test.size(), epochs.size(), s);
-      report(name, record(name, MostProbable(network_probabilities.back().second, k)), details);
+      report(name, record(name, network_probabilities.back().second), details);
     }
     if (o.forest) {
       ForestBaseline forest(200, 12, o.seed);
@@ -119,10 +150,9 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
       // The forest's own answer is its most voted class (RTrees::predict's, tie
       // included: 0 of 19,331 AIS windows differ), so the trees run once.
       const std::vector<float> forest_probabilities = forest.Probabilities(test_x, k);
-      report("forest", record("forest", MostProbable(forest_probabilities, k)), "");
+      report("forest", record("forest", forest_probabilities), "");
       for (const auto& [name, p] : network_probabilities) {
-        const std::vector<int> combined = MostProbable(CombinedProbabilities(p, forest_probabilities), k);
-        report(name + "+forest", record(name + "+forest", combined), "");
+        report(name + "+forest", record(name + "+forest", CombinedProbabilities(p, forest_probabilities)), "");
       }
     }
   }
@@ -170,6 +200,7 @@ nlohmann::json CrossValidationResult::ToJson(const std::vector<std::string>& cla
     j[name] = Summary(per_fold, name, classes);
     j[name]["pooled"] = pooled.at(name).ToJson(classes);
     j[name]["per_object"] = Summary(per_fold_objects, name, classes);
+    j[name]["with_history"] = Summary(per_fold_history, name, classes);
   }
   return j;
 }

@@ -8,7 +8,10 @@
 // with it ("<network>+forest", CombinedProbabilities). Scores are reported per fold and
 // as mean ± std over folds; confusion matrices are summed over folds. Besides the
 // per-window scores (the paper's), each object is classified by the majority of
-// its windows' predictions (ties: the lower class index) and scored per object.
+// its windows' predictions (ties: the lower class index) and scored per object, and
+// each window is scored once more from its object's history: the mean class
+// probabilities of that window and every earlier window of the same object (the
+// vessel's class from its track so far, as an online classifier would give it).
 #pragma once
 
 #include <functional>
@@ -29,6 +32,12 @@ void VoteByObject(const std::vector<std::string>& object_ids, const std::vector<
                   const std::vector<int>& predicted, int classes, std::vector<int>& object_truth,
                   std::vector<int>& object_predicted);
 
+// Per window, the mean probabilities (windows × classes, row-major) of its object's
+// windows up to and including it, in the order given (time order within an object,
+// as `prepare` writes them).
+std::vector<float> RunningMeanByObject(const std::vector<std::string>& object_ids,
+                                       const std::vector<float>& probabilities, int classes);
+
 // Fold index (0 … folds−1) of every window.
 std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const std::vector<int>& labels, int folds,
                                int seed);
@@ -44,9 +53,15 @@ struct CrossValidationResult {
   std::vector<std::string> models;                      // in report order
   std::vector<std::map<std::string, Scores>> per_fold;  // fold → model → scores per window
   std::vector<std::map<std::string, Scores>> per_fold_objects;  // … per object (majority vote)
+  std::vector<std::map<std::string, Scores>> per_fold_history;  // … per window, from its object's history
   std::map<std::string, Scores> pooled;                 // summed confusion over folds (windows)
+  std::vector<int> fold_of;                             // per window: the fold it was tested in
+  // Per model: every window's class probabilities from the fold that tested it
+  // (windows × classes, row-major; the forest's are its vote fractions).
+  std::map<std::string, std::vector<float>> probabilities;
   // Per model: macro/weighted F1 mean ± std over folds, per-class F1 mean ± std,
-  // pooled confusion, per-fold figures; the same per object under "per_object".
+  // pooled confusion, per-fold figures; the same per object under "per_object" and
+  // from each object's history under "with_history".
   nlohmann::json ToJson(const std::vector<std::string>& classes) const;
 };
 
