@@ -28,9 +28,17 @@ double BackwardExcess(double hi, double slack) { return std::max(0.0, -hi - slac
 
 double DrivePrior::ExcessM(double x, double y, double phi) const { return MinExcessM(x, x, y, y, phi); }
 
-double DrivePrior::MinExcessM(double x0, double x1, double y0, double y1, double phi) const {
+DrivePrior::Axes DrivePrior::AxesAt(double phi) const {
   const double mean_heading = from.phi() + mrpt::math::wrapToPi(phi - from.phi()) / 2;
-  const double c = std::cos(mean_heading), s = std::sin(mean_heading);
+  return {std::cos(mean_heading), std::sin(mean_heading)};
+}
+
+double DrivePrior::MinExcessM(double x0, double x1, double y0, double y1, double phi) const {
+  return MinExcessM(x0, x1, y0, y1, AxesAt(phi));
+}
+
+double DrivePrior::MinExcessM(double x0, double x1, double y0, double y1, const Axes& axes) const {
+  const double c = axes.c, s = axes.s;
   // f and ℓ are linear in (x, y): their extremes over the box are at its corners.
   double f_hi = -std::numeric_limits<double>::infinity();
   double l_lo = std::numeric_limits<double>::infinity(), l_hi = -l_lo;
@@ -223,12 +231,16 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
   // (dx .. dx + 2^level − 1, the same in y), in the sums' units, rounded down so that
   // no leaf below loses less.
   const double penalty_units_per_m = prior.weight_per_m * 255.0 * n;
+  std::vector<DrivePrior::Axes> axes;
+  if (penalty_units_per_m > 0) {
+    for (int a = -half_angles; a <= half_angles; ++a) axes.push_back(prior.AxesAt(guess.phi() + a * step));
+  }
   auto penalty = [&](int level, const Candidate& c) {
     if (penalty_units_per_m <= 0) return 0;
     const double span = ((1 << level) - 1) * resolution_;
     const double x0 = guess.x() + c.dx * resolution_, y0 = guess.y() + c.dy * resolution_;
-    const double th = guess.phi() + (c.angle - half_angles) * step;
-    return static_cast<int>(std::floor(penalty_units_per_m * prior.MinExcessM(x0, x0 + span, y0, y0 + span, th)));
+    return static_cast<int>(
+        std::floor(penalty_units_per_m * prior.MinExcessM(x0, x0 + span, y0, y0 + span, axes[c.angle])));
   };
   // The bound less the penalty. A sum must now beat `beat` + penalty to matter.
   auto scored = [&](int level, const Candidate& c, int beat = 0) {

@@ -47,12 +47,20 @@ struct DrivePrior {
   mrpt::poses::CPose2D from;  // where the robot was (map frame)
   double weight_per_m = 0;    // score lost per metre of excess; 0 = no prior
   double slack_m = 0.2;       // sideways / backward motion allowed freely (several arcs, wheel slip)
-  bool reverse = true;        // whether the robot may back up between scans
+  bool reverse = false;       // whether the robot may back up between scans
+
+  // cos φ̄ and sin φ̄ for heading φ: the same for every position, so a search computes
+  // them once per angle.
+  struct Axes {
+    double c = 1, s = 0;
+  };
+  Axes AxesAt(double phi) const;
 
   // Excess (m) of the pose (x, y, φ).
   double ExcessM(double x, double y, double phi) const;
   // The least excess over positions in [x0, x1] × [y0, y1] at heading φ (a lower bound).
   double MinExcessM(double x0, double x1, double y0, double y1, double phi) const;
+  double MinExcessM(double x0, double x1, double y0, double y1, const Axes& axes) const;
 };
 
 class CorrelativeMatcher {
