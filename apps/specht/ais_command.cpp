@@ -16,9 +16,11 @@
 //       and per window from the vessel's windows so far; every window's test
 //       probabilities in predictions.csv. A trained model is scored on a dataset
 //       with `specht classify eval`.
-//   predict <model dir> <tracks.csv>... -o DIR   classes per vessel (objects.csv) and
-//       per window (windows.csv) with the model's own preprocessing; the network
-//       combined with the forest beside it (--network-only: the network alone).
+//   predict <model dir> <tracks.csv>... -o DIR   classes per vessel (objects.csv: the
+//       mean of its windows' probabilities) and per window (windows.csv: its own
+//       class and the class from the vessel's windows so far) with the model's own
+//       preprocessing; the network combined with the forest beside it
+//       (--network-only: the network alone).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -312,6 +314,11 @@ int RunPredict(const AisArgs& a) {
   std::string objects = "mmsi,ship_type,label,windows,class";
   for (const auto& c : classes) objects += ",p_" + c;
   objects += "\n";
+  // Per window: its own class and probabilities, and the class from the vessel's
+  // windows so far (what an online classifier reports at that window's time).
+  std::string per_window = "mmsi,window,t0,class,class_so_far";
+  for (const auto& c : classes) per_window += ",p_" + c;
+  per_window += "\n";
   std::vector<int> truth, predicted;
   long vessels = 0, windows = 0;
   char buf[32];
@@ -324,14 +331,27 @@ int RunPredict(const AisArgs& a) {
       const auto ws = classifier.Windows({t});
       if (ws.empty()) continue;
       const auto p = classifier.Classify(ws, geo.ForFrame(cos_lat0));
-      std::vector<double> mean(k, 0.0);
-      for (size_t i = 0; i < ws.size(); ++i)
-        for (size_t c = 0; c < k; ++c) mean[c] += p[i * k + c] / ws.size();
-      const int best = static_cast<int>(std::max_element(mean.begin(), mean.end()) - mean.begin());
+      const std::vector<std::string> ids(ws.size(), std::to_string(v.mmsi));
+      const std::vector<float> so_far = classify::RunningMeanByObject(ids, p, static_cast<int>(k));
+      const std::vector<int> own = classify::MostProbable(p, static_cast<int>(k));
+      const std::vector<int> running = classify::MostProbable(so_far, static_cast<int>(k));
+      for (size_t i = 0; i < ws.size(); ++i) {
+        std::snprintf(buf, sizeof(buf), ",%.0f,", ws[i].t0_s);
+        per_window += ids[i] + "," + std::to_string(i) + buf + classes[static_cast<size_t>(own[i])] + "," +
+                      classes[static_cast<size_t>(running[i])];
+        for (size_t c = 0; c < k; ++c) {
+          std::snprintf(buf, sizeof(buf), ",%.4f", static_cast<double>(p[i * k + c]));
+          per_window += buf;
+        }
+        per_window += "\n";
+      }
+      // The vessel's class: the mean over all its windows (the last window's so far).
+      const std::vector<float> mean(so_far.end() - static_cast<long>(k), so_far.end());
+      const int best = running.back();
       objects += std::to_string(v.mmsi) + "," + (v.ship_type >= 0 ? std::to_string(v.ship_type) : "") + "," +
                  t.label + "," + std::to_string(ws.size()) + "," + classes[best];
-      for (double m : mean) {
-        std::snprintf(buf, sizeof(buf), ",%.4f", m);
+      for (float m : mean) {
+        std::snprintf(buf, sizeof(buf), ",%.4f", static_cast<double>(m));
         objects += buf;
       }
       objects += "\n";
@@ -342,6 +362,7 @@ int RunPredict(const AisArgs& a) {
     }
   }
   io::WriteTextAtomically(a.common.out_dir + "/objects.csv", objects);
+  io::WriteTextAtomically(a.common.out_dir + "/windows.csv", per_window);
   io::RunReport report("ais predict");
   auto& j = report.json();
   j["inputs"] = {{"model", a.model_dir}, {"tracks", a.inputs}};
@@ -350,6 +371,7 @@ int RunPredict(const AisArgs& a) {
   j["windows"] = windows;
   if (!truth.empty()) j["metrics_per_vessel"] = classify::Score(truth, predicted, static_cast<int>(k)).ToJson(classes);
   report.AddOutput("objects.csv");
+  report.AddOutput("windows.csv");
   report.Write(a.common.out_dir);
   std::printf("ais predict: %ld vessels classified from %ld windows\n", vessels, windows);
   if (!truth.empty())

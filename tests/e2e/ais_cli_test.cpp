@@ -69,6 +69,9 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' -q -o '" + dir + "/pred'" + data);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(testing::ReadFile(dir + "/pred/objects.csv"), HasSubstr("mmsi,ship_type,label,windows,class"));
+  // Per window: its own class and the class from the vessel's windows so far; the
+  // vessel's class in objects.csv is the last of those.
+  EXPECT_THAT(testing::ReadFile(dir + "/pred/windows.csv"), ::testing::StartsWith("mmsi,window,t0,class,class_so_far,p_"));
   EXPECT_EQ(Report(dir + "/pred")["combination"], "network+forest");
   r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' --network-only -q -o '" + dir +
                          "/pred1'" + data);
