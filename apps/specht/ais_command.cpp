@@ -216,15 +216,28 @@ std::vector<std::string> SplitList(const std::string& s) {
   return out;
 }
 
+// ",p_<class>" for each class: the probability columns of the CSV files below.
+std::string ProbabilityHeader(const std::vector<std::string>& classes) {
+  std::string header;
+  for (const auto& c : classes) header += ",p_" + c;
+  return header;
+}
+
+// Appends ",p" for each of the k probabilities at `p`.
+void AppendProbabilities(std::string& csv, const float* p, size_t k) {
+  char buf[32];
+  for (size_t c = 0; c < k; ++c) {
+    std::snprintf(buf, sizeof(buf), ",%.4f", static_cast<double>(p[c]));
+    csv += buf;
+  }
+}
+
 // predictions.csv: per window and model, the fold that tested it, the truth, the
 // prediction and the class probabilities (join with the dataset's windows.csv by index).
 void WritePredictions(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
                       const std::string& path) {
   const size_t k = d.classes.size();
-  std::string csv = "index,object_id,fold,model,truth,predicted";
-  for (const auto& c : d.classes) csv += ",p_" + c;
-  csv += "\n";
-  char buf[32];
+  std::string csv = "index,object_id,fold,model,truth,predicted" + ProbabilityHeader(d.classes) + "\n";
   for (const auto& name : result.models) {
     const std::vector<float>& p = result.probabilities.at(name);
     const std::vector<int> predicted = classify::MostProbable(p, static_cast<int>(k));
@@ -232,10 +245,7 @@ void WritePredictions(const classify::CrossValidationResult& result, const class
       csv += std::to_string(i) + ',' + d.windows.object_ids[i] + ',' + std::to_string(result.fold_of[i]) + ',' +
              name + ',' + d.classes[static_cast<size_t>(d.windows.y[i])] + ',' +
              d.classes[static_cast<size_t>(predicted[i])];
-      for (size_t c = 0; c < k; ++c) {
-        std::snprintf(buf, sizeof(buf), ",%.4f", static_cast<double>(p[i * k + c]));
-        csv += buf;
-      }
+      AppendProbabilities(csv, p.data() + i * k, k);
       csv += '\n';
     }
   }
@@ -281,16 +291,15 @@ int RunEval(const AisArgs& a) {
   report.Write(out);
   std::printf("ais eval: %zu windows, %d folds by MMSI\n", d.windows.size(), a.folds);
   // Per window (the paper's), per vessel (majority of its windows), and per window
-  // from the vessel's windows so far (mean probabilities).
-  for (const char* level : {"windows", "vessels", "so far"}) {
+  // from the vessel's windows so far (mean probabilities): label, report key.
+  const std::pair<const char*, const char*> levels[] = {
+      {"windows", nullptr}, {"vessels", "per_object"}, {"so far", "with_history"}};
+  for (const auto& [level, key] : levels) {
     std::printf("  %-14s %17s %17s", level, "macro F1", "weighted F1");
     for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
     std::printf("\n");
     for (const auto& name : result.models) {
-      const std::string l = level;
-      const auto& m = l == "windows"   ? j["models"][name]
-                      : l == "vessels" ? j["models"][name]["per_object"]
-                                       : j["models"][name]["with_history"];
+      const auto& m = key ? j["models"][name][key] : j["models"][name];
       std::printf("  %-14s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
                   m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
                   m["weighted_f1"]["std"].get<double>());
@@ -311,14 +320,10 @@ int RunPredict(const AisArgs& a) {
   PrepareOutputDir(a.common, params);
   const auto& classes = classifier.classes();
   const size_t k = classes.size();
-  std::string objects = "mmsi,ship_type,label,windows,class";
-  for (const auto& c : classes) objects += ",p_" + c;
-  objects += "\n";
+  std::string objects = "mmsi,ship_type,label,windows,class" + ProbabilityHeader(classes) + "\n";
   // Per window: its own class and probabilities, and the class from the vessel's
   // windows so far (what an online classifier reports at that window's time).
-  std::string per_window = "mmsi,window,t0,class,class_so_far";
-  for (const auto& c : classes) per_window += ",p_" + c;
-  per_window += "\n";
+  std::string per_window = "mmsi,window,t0,class,class_so_far" + ProbabilityHeader(classes) + "\n";
   std::vector<int> truth, predicted;
   long vessels = 0, windows = 0;
   char buf[32];
@@ -339,21 +344,14 @@ int RunPredict(const AisArgs& a) {
         std::snprintf(buf, sizeof(buf), ",%.0f,", ws[i].t0_s);
         per_window += ids[i] + "," + std::to_string(i) + buf + classes[static_cast<size_t>(own[i])] + "," +
                       classes[static_cast<size_t>(running[i])];
-        for (size_t c = 0; c < k; ++c) {
-          std::snprintf(buf, sizeof(buf), ",%.4f", static_cast<double>(p[i * k + c]));
-          per_window += buf;
-        }
+        AppendProbabilities(per_window, p.data() + i * k, k);
         per_window += "\n";
       }
       // The vessel's class: the mean over all its windows (the last window's so far).
-      const std::vector<float> mean(so_far.end() - static_cast<long>(k), so_far.end());
       const int best = running.back();
       objects += std::to_string(v.mmsi) + "," + (v.ship_type >= 0 ? std::to_string(v.ship_type) : "") + "," +
                  t.label + "," + std::to_string(ws.size()) + "," + classes[best];
-      for (float m : mean) {
-        std::snprintf(buf, sizeof(buf), ",%.4f", static_cast<double>(m));
-        objects += buf;
-      }
+      AppendProbabilities(objects, so_far.data() + so_far.size() - k, k);
       objects += "\n";
       const auto it = std::find(classes.begin(), classes.end(), t.label);
       if (it != classes.end()) truth.push_back(static_cast<int>(it - classes.begin())), predicted.push_back(best);
