@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <optional>
 #include <thread>
 
@@ -80,7 +81,10 @@ void GraphSlam::OnKeyframe(size_t k) {
   }
   if (slam_.method != "graph" || !loops_.enabled) return;
   open_submap_.push_back(k);
-  if (static_cast<int>(open_submap_.size()) >= loops_.keyframes_per_submap) FinishSubmap();
+  if (static_cast<int>(open_submap_.size()) >= loops_.keyframes_per_submap) {
+    FinishSubmap();
+    SearchOldKeyframes(*submaps_.back());
+  }
   if (static_cast<int>(k) % loops_.search_every == 0) SearchLoops(k);
   if (loops_since_optimize_ >= loops_.optimize_every) OptimizeAndCorrect();
 }
@@ -107,23 +111,56 @@ void GraphSlam::FinishSubmap() {
 }
 
 void GraphSlam::SearchLoops(size_t k) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto& kfs = front_end_.keyframes();
   const CPose2D node = graph_.nodes.at(static_cast<int>(k));
-  std::vector<std::pair<double, const Submap*>> candidates;
+  std::vector<std::pair<double, const Submap*>> nearest;
   for (const auto& s : submaps_) {
     if (s->last + loops_.exclude_recent_keyframes > k) continue;
     const CPose2D anchor = graph_.nodes.at(static_cast<int>(s->anchor));
     const double d = (anchor + s->centre_in_anchor).distanceTo(node);
-    if (d <= loops_.search_radius_m) candidates.emplace_back(d, s.get());
+    if (d <= loops_.search_radius_m) nearest.emplace_back(d, s.get());
   }
-  std::sort(candidates.begin(), candidates.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  if (static_cast<int>(candidates.size()) > loops_.max_candidates) candidates.resize(loops_.max_candidates);
-  if (candidates.empty()) return;
+  std::sort(nearest.begin(), nearest.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (static_cast<int>(nearest.size()) > loops_.max_candidates) nearest.resize(loops_.max_candidates);
+  std::vector<LoopCandidate> candidates;
+  for (const auto& [d, s] : nearest) candidates.push_back({s, k});
+  VerifyLoops(candidates);
+}
 
-  const CSimplePointsMap scan = ScanToPoints(*kfs[k].scan);
-  const CSimplePointsMap query = Decimate(WithinRange(scan, loops_.submap_max_range_m), loops_.resolution_m);
+// Cartographer's "constraints for old nodes": a submap sees a place whole only once it
+// is finished, so a keyframe from long before that saw part of the place may match it
+// although the submaps of its own time never matched the later keyframes (orebro's
+// last room, first seen through a door). Keyframes with a loop of their own are left
+// out: their place is closed already, and searching them too made freiburg-079 and
+// orebro worse (README, "Loops from old keyframes").
+void GraphSlam::SearchOldKeyframes(const Submap& s) {
+  const auto& kfs = front_end_.keyframes();
+  const CPose2D centre = graph_.nodes.at(static_cast<int>(s.anchor)) + s.centre_in_anchor;
+  std::vector<std::pair<double, size_t>> nearest;
+  for (size_t j = 0; j + loops_.exclude_recent_keyframes <= s.anchor && j < kfs.size(); ++j) {
+    if (j < closed_.size() && closed_[j]) continue;
+    const double d = graph_.nodes.at(static_cast<int>(j)).distanceTo(centre);
+    if (d <= loops_.search_radius_m) nearest.emplace_back(d, j);
+  }
+  std::sort(nearest.begin(), nearest.end());
+  if (static_cast<int>(nearest.size()) > loops_.old_keyframes_per_submap)
+    nearest.resize(loops_.old_keyframes_per_submap);
+  std::vector<LoopCandidate> candidates;
+  for (const auto& [d, j] : nearest) candidates.push_back({&s, j});
+  VerifyLoops(candidates);
+}
+
+void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
+  if (candidates.empty()) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto& kfs = front_end_.keyframes();
+  // Each keyframe's scan and its decimated query, once however many submaps it meets.
+  std::map<size_t, std::pair<CSimplePointsMap, CSimplePointsMap>> scans;
+  for (const LoopCandidate& c : candidates) {
+    if (scans.count(c.keyframe)) continue;
+    CSimplePointsMap scan = ScanToPoints(*kfs[c.keyframe].scan);
+    CSimplePointsMap query = Decimate(WithinRange(scan, loops_.submap_max_range_m), loops_.resolution_m);
+    scans.emplace(c.keyframe, std::make_pair(std::move(scan), std::move(query)));
+  }
   // A candidate's search and its ICP verification read only its own submap and the
   // scan: every other candidate runs on a second thread (with its own ICP). The edges
   // are added here in candidate order, so they do not depend on the threads.
@@ -134,8 +171,10 @@ void GraphSlam::SearchLoops(size_t k) {
   std::vector<Verified> verified(candidates.size());
   auto verify = [&](size_t first, IcpAligner& icp) {
     for (size_t i = first; i < candidates.size(); i += 2) {
-      const Submap& s = *candidates[i].second;
-      const CPose2D guess = node - graph_.nodes.at(static_cast<int>(s.anchor));
+      const Submap& s = *candidates[i].submap;
+      const auto& [scan, query] = scans.at(candidates[i].keyframe);
+      const CPose2D guess =
+          graph_.nodes.at(static_cast<int>(candidates[i].keyframe)) - graph_.nodes.at(static_cast<int>(s.anchor));
       const auto match = s.matcher->Match(query, guess, loops_.window_m, mrpt::DEG2RAD(loops_.window_deg),
                                           loops_.min_score);
       if (!match) continue;
@@ -155,9 +194,11 @@ void GraphSlam::SearchLoops(size_t k) {
     ++stats_.loop_searches;
     stats_.loops_found += verified[i].found;
     if (!verified[i].accepted) continue;
-    graph_.edges.push_back({static_cast<int>(candidates[i].second->anchor), static_cast<int>(k), *verified[i].accepted,
-                            Information(slam_.loop_sigma_m, slam_.loop_sigma_deg), true});
+    graph_.edges.push_back({static_cast<int>(candidates[i].submap->anchor), static_cast<int>(candidates[i].keyframe),
+                            *verified[i].accepted, Information(slam_.loop_sigma_m, slam_.loop_sigma_deg), true});
     ++stats_.loops_accepted;
+    if (closed_.size() <= candidates[i].keyframe) closed_.resize(candidates[i].keyframe + 1, false);
+    closed_[candidates[i].keyframe] = true;
     ++loops_since_optimize_;
   }
   stats_.loop_search_ms += MillisSince(t0);
@@ -177,6 +218,13 @@ void GraphSlam::OptimizeAndCorrect() {
 }
 
 void GraphSlam::Finish() {
+  // The last submap is finished too when it holds half a submap or more, so the
+  // place the run ends in is searched by the keyframes that saw it before.
+  if (slam_.method == "graph" && loops_.enabled && loops_.old_keyframes_per_submap > 0 &&
+      2 * open_submap_.size() >= static_cast<size_t>(loops_.keyframes_per_submap)) {
+    FinishSubmap();
+    SearchOldKeyframes(*submaps_.back());
+  }
   if (stats_.loops_accepted > 0) OptimizeAndCorrect();
 }
 

@@ -12,6 +12,14 @@
 //               match scoring `min_score` or more, refined by ICP with goodness
 //               `min_icp_goodness` or more, becomes a loop edge anchor → keyframe
 //               under a robust loss.
+//   old nodes   optionally (`old_keyframes_per_submap` > 0; off by default, see the
+//               README's orebro figures), a submap once finished, and the last one
+//               at Finish() when half full, is in turn searched by that many earlier
+//               keyframes nearest its centre that have no loop of their own yet
+//               (Cartographer's constraints for old nodes): a place is whole in a
+//               submap only once finished, and a keyframe that saw part of it long
+//               before may match it although the submaps of its own time never
+//               matched the later keyframes.
 //   back end    nodes = keyframes, edges = consecutive front-end matches and loops;
 //               optimised on Ceres (pose_graph_optimizer.h) after every
 //               `optimize_every` new loops and at Finish(); the front end is then
@@ -39,6 +47,7 @@ struct LoopClosureOptions {
   double search_radius_m = 10.0;
   int exclude_recent_keyframes = 40;
   int max_candidates = 6;
+  int old_keyframes_per_submap = 0;
   double window_m = 3.0;
   double window_deg = 30.0;
   double min_score = 0.55;
@@ -59,6 +68,10 @@ struct LoopClosureOptions {
     v.Param("exclude_recent_keyframes", exclude_recent_keyframes,
             "submaps holding one of the last n keyframes are not loop candidates", Range::Of(1, 10000));
     v.Param("max_candidates", max_candidates, "submaps searched per keyframe (nearest first)", Range::Of(1, 50));
+    v.Param("old_keyframes_per_submap", old_keyframes_per_submap,
+            "a finished submap is searched by this many earlier keyframes without a loop of their own "
+            "(nearest first; 0: none)",
+            Range::Of(0, 1000));
     v.Param("window_m", window_m, "linear half-width of the loop search", Range::Of(0.1, 20.0));
     v.Param("window_deg", window_deg, "angular half-width of the loop search", Range::Of(1.0, 180.0));
     v.Param("min_score", min_score, "accept a loop match from this mean likelihood", Range::Of(0.2, 0.99));
@@ -127,8 +140,14 @@ class GraphSlam {
 
  private:
   struct Submap;
+  struct LoopCandidate {
+    const Submap* submap;
+    size_t keyframe;
+  };
   void OnKeyframe(size_t k);
   void SearchLoops(size_t k);
+  void SearchOldKeyframes(const Submap& s);
+  void VerifyLoops(const std::vector<LoopCandidate>& candidates);
   void FinishSubmap();
   void OptimizeAndCorrect();
 
@@ -142,6 +161,7 @@ class GraphSlam {
   std::vector<std::unique_ptr<Submap>> submaps_;
   std::vector<size_t> open_submap_;  // keyframes of the submap being filled
   int loops_since_optimize_ = 0;
+  std::vector<bool> closed_;  // keyframes with a loop edge of their own
   size_t seeded_ = 0;  // keyframes taken over from a saved map
   GraphSlamStats stats_;
 };
