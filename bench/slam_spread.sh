@@ -4,11 +4,12 @@
 # moved by a centimetre, every loop's covariance widened by under 0.2 % — can flip
 # one decision and the run goes on another way. One run is one draw: this runs
 # `specht slam` on each CARMEN log at the point-to-line gates 0.09, 0.10 and 0.11 m
-# (the default and a centimetre either side) and prints, per log, the relation error
-# of each run and their mean, min and max, as one JSON object.
+# (the default and a centimetre either side; SPREAD_GATES for others) and prints, per
+# log, the relation error of each run and their mean, min and max, as one JSON object.
 # Usage: bench/slam_spread.sh [build-dir] [-- specht slam args...]
 #   e.g. bench/slam_spread.sh build/release -- --set loop_closure.max_candidates=6
 # Logs: SPREAD_LOGS (default: intel freiburg-079 seattle freiburg-101 orebro).
+# Gates: SPREAD_GATES (default: 0.09 0.10 0.11), e.g. "0.08 0.09 0.10 0.11 0.12".
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build/release
@@ -16,7 +17,7 @@ if [[ $# -gt 0 && $1 != "--" ]]; then build=$1; shift; fi
 if [[ $# -gt 0 && $1 == "--" ]]; then shift; fi
 data=${SPECHT_DATA_DIR:-$root/../shared/data}
 logs=${SPREAD_LOGS:-intel freiburg-079 seattle freiburg-101 orebro}
-gates=(0.09 0.10 0.11)
+read -r -a gates <<< "${SPREAD_GATES:-0.09 0.10 0.11}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
