@@ -29,6 +29,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "probability_csv.h"
 #include "run_setup.h"
 #include "specht/ais/dataset.h"
 #include "specht/ais/decoder.h"
@@ -214,22 +215,6 @@ std::vector<std::string> SplitList(const std::string& s) {
   for (std::string x; std::getline(in, x, ',');)
     if (!x.empty()) out.push_back(x);
   return out;
-}
-
-// ",p_<class>" for each class: the probability columns of the CSV files below.
-std::string ProbabilityHeader(const std::vector<std::string>& classes) {
-  std::string header;
-  for (const auto& c : classes) header += ",p_" + c;
-  return header;
-}
-
-// Appends ",p" for each of the k probabilities at `p`.
-void AppendProbabilities(std::string& csv, const float* p, size_t k) {
-  char buf[32];
-  for (size_t c = 0; c < k; ++c) {
-    std::snprintf(buf, sizeof(buf), ",%.4f", static_cast<double>(p[c]));
-    csv += buf;
-  }
 }
 
 // predictions.csv: per window and model, the fold that tested it, the truth, the

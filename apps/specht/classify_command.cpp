@@ -24,6 +24,7 @@
 #include <set>
 
 #include "commands.h"
+#include "probability_csv.h"
 #include "run_setup.h"
 #include "scenario_map_features.h"
 #include "specht/classify/baseline.h"
@@ -198,8 +199,7 @@ int RunPredict(const ClassifyArgs& a) {
 
   io::MakeOutputDir(a.common.out_dir);
   const std::string& out = a.common.out_dir;
-  std::string header;
-  for (const auto& c : classes) header += ",p_" + c;
+  const std::string header = ProbabilityHeader(classes);
   std::string window_csv = "object_id,t0_s,t1_s,class" + header + "\n";
   std::map<std::string, std::vector<double>> object_sum;
   std::map<std::string, int> object_windows;
@@ -214,11 +214,8 @@ int RunPredict(const ClassifyArgs& a) {
     window_csv += w.object_id + buf + classes[best];
     auto& sum = object_sum[w.object_id];
     sum.resize(k, 0.0);
-    for (size_t c = 0; c < k; ++c) {
-      std::snprintf(buf, sizeof(buf), ",%.4f", row[c]);
-      window_csv += buf;
-      sum[c] += row[c];
-    }
+    AppendProbabilities(window_csv, row, k);
+    for (size_t c = 0; c < k; ++c) sum[c] += row[c];
     window_csv += "\n";
     ++object_windows[w.object_id];
     const auto it = std::find(classes.begin(), classes.end(), w.label);
@@ -230,10 +227,9 @@ int RunPredict(const ClassifyArgs& a) {
     const int best = static_cast<int>(std::max_element(sum.begin(), sum.end()) - sum.begin());
     ++per_class[classes[best]];
     object_csv += id + "," + std::to_string(object_windows[id]) + "," + classes[best];
-    for (double v : sum) {
-      std::snprintf(buf, sizeof(buf), ",%.4f", v / object_windows[id]);
-      object_csv += buf;
-    }
+    std::vector<double> mean(sum);
+    for (double& v : mean) v /= object_windows[id];
+    AppendProbabilities(object_csv, mean.data(), k);
     object_csv += "\n";
   }
   io::WriteTextAtomically(out + "/windows.csv", window_csv);
