@@ -133,6 +133,7 @@ void GraphSlam::SearchLoops(size_t k) {
 // out: their place is closed already, and searching them too made freiburg-079 and
 // orebro worse (README, "Loops from old keyframes").
 void GraphSlam::SearchOldKeyframes(const Submap& s) {
+  if (loops_.old_keyframes_per_submap <= 0) return;
   const auto& kfs = front_end_.keyframes();
   const CPose2D centre = graph_.nodes.at(static_cast<int>(s.anchor)) + s.centre_in_anchor;
   std::vector<std::pair<double, size_t>> nearest;
