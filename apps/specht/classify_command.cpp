@@ -28,6 +28,7 @@
 #include "run_setup.h"
 #include "scenario_map_features.h"
 #include "specht/classify/baseline.h"
+#include "specht/classify/crossval.h"
 #include "specht/classify/dataset_io.h"
 #include "specht/classify/metrics.h"
 #include "specht/classify/model.h"
@@ -201,35 +202,37 @@ int RunPredict(const ClassifyArgs& a) {
   const std::string& out = a.common.out_dir;
   const std::string header = ProbabilityHeader(classes);
   std::string window_csv = "object_id,t0_s,t1_s,class" + header + "\n";
-  std::map<std::string, std::vector<double>> object_sum;
-  std::map<std::string, int> object_windows;
   std::vector<int> truth, predicted;
   const std::vector<int> most_probable = classify::MostProbable(p, static_cast<int>(k));
+  std::vector<std::string> ids;
   char buf[64];
   for (size_t i = 0; i < windows.size(); ++i) {
     const auto& w = windows[i];
-    const float* row = p.data() + i * k;
     const int best = most_probable[i];
     std::snprintf(buf, sizeof(buf), ",%.3f,%.3f,", w.t0_s, w.points.back().t_s);
     window_csv += w.object_id + buf + classes[best];
-    auto& sum = object_sum[w.object_id];
-    sum.resize(k, 0.0);
-    AppendProbabilities(window_csv, row, k);
-    for (size_t c = 0; c < k; ++c) sum[c] += row[c];
+    AppendProbabilities(window_csv, p.data() + i * k, k);
     window_csv += "\n";
-    ++object_windows[w.object_id];
+    ids.push_back(w.object_id);
     const auto it = std::find(classes.begin(), classes.end(), w.label);
     if (it != classes.end()) truth.push_back(static_cast<int>(it - classes.begin())), predicted.push_back(best);
   }
+  // An object's class: the mean of all its windows' probabilities, which is the
+  // running mean at its last window.
+  const std::vector<float> so_far = classify::RunningMeanByObject(ids, p, static_cast<int>(k));
+  std::map<std::string, std::pair<size_t, long>> last_and_count;  // id → (last window, windows)
+  for (size_t i = 0; i < ids.size(); ++i) {
+    auto& [last, count] = last_and_count[ids[i]];
+    last = i, ++count;
+  }
   std::string object_csv = "object_id,windows,class" + header + "\n";
   std::map<std::string, long> per_class;
-  for (const auto& [id, sum] : object_sum) {
-    const int best = static_cast<int>(std::max_element(sum.begin(), sum.end()) - sum.begin());
+  for (const auto& [id, last_count] : last_and_count) {
+    const float* mean = so_far.data() + last_count.first * k;
+    const int best = static_cast<int>(std::max_element(mean, mean + k) - mean);
     ++per_class[classes[best]];
-    object_csv += id + "," + std::to_string(object_windows[id]) + "," + classes[best];
-    std::vector<double> mean(sum);
-    for (double& v : mean) v /= object_windows[id];
-    AppendProbabilities(object_csv, mean.data(), k);
+    object_csv += id + "," + std::to_string(last_count.second) + "," + classes[best];
+    AppendProbabilities(object_csv, mean, k);
     object_csv += "\n";
   }
   io::WriteTextAtomically(out + "/windows.csv", window_csv);
@@ -247,7 +250,7 @@ int RunPredict(const ClassifyArgs& a) {
   report.AddOutput("objects.csv");
   report.Write(out);
   std::printf("classify predict: %zu tracks → %zu windows, %zu objects classified\n", trajectories.size(),
-              windows.size(), object_sum.size());
+              windows.size(), last_and_count.size());
   for (const auto& [cls, n] : per_class) std::printf("  %-12s %ld\n", cls.c_str(), n);
   if (!truth.empty())
     std::printf("  labelled windows: %zu, macro F1 %.3f\n", truth.size(),

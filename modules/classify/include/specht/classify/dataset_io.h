@@ -1,7 +1,7 @@
 // specht/classify/dataset_io.h: prepared datasets on disk, readable with numpy:
 //   windows.npy      float32, windows × features × length (NumPy .npy v1.0)
 //   handcrafted.npy  float32, windows × HandcraftedFeatureCount() (the baseline's)
-//   windows.csv      index,object_id,label,t0_s,valid
+//   windows.csv      index,object_id,label
 //   dataset.json     feature names, length, classes, counts per preprocessing step
 #pragma once
 
