@@ -1,5 +1,6 @@
 #include "mapping_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <tuple>
@@ -140,6 +141,56 @@ void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyG
   io::RawlogWriter keyframes(out + "/keyframes.rawlog");
   for (const auto& kf : slam.keyframes()) keyframes.Write(*kf.scan);
   keyframes.Close();
+}
+
+// The loop closures as the final graph holds them (slam/pose_graph_optimizer.h's
+// LoopResiduals): how many the robust loss keeps (weight ≥ 0.5), weakens, or sets
+// aside (< 0.1: aliases, or matches off by far more than their noise); their errors;
+// the worst by χ², named by their keyframes' scans; and loops.png, every loop drawn on
+// the map in the colour of its weight.
+void ReportLoops(const slam::GraphSlam& slam, const slam::PoseGraphOptions& options,
+                 const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& trajectory, const std::string& out,
+                 nlohmann::json& metrics) {
+  std::vector<slam::LoopResidual> loops = slam::LoopResiduals(slam.graph(), options);
+  const auto& keyframes = slam.keyframes();
+  const auto& nodes = slam.graph().nodes;
+  Trajectory kept, weakened, set_aside;
+  std::vector<double> kept_m;
+  for (const auto& l : loops) {
+    Trajectory& group = l.weight >= 0.5 ? kept : l.weight >= 0.1 ? weakened : set_aside;
+    for (int id : {l.from, l.to}) {
+      const mrpt::poses::CPose2D& p = nodes.at(id);
+      group.push_back({Stamp{}, mrpt::poses::CPose3D(p.x(), p.y(), 0, p.phi(), 0, 0)});
+    }
+    if (l.weight >= 0.5) kept_m.push_back(l.error_m);
+  }
+  std::sort(kept_m.begin(), kept_m.end());
+  auto quantile = [&](double q) { return kept_m.empty() ? 0.0 : kept_m[static_cast<size_t>(q * (kept_m.size() - 1))]; };
+  nlohmann::json j = {{"edges", loops.size()},
+                      {"kept", kept.size() / 2},
+                      {"weakened", weakened.size() / 2},
+                      {"set_aside", set_aside.size() / 2},
+                      {"kept_error_m", {{"p50", quantile(0.5)}, {"p95", quantile(0.95)}, {"max", quantile(1.0)}}}};
+  std::sort(loops.begin(), loops.end(), [](const auto& a, const auto& b) { return a.chi2 > b.chi2; });
+  nlohmann::json worst = nlohmann::json::array();
+  for (size_t i = 0; i < std::min<size_t>(5, loops.size()); ++i) {
+    const auto& l = loops[i];
+    const auto scan = [&](int id) { return keyframes.at(static_cast<size_t>(id)).scan_index; };
+    const auto t = [&](int id) { return keyframes.at(static_cast<size_t>(id)).stamp.Seconds(); };
+    worst.push_back({{"from_scan", scan(l.from)}, {"to_scan", scan(l.to)}, {"t_from", t(l.from)}, {"t_to", t(l.to)},
+                     {"error_m", l.error_m}, {"error_deg", l.error_deg}, {"weight", l.weight}});
+  }
+  j["worst"] = worst;
+  metrics["loops"] = j;
+  spdlog::info("loops in the final graph: {} kept, {} weakened, {} set aside by the robust loss (kept: error p50 "
+               "{:.3f} m, p95 {:.3f} m)",
+               kept.size() / 2, weakened.size() / 2, set_aside.size() / 2, quantile(0.5), quantile(0.95));
+  const std::vector<io::PathOverlay> paths = {
+      {&trajectory, {30, 90, 220}, "estimate"},
+      {&kept, {40, 170, 60}, "loop kept (" + std::to_string(kept.size() / 2) + ")", false, true},
+      {&weakened, {240, 150, 0}, "loop weakened (" + std::to_string(weakened.size() / 2) + ")", false, true},
+      {&set_aside, {220, 30, 30}, "loop set aside (" + std::to_string(set_aside.size() / 2) + ")", false, true}};
+  io::WriteMapPng(grid, paths, out + "/loops.png");
 }
 
 struct SavedMap {
@@ -359,7 +410,9 @@ int RunMapping(MappingArgs a, const std::string& command) {
     j["timing"]["optimize_ms"] = be.optimize_ms;
     auto t = timer.Time("write");
     WriteMapArtefact(slam, grid, out);
-    for (const char* f : {"map.yaml", "map.pgm", "map.gridmap", "graph.g2o", "keyframes.rawlog"}) report.AddOutput(f);
+    ReportLoops(slam, params.Get<slam::PoseGraphOptions>("pose_graph"), grid, trajectory, out, j["metrics"]);
+    for (const char* f : {"map.yaml", "map.pgm", "map.gridmap", "graph.g2o", "keyframes.rawlog", "loops.png"})
+      report.AddOutput(f);
   }
   for (const auto& skipped : source->SkippedRecords()) spdlog::warn("skipped {}", skipped);
 

@@ -14,8 +14,9 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const char* kOutputs[] = {"map.yaml", "map.pgm",    "map.gridmap", "map.png",   "trajectory.tum",
-                          "graph.g2o", "keyframes.rawlog", "params.yaml", "report.json", "report.md"};
+const char* kOutputs[] = {"map.yaml",  "map.pgm",          "map.gridmap", "map.png",     "trajectory.tum",
+                          "graph.g2o", "keyframes.rawlog", "loops.png",   "params.yaml", "report.json",
+                          "report.md"};
 
 nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
@@ -29,6 +30,14 @@ TEST(ReplayCliTest, DefaultRunWritesEveryOutput) {
   EXPECT_EQ(report["status"], "complete");
   EXPECT_EQ(report["counts"]["scans"], 225);
   EXPECT_GT(report["timing"]["real_time_factor"].get<double>(), 1.0);
+  // The log's one loop, closed by loops that all agree: none set aside, each kept
+  // one within a few centimetres of the final graph.
+  const auto& loops = report["metrics"]["loops"];
+  EXPECT_GT(loops["kept"].get<int>(), 10);
+  EXPECT_EQ(loops["set_aside"].get<int>(), 0);
+  EXPECT_EQ(loops["edges"].get<int>(), loops["kept"].get<int>() + loops["weakened"].get<int>());
+  EXPECT_LT(loops["kept_error_m"]["max"].get<double>(), 0.05);
+  EXPECT_EQ(loops["worst"].size(), 5u);
   // 225 scans, one TUM line each after the header.
   const std::string tum = testing::ReadFile(out + "/trajectory.tum");
   EXPECT_EQ(std::count(tum.begin(), tum.end(), '\n'), 226);
@@ -39,7 +48,8 @@ TEST(ReplayCliTest, SameInputTwiceGivesByteIdenticalMapAndTrajectory) {
   const std::string a = testing::TempDir() + "/a", b = testing::TempDir() + "/b";
   ASSERT_EQ(testing::RunSpecht("replay -q -o '" + a + "'").exit_code, 0);
   ASSERT_EQ(testing::RunSpecht("replay -q -o '" + b + "'").exit_code, 0);
-  for (const char* f : {"map.pgm", "map.yaml", "map.gridmap", "map.png", "trajectory.tum", "params.yaml"}) {
+  for (const char* f :
+       {"map.pgm", "map.yaml", "map.gridmap", "map.png", "loops.png", "trajectory.tum", "params.yaml"}) {
     EXPECT_TRUE(testing::ReadFile(a + "/" + f) == testing::ReadFile(b + "/" + f)) << f << " differs";
   }
 }

@@ -46,6 +46,37 @@ TEST(PoseGraphTest, RecoversASquareFromNoisyOdometryAndOneLoop) {
   EXPECT_NEAR(g.nodes[2].distanceTo(g.nodes[0]), std::sqrt(2.0), 0.15);
 }
 
+TEST(PoseGraphTest, LoopResidualsSetAsideTheLoopThatDisagrees) {
+  // A straight corridor of 11 nodes 1 m apart with exact odometry, two loops from
+  // node 0: one to node 10 saying 10 m (true), one to node 5 saying 8 m (an alias
+  // 3 m off). Both loops as information 100 (σ = 0.1 m); odometry 10⁴.
+  PoseGraph2D g;
+  for (int i = 0; i <= 10; ++i) g.nodes[i] = mrpt::poses::CPose2D(i, 0, 0);
+  for (int i = 0; i < 10; ++i)
+    g.edges.push_back({i, i + 1, mrpt::poses::CPose2D(1, 0, 0), Eigen::Matrix3d::Identity() * 1e4});
+  g.edges.push_back({0, 10, mrpt::poses::CPose2D(10, 0, 0), Eigen::Matrix3d::Identity() * 100, true});
+  g.edges.push_back({0, 5, mrpt::poses::CPose2D(8, 0, 0), Eigen::Matrix3d::Identity() * 100, true});
+  slam::PoseGraphOptions o;
+  slam::Optimize(g, o);
+  auto loops = slam::LoopResiduals(g, o);
+  ASSERT_EQ(loops.size(), 2u);  // the robust edges only, in edge order
+  EXPECT_EQ(loops[0].to, 10);
+  EXPECT_EQ(loops[1].to, 5);
+  EXPECT_LT(loops[0].error_m, 0.05);
+  EXPECT_GT(loops[0].weight, 0.5);
+  EXPECT_NEAR(loops[1].error_m, 3.0, 0.05);
+  // s = 100 · 3² = 900 whitened; Cauchy with c = 1 leaves 1 / (1 + 900).
+  EXPECT_NEAR(loops[1].chi2, 900, 30);
+  EXPECT_NEAR(loops[1].weight, 1.0 / (1.0 + loops[1].chi2), 1e-9);
+  EXPECT_LT(loops[1].weight, 0.01);
+  o.loop_loss = "huber";
+  loops = slam::LoopResiduals(g, o);
+  EXPECT_NEAR(loops[1].weight, 1.0 / std::sqrt(loops[1].chi2), 1e-9);
+  EXPECT_DOUBLE_EQ(loops[0].weight, 1.0);  // inside Huber's quadratic part
+  o.loop_loss = "none";
+  EXPECT_DOUBLE_EQ(slam::LoopResiduals(g, o)[1].weight, 1.0);
+}
+
 std::string ReadError(const std::string& text, io::OnBadRecord on_bad = io::OnBadRecord::kStop) {
   const std::string path = testing::TempDir() + "/g.g2o";
   testing::WriteFile(path, text);

@@ -172,6 +172,8 @@ void WriteMapPng(const COccupancyGridMap2D& grid, const std::vector<PathOverlay>
     if (pts.empty()) continue;
     if (overlay.markers) {
       for (const auto& pt : pts) cv::circle(img, pt, 3 + thickness, color, cv::FILLED, cv::LINE_AA);
+    } else if (overlay.segments) {
+      for (size_t i = 0; i + 1 < pts.size(); i += 2) cv::line(img, pts[i], pts[i + 1], color, 1, cv::LINE_AA);
     } else {
       cv::polylines(img, pts, false, color, thickness, cv::LINE_AA);
       cv::circle(img, pts.front(), 4 + thickness, color, 2, cv::LINE_AA);

@@ -102,6 +102,13 @@ Eigen::Matrix3d MeasurementFrame(const PoseGraphEdge& e) {
   return m;
 }
 
+// The robust loss on loop edges (none: nullptr, the plain square).
+std::unique_ptr<ceres::LossFunction> LoopLoss(const PoseGraphOptions& options) {
+  if (options.loop_loss == "cauchy") return std::make_unique<ceres::CauchyLoss>(options.loop_loss_scale);
+  if (options.loop_loss == "huber") return std::make_unique<ceres::HuberLoss>(options.loop_loss_scale);
+  return nullptr;
+}
+
 }  // namespace
 
 OptimizeSummary Optimize(PoseGraph2D& graph, const PoseGraphOptions& options) {
@@ -125,10 +132,7 @@ OptimizeSummary Optimize(PoseGraph2D& graph, const PoseGraphOptions& options) {
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   AngleManifold angle_manifold;
-  std::unique_ptr<ceres::LossFunction> loop_loss;
-  if (options.loop_loss == "cauchy") loop_loss = std::make_unique<ceres::CauchyLoss>(options.loop_loss_scale);
-  if (options.loop_loss == "huber") loop_loss = std::make_unique<ceres::HuberLoss>(options.loop_loss_scale);
-  ceres::LossFunctionWrapper shared_loss(loop_loss.release(), ceres::TAKE_OWNERSHIP);
+  ceres::LossFunctionWrapper shared_loss(LoopLoss(options).release(), ceres::TAKE_OWNERSHIP);
 
   for (const auto& e : graph.edges) {
     auto a = state.find(e.from), b = state.find(e.to);
@@ -161,6 +165,27 @@ OptimizeSummary Optimize(PoseGraph2D& graph, const PoseGraphOptions& options) {
   out.usable = summary.IsSolutionUsable();
   out.report = summary.BriefReport();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+std::vector<LoopResidual> LoopResiduals(const PoseGraph2D& graph, const PoseGraphOptions& options) {
+  const std::unique_ptr<ceres::LossFunction> loss = LoopLoss(options);
+  std::vector<LoopResidual> out;
+  for (const auto& e : graph.edges) {
+    if (!e.robust) continue;
+    const Eigen::Vector3d r = EdgeError(graph, e);
+    LoopResidual l;
+    l.from = e.from, l.to = e.to;
+    l.error_m = r.head<2>().norm();
+    l.error_deg = std::abs(r.z()) * 180.0 / M_PI;
+    l.chi2 = r.dot(e.information * r);
+    if (loss) {
+      double rho[3];
+      loss->Evaluate(l.chi2, rho);
+      l.weight = rho[1];
+    }
+    out.push_back(l);
+  }
   return out;
 }
 

@@ -26,8 +26,12 @@ struct PoseGraph2D {
   std::vector<PoseGraphEdge> edges;
 };
 
-// χ² = Σ e_ijᵀ Ω_ij e_ij with g2o's error, in the measurement's frame:
+// An edge's error with g2o's convention, in the measurement's frame:
 //   e_ij = t2v(Z_ij⁻¹ (X_i⁻¹ X_j)) = (R(θ_ij)ᵀ [R_iᵀ(p_j − p_i) − t_ij], wrap(θ_j − θ_i − θ_ij)).
+// Both nodes must exist (std::out_of_range otherwise).
+Eigen::Vector3d EdgeError(const PoseGraph2D& graph, const PoseGraphEdge& edge);
+
+// χ² = Σ e_ijᵀ Ω_ij e_ij over all edges.
 double Chi2(const PoseGraph2D& graph);
 
 }  // namespace specht

@@ -35,7 +35,8 @@ struct PathOverlay {
   const Trajectory* trajectory = nullptr;
   std::array<unsigned char, 3> rgb{30, 90, 220};
   std::string label;
-  bool markers = false;  // one dot per pose instead of a line (e.g. obstacles)
+  bool markers = false;   // one dot per pose instead of a line (e.g. obstacles)
+  bool segments = false;  // poses 0–1, 2–3, … as separate thin lines (e.g. loop closures)
 };
 
 // Renders the known part of the map (cropped, with a margin) at least `min_width_px`

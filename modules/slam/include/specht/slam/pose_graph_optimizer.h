@@ -60,4 +60,20 @@ struct OptimizeSummary {
 // node or an information matrix is not symmetric positive definite.
 OptimizeSummary Optimize(PoseGraph2D& graph, const PoseGraphOptions& options);
 
+// How a loop-closure (robust) edge sits in a graph, usually the optimised one: its
+// error e_ij (pose_graph.h's EdgeError) as a distance and an angle, s = e_ijᵀ Ω_ij e_ij,
+// and the weight the robust loss leaves it in the normal equations, ρ'(s):
+//   Cauchy (scale c): 1 / (1 + s / c²)    Huber: min(1, c / √s)    none: 1.
+// A loop that disagrees with the rest of the graph ends with a weight near 0: the
+// robust loss has set it aside (an alias, or a match off by more than its noise).
+struct LoopResidual {
+  int from = 0, to = 0;
+  double error_m = 0, error_deg = 0;
+  double chi2 = 0;
+  double weight = 1;
+};
+
+// One entry per robust edge of `graph`, in edge order.
+std::vector<LoopResidual> LoopResiduals(const PoseGraph2D& graph, const PoseGraphOptions& options);
+
 }  // namespace specht::slam
