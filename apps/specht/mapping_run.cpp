@@ -154,15 +154,16 @@ void ReportLoops(const slam::GraphSlam& slam, const slam::PoseGraphOptions& opti
   std::vector<slam::LoopResidual> loops = slam::LoopResiduals(slam.graph(), options);
   const auto& keyframes = slam.keyframes();
   const auto& nodes = slam.graph().nodes;
-  Trajectory kept, weakened, set_aside;
+  constexpr double kKeptWeight = 0.5, kSetAsideWeight = 0.1;
+  Trajectory kept, weakened, set_aside;  // the loops' end poses in pairs, as PathOverlay segments
   std::vector<double> kept_m;
   for (const auto& l : loops) {
-    Trajectory& group = l.weight >= 0.5 ? kept : l.weight >= 0.1 ? weakened : set_aside;
+    Trajectory& group = l.weight >= kKeptWeight ? kept : l.weight >= kSetAsideWeight ? weakened : set_aside;
     for (int id : {l.from, l.to}) {
       const mrpt::poses::CPose2D& p = nodes.at(id);
       group.push_back({Stamp{}, mrpt::poses::CPose3D(p.x(), p.y(), 0, p.phi(), 0, 0)});
     }
-    if (l.weight >= 0.5) kept_m.push_back(l.error_m);
+    if (&group == &kept) kept_m.push_back(l.error_m);
   }
   std::sort(kept_m.begin(), kept_m.end());
   auto quantile = [&](double q) { return kept_m.empty() ? 0.0 : kept_m[static_cast<size_t>(q * (kept_m.size() - 1))]; };
