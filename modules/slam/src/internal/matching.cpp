@@ -43,7 +43,8 @@ bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const Scan
 // The correlative matcher's best pose around each of `centres` against `reference`,
 // refined by ICP, and the best of those: nullopt when nothing scores `min_score`, or
 // ICP pairs too few points or moves the coarse pose out of bounds. `score` is on the
-// correlative grid; a tie goes to the earlier centre. The grid is built on the first
+// correlative grid; a tie goes to the earlier centre. A refinement that loses more
+// than refine_max_loss of the coarse pose's score is refused for the coarse pose. The grid is built on the first
 // search and kept for the next from the same reference; the searches around several
 // centres run in parallel (the grid is read-only; ICP refines on the calling thread).
 struct SearchResult {
@@ -80,9 +81,11 @@ class Searcher {
           !WithinCorrectionBounds(refined.pose, coarse[i]->pose, options_)) {
         return;
       }
-      const double score = matcher_->Score(query_, refined.pose, prior_);
+      CPose2D pose = refined.pose;
+      double score = matcher_->Score(query_, pose, prior_);
+      if (score < (1 - options_.refine_max_loss) * coarse[i]->score) pose = coarse[i]->pose, score = coarse[i]->score;
       if (!best || score > best->score) {
-        best = SearchResult{refined.pose, score, icp_pose ? matcher_->Score(query_, *icp_pose, prior_) : 0.0};
+        best = SearchResult{pose, score, icp_pose ? matcher_->Score(query_, *icp_pose, prior_) : 0.0};
       }
     };
     std::vector<std::thread> others;
