@@ -421,6 +421,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
   j["counts"]["scans"] = fe.scans;
   j["counts"]["rejected_matches"] = fe.rejected_matches;
   j["counts"]["recovered_matches"] = fe.recovered_matches;
+  j["counts"]["rechecked_steps"] = fe.rechecked_steps;
   j["counts"]["odometry"] = fe.odometry;
   j["counts"]["imu"] = fe.imu;
   j["counts"]["ignored"] = fe.ignored;

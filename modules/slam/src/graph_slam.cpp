@@ -17,8 +17,8 @@ using mrpt::poses::CPose2D;
 using mrpt::poses::CPose3D;
 
 struct GraphSlam::Submap {
-  size_t anchor = 0;        // keyframe whose frame the submap is in
-  size_t last = 0;          // its last keyframe
+  size_t anchor = 0;         // keyframe whose frame the submap is in
+  size_t last = 0;           // its last keyframe
   CPose2D centre_in_anchor;  // mean of its keyframe positions
   IndexedPoints points;      // in the anchor frame
   std::unique_ptr<CorrelativeMatcher> matcher;
@@ -51,6 +51,7 @@ GraphSlam::~GraphSlam() = default;
 void GraphSlam::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation) {
   const size_t before = front_end_.keyframes().size();
   front_end_.Add(stamp, observation);
+  if (const auto moved = front_end_.TakeMovedKeyframes()) OnKeyframesMoved(*moved, before);
   if (front_end_.keyframes().size() > before) OnKeyframe(front_end_.keyframes().size() - 1);
 }
 
@@ -89,25 +90,49 @@ void GraphSlam::OnKeyframe(size_t k) {
   if (loops_since_optimize_ >= loops_.optimize_every) OptimizeAndCorrect();
 }
 
+// The front end moved keyframes `first`.. rigidly (a recheck of a searched step):
+// their nodes follow, the edge into `first` takes the new step, and a finished submap
+// that holds keyframes on both sides of `first` is rebuilt. Loop edges stay: each
+// measures one scan against one submap, whatever the chain between them.
+void GraphSlam::OnKeyframesMoved(size_t first, size_t in_graph) {
+  const auto& kfs = front_end_.keyframes();
+  for (size_t j = first; j < in_graph; ++j) graph_.nodes[static_cast<int>(j)] = kfs[j].pose;
+  for (auto& e : graph_.edges) {
+    if (!e.robust && e.to == static_cast<int>(first) && e.from + 1 == e.to)
+      e.measurement = kfs[first].pose - kfs[first - 1].pose;
+  }
+  for (auto& s : submaps_) {
+    if (s->anchor < first && s->last >= first) {
+      std::vector<size_t> members;
+      for (size_t j = s->anchor; j <= s->last; ++j) members.push_back(j);
+      s = BuildSubmap(members);
+    }
+  }
+}
+
 void GraphSlam::FinishSubmap() {
+  submaps_.push_back(BuildSubmap(open_submap_));
+  open_submap_.clear();
+}
+
+std::unique_ptr<GraphSlam::Submap> GraphSlam::BuildSubmap(const std::vector<size_t>& members) const {
   const auto& kfs = front_end_.keyframes();
   auto s = std::make_unique<Submap>();
-  s->anchor = open_submap_.front();
-  s->last = open_submap_.back();
+  s->anchor = members.front();
+  s->last = members.back();
   const CPose2D anchor = kfs[s->anchor].pose;
   double cx = 0, cy = 0;
   CSimplePointsMap points;
-  for (size_t k : open_submap_) {
+  for (size_t k : members) {
     const CPose2D in_anchor = kfs[k].pose - anchor;
     const CSimplePointsMap scan = WithinRange(ScanToPoints(*kfs[k].scan), loops_.submap_max_range_m);
     points.insertAnotherMap(&scan, CPose3D(in_anchor));
     cx += in_anchor.x(), cy += in_anchor.y();
   }
-  s->centre_in_anchor = CPose2D(cx / open_submap_.size(), cy / open_submap_.size(), 0);
+  s->centre_in_anchor = CPose2D(cx / members.size(), cy / members.size(), 0);
   s->points = IndexedPoints(Decimate(points, loops_.resolution_m / 2));
   s->matcher = std::make_unique<CorrelativeMatcher>(s->points.points(), loops_.resolution_m, loops_.window_m);
-  submaps_.push_back(std::move(s));
-  open_submap_.clear();
+  return s;
 }
 
 void GraphSlam::SearchLoops(size_t k) {
@@ -176,8 +201,8 @@ void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
       const auto& [scan, query] = scans.at(candidates[i].keyframe);
       const CPose2D guess =
           graph_.nodes.at(static_cast<int>(candidates[i].keyframe)) - graph_.nodes.at(static_cast<int>(s.anchor));
-      const auto match = s.matcher->Match(query, guess, loops_.window_m, mrpt::DEG2RAD(loops_.window_deg),
-                                          loops_.min_score);
+      const auto match =
+          s.matcher->Match(query, guess, loops_.window_m, mrpt::DEG2RAD(loops_.window_deg), loops_.min_score);
       if (!match) continue;
       verified[i].found = true;
       const IcpResult refined = icp.Align(s.points, scan, match->pose);

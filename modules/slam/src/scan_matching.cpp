@@ -1,12 +1,14 @@
 #include "specht/slam/scan_matching.h"
 
-#include <cmath>
-#include <deque>
-
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
+#include <cmath>
+#include <deque>
+#include <map>
+
 #include "internal/matching.h"
+#include "specht/slam/correlative_matcher.h"
 
 namespace specht::slam {
 
@@ -32,13 +34,18 @@ std::vector<std::string> GridOptions::Relations() const {
 struct ScanMatchingMapper::Impl {
   explicit Impl(const IcpOptions& options) : icp(options) {}
   IcpAligner icp;
-  CSimplePointsMap submap_points;       // the keyframes' points in the map frame
-  std::optional<IndexedPoints> submap;  // their tree, built when the next scan needs it
+  CSimplePointsMap submap_points;                // the keyframes' points in the map frame
+  std::optional<IndexedPoints> submap;           // their tree, built when the next scan needs it
   std::deque<CSimplePointsMap> keyframe_points;  // the last submap_keyframes, base frame
   std::deque<size_t> keyframe_poses;             // their indices into keyframes_
   internal::MotionPrior motion;
+  std::map<size_t, std::unique_ptr<CorrelativeMatcher>> recheck_maps;  // per keyframe k: the keyframes before it
 };
 
+namespace {
+// A recheck may not make the checked keyframe's own scan fit worse than this.
+constexpr double kOwnScoreSlack = 0.02;
+}  // namespace
 
 ScanMatchingMapper::ScanMatchingMapper(const ScanMatchingOptions& options, const TransformTree* frames,
                                        std::string base_frame)
@@ -82,8 +89,10 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   const CPose2D guess = scans_.empty() ? start_ : predicted;
   CPose2D pose = guess;
   bool matched = false;
+  bool searched = false;
   if (!m.keyframe_points.empty() && !points.empty()) {
     const bool weak = !m.motion.predicted_from_odometry();
+    searched = weak && options_.search_without_odometry;
     const internal::MatchResult match =
         internal::MatchWithRecovery(m.icp, Submap(), points, guess, options_, stats_, weak, last);
     pose = match.pose;
@@ -104,8 +113,10 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   // A scan placed at a guess no odometry backs would only blur the submap.
   const bool placeable = first || matched || m.motion.predicted_from_odometry();
   if (placeable && (first || since.norm() >= options_.keyframe_translation_m ||
-      std::abs(since.phi()) >= mrpt::DEG2RAD(options_.keyframe_rotation_deg))) {
+                    std::abs(since.phi()) >= mrpt::DEG2RAD(options_.keyframe_rotation_deg))) {
     keyframes_.push_back({scans_.size(), stamp, pose, scan});
+    searched_.resize(keyframes_.size() - 1, false);
+    searched_.push_back(searched);
     ++stats_.keyframes;
     m.keyframe_points.push_back(points);
     m.keyframe_poses.push_back(keyframes_.size() - 1);
@@ -113,12 +124,84 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
       m.keyframe_points.pop_front();
       m.keyframe_poses.pop_front();
     }
-    RebuildSubmap();
     scans_.push_back({stamp, keyframes_.size() - 1, CPose2D()});
+    if (options_.recheck_keyframes > 0) RecheckSearchedSteps();
+    RebuildSubmap();
   } else {
     scans_.push_back({stamp, keyframes_.size() - 1, since});
   }
   if (placeable) last_placed_ = scans_.size() - 1;
+}
+
+// Without odometry a step is only what the search made of one scan, and along a
+// corridor a stop and a step of 2 m can score alike (orebro's scan 17). The keyframes
+// that follow see more: turning on the spot, they look back down the corridor. So as
+// each new keyframe m arrives, every searched keyframe k with 2 ≤ m − k ≤ n
+// (`recheck_keyframes`) is checked again, the oldest first: keyframes k..m are taken
+// as one rigid scan (their points in k's frame, as the front end placed them) and
+// searched against the keyframes before k (the local submap's span),
+//   T* = argmax_T score(T ⊕ points(k..m)) − drive prior(pose_{k−1} → T),
+// within ±recheck_window around pose_k. When T* scores recheck_min_gain above pose_k,
+// and k's own scan fits T* no worse than pose_k (else the group is torn by a later
+// step, whose own check will find it), keyframe k and every later one are moved
+// rigidly: pose_j ← T* ⊕ (pose_k⁻¹ ⊕ pose_j). At most one move per new keyframe.
+void ScanMatchingMapper::RecheckSearchedSteps() {
+  const int n = options_.recheck_keyframes;
+  const size_t m = keyframes_.size() - 1;
+  auto& maps = impl_->recheck_maps;
+  while (!maps.empty() && maps.begin()->first + n < m) maps.erase(maps.begin());
+  for (size_t k = m >= static_cast<size_t>(n) ? m - n : 1; k + 2 <= m; ++k) {
+    if (k == 0 || !searched_[k]) continue;
+    if (RecheckStep(k)) {
+      maps.clear();  // every map after k holds moved keyframes
+      return;
+    }
+  }
+}
+
+bool ScanMatchingMapper::RecheckStep(size_t k) {
+  const double res = options_.recovery_resolution_m;
+  auto& before = impl_->recheck_maps[k];
+  if (!before) {
+    const size_t first = k > static_cast<size_t>(options_.submap_keyframes) ? k - options_.submap_keyframes : 0;
+    CSimplePointsMap points;
+    for (size_t j = first; j < k; ++j) {
+      const CSimplePointsMap scan = ScanToPoints(*keyframes_[j].scan);
+      points.insertAnotherMap(&scan, CPose3D(keyframes_[j].pose));
+    }
+    before = std::make_unique<CorrelativeMatcher>(Decimate(points, res / 2), res, options_.recheck_window_m);
+  }
+  const CPose2D pose_k = keyframes_[k].pose;
+  CSimplePointsMap group;
+  for (size_t j = k; j < keyframes_.size(); ++j) {
+    const CSimplePointsMap scan = ScanToPoints(*keyframes_[j].scan);
+    group.insertAnotherMap(&scan, CPose3D(keyframes_[j].pose - pose_k));
+  }
+  const CSimplePointsMap query = Decimate(group, res);
+  const DrivePrior prior{keyframes_[k - 1].pose, options_.search_drive_penalty, options_.search_drive_slack_m,
+                         options_.search_drive_reverse};
+  const double now = before->Score(query, pose_k, prior);
+  const auto best = before->Match(query, pose_k, options_.recheck_window_m, mrpt::DEG2RAD(options_.recheck_window_deg),
+                                  now + options_.recheck_min_gain, prior);
+  if (!best) return false;
+  const CSimplePointsMap own = Decimate(ScanToPoints(*keyframes_[k].scan), res);
+  if (before->Score(own, best->pose) < before->Score(own, pose_k) - kOwnScoreSlack) return false;
+  // Scans between k − 1 and k were matched where k − 1's step left them: they go with k.
+  for (size_t i = keyframes_[k - 1].scan_index + 1; i < keyframes_[k].scan_index; ++i) {
+    ScanPose& sp = scans_[i];
+    sp.from_keyframe = (keyframes_[sp.keyframe].pose + sp.from_keyframe) - pose_k;
+    sp.keyframe = k;
+  }
+  for (size_t j = k; j < keyframes_.size(); ++j) keyframes_[j].pose = best->pose + (keyframes_[j].pose - pose_k);
+  ++stats_.rechecked_steps;
+  moved_ = moved_ ? std::min(*moved_, k) : k;
+  return true;
+}
+
+std::optional<size_t> ScanMatchingMapper::TakeMovedKeyframes() {
+  auto moved = moved_;
+  moved_.reset();
+  return moved;
 }
 
 Trajectory ScanMatchingMapper::trajectory() const {
@@ -130,6 +213,7 @@ Trajectory ScanMatchingMapper::trajectory() const {
 
 void ScanMatchingMapper::CorrectKeyframes(const std::vector<CPose2D>& poses) {
   for (size_t i = 0; i < poses.size() && i < keyframes_.size(); ++i) keyframes_[i].pose = poses[i];
+  impl_->recheck_maps.clear();
   RebuildSubmap();
 }
 

@@ -149,6 +149,8 @@ class GraphSlam {
   void SearchOldKeyframes(const Submap& s);
   void VerifyLoops(const std::vector<LoopCandidate>& candidates);
   void FinishSubmap();
+  std::unique_ptr<Submap> BuildSubmap(const std::vector<size_t>& members) const;
+  void OnKeyframesMoved(size_t first, size_t in_graph);
   void OptimizeAndCorrect();
 
   SlamOptions slam_;

@@ -34,6 +34,12 @@
 // a refinement that scores less than (1 − refine_max_loss) of the searched pose on
 // the same grid has slid into another minimum (orebro's turns on the spot, 40° a scan:
 // 4–6° off), and the searched pose is kept instead.
+// Recheck: a searched step is decided on one scan, and along a corridor a stop and a
+// step of metres can score alike. As each of the next `recheck_keyframes` keyframes
+// arrives, the searched keyframe and those after it are searched again as one rigid
+// scan against the keyframes before it; when that fits recheck_min_gain better, they
+// all move (see RecheckSearchedSteps in scan_matching.cpp). Graph SLAM's nodes follow
+// (TakeMovedKeyframes).
 //
 // Every scan's pose is kept relative to the keyframe before it, so correcting the
 // keyframes (graph SLAM) corrects every scan.
@@ -78,6 +84,10 @@ struct ScanMatchingOptions {
   double search_drive_penalty = 0.1;
   double search_drive_slack_m = 0.2;
   bool search_drive_reverse = false;
+  int recheck_keyframes = 10;
+  double recheck_window_m = 3.0;
+  double recheck_window_deg = 1.0;
+  double recheck_min_gain = 0.05;
   bool fuse_odometry = false;
   double point_sigma_m = 0.03;
   double prior_fraction = 0.1;
@@ -133,6 +143,16 @@ struct ScanMatchingOptions {
             Range::Of(0.0, 2.0));
     v.Param("search_drive_reverse", search_drive_reverse,
             "searches without odometry: the car may back up between scans at no cost");
+    v.Param("recheck_keyframes", recheck_keyframes,
+            "without odometry: a searched keyframe's step is searched again as each of the next n keyframes "
+            "arrives, with all of them as one rigid scan against the keyframes before it; 0 = off",
+            Range::Of(0, 100));
+    v.Param("recheck_window_m", recheck_window_m, "linear half-width of that search", Range::Of(0.1, 10.0));
+    v.Param("recheck_window_deg", recheck_window_deg,
+            "angular half-width of that search (small: it is for steps along a corridor, whose walls fix the heading)",
+            Range::Of(0.0, 45.0));
+    v.Param("recheck_min_gain", recheck_min_gain,
+            "move the keyframes when the best pose scores this much above where they are", Range::Of(0.0, 1.0));
     v.Param("fuse_odometry", fuse_odometry,
             "fuse each ICP match with the odometry step by their information (corridors: odometry decides "
             "the direction the scan cannot)");
@@ -185,6 +205,7 @@ struct MappingStats {
   long keyframes = 0;
   long rejected_matches = 0;  // ICP matches rejected (and not recovered)
   long recovered_matches = 0; // rejected by ICP, recovered by the correlative matcher
+  long rechecked_steps = 0;   // searched steps moved by a recheck with the keyframes after them
   long icp_iterations = 0;
 };
 
@@ -202,6 +223,8 @@ class ScanMatchingMapper {
   // One pose per scan: its keyframe's pose composed with the scan's offset from it.
   Trajectory trajectory() const;
   const std::vector<Keyframe>& keyframes() const { return keyframes_; }
+  // The first keyframe a recheck moved (with every later one) since the last call, if any.
+  std::optional<size_t> TakeMovedKeyframes();
   const MappingStats& stats() const { return stats_; }
 
   // Replaces the keyframe poses (e.g. after pose-graph optimisation); later scans are
@@ -222,6 +245,8 @@ class ScanMatchingMapper {
   void AddScan(Stamp stamp, const mrpt::obs::CObservation2DRangeScan& scan);
   mrpt::poses::CPose2D LastPlacedPose() const;
   void RebuildSubmap();
+  void RecheckSearchedSteps();
+  bool RecheckStep(size_t k);
   const IndexedPoints& Submap();  // the submap's tree, built on first use after a rebuild
 
   struct Impl;
@@ -232,6 +257,8 @@ class ScanMatchingMapper {
   std::vector<ScanPose> scans_;
   std::optional<size_t> last_placed_;  // the last scan matched or moved by odometry (not a bare guess)
   std::vector<Keyframe> keyframes_;
+  std::vector<bool> searched_;             // per keyframe: its step came from a search without odometry
+  std::optional<size_t> moved_;            // first keyframe a recheck moved, not yet taken
   mrpt::poses::CPose2D start_;  // where the first scan is placed (the origin unless seeded)
   MappingStats stats_;
 };
