@@ -43,6 +43,14 @@ std::unique_ptr<GraphSlam> RunSlam(const std::string& log, const SlamOptions& op
   return slam;
 }
 
+// The front end alone (no loop closure): its consecutive relations against the reference.
+eval::RelationStats FrontEndSteps(const std::string& log, const ScanMatchingOptions& matching) {
+  SlamOptions front_end;
+  front_end.method = "scan_matching";
+  return eval::ComputeRelationError(RunSlam(log, front_end, matching)->trajectory(), io::ReadCarmenReference(log))
+      .consecutive;
+}
+
 void PrintTo(const Bound& b, std::ostream* os) { *os << b.log; }
 
 class CarmenSlamTest : public ::testing::TestWithParam<Bound> {};
@@ -81,12 +89,7 @@ TEST(CarmenFrontEndTest, WithoutOdometryTheDrivePriorKeepsOrebrosStepsFromJumpin
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data);
   const std::string log = data + "/slam/carmen/orebro-corrected.log.gz";
-  SlamOptions front_end;
-  front_end.method = "scan_matching";
-  auto consecutive = [&](const ScanMatchingOptions& matching) {
-    return eval::ComputeRelationError(RunSlam(log, front_end, matching)->trajectory(), io::ReadCarmenReference(log))
-        .consecutive;
-  };
+  auto consecutive = [&](const ScanMatchingOptions& matching) { return FrontEndSteps(log, matching); };
   const auto with_prior = consecutive({});
   ScanMatchingOptions no_prior;
   no_prior.search_drive_penalty = 0;
@@ -106,12 +109,7 @@ TEST(CarmenFrontEndTest, WithoutOdometryARefinementThatLosesTheSearchsScoreIsRef
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data);
   const std::string log = data + "/slam/carmen/orebro-corrected.log.gz";
-  SlamOptions front_end;
-  front_end.method = "scan_matching";
-  auto consecutive = [&](const ScanMatchingOptions& matching) {
-    return eval::ComputeRelationError(RunSlam(log, front_end, matching)->trajectory(), io::ReadCarmenReference(log))
-        .consecutive;
-  };
+  auto consecutive = [&](const ScanMatchingOptions& matching) { return FrontEndSteps(log, matching); };
   ScanMatchingOptions refusing;
   refusing.recheck_keyframes = 0;  // the refinement alone
   const auto refused = consecutive(refusing);
