@@ -44,9 +44,10 @@ bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const Scan
 // refined by ICP, and the best of those: nullopt when nothing scores `min_score`, or
 // ICP pairs too few points or moves the coarse pose out of bounds. `score` is on the
 // correlative grid; a tie goes to the earlier centre. A refinement that loses more
-// than refine_max_loss of the coarse pose's score is refused for the coarse pose. The grid is built on the first
-// search and kept for the next from the same reference; the searches around several
-// centres run in parallel (the grid is read-only; ICP refines on the calling thread).
+// than refine_max_loss of the coarse pose's score is refused for the coarse pose. The
+// grid is built on the first search and kept for the next from the same reference;
+// the searches around several centres run in parallel (the grid is read-only; ICP
+// refines on the calling thread).
 struct SearchResult {
   CPose2D pose;
   double score = 0;
