@@ -51,6 +51,13 @@ eval::RelationStats FrontEndSteps(const std::string& log, const ScanMatchingOpti
       .consecutive;
 }
 
+// How far the step from scan i to scan i + 1 is off the reference's step (m).
+double StepError(const Trajectory& estimate, const Trajectory& reference, size_t i) {
+  const mrpt::poses::CPose2D truth(reference.at(i + 1).pose - reference.at(i).pose);
+  const mrpt::poses::CPose2D step(estimate.at(i + 1).pose - estimate.at(i).pose);
+  return (step - truth).norm();
+}
+
 void PrintTo(const Bound& b, std::ostream* os) { *os << b.log; }
 
 class CarmenSlamTest : public ::testing::TestWithParam<Bound> {};
@@ -72,8 +79,8 @@ TEST_P(CarmenSlamTest, RelationErrorWithinBound) {
 INSTANTIATE_TEST_SUITE_P(Radish, CarmenSlamTest,
                          ::testing::Values(Bound{"intel", 0.05, 0.5, 1.0}, Bound{"seattle", 0.05, 0.5, 1.0},
                                            Bound{"freiburg-101", 0.05, 0.5, 1.0},
-                                           Bound{"freiburg-079", 0.05, 0.6, 1.0},
-                                           Bound{"orebro", 0.12, 1.0, 1.0}),
+                                           Bound{"freiburg-079", 0.05, 0.5, 1.0},
+                                           Bound{"orebro", 0.05, 0.5, 1.0}),
                          [](const auto& info) {
                            std::string n = info.param.log;
                            for (auto& ch : n) ch = ch == '-' ? '_' : ch;
@@ -133,11 +140,7 @@ TEST(CarmenFrontEndTest, WithoutOdometryARecheckWithTheLaterKeyframesFindsTheSte
   SPECHT_REQUIRE_FILE(data);
   const std::string log = data + "/slam/carmen/orebro-corrected.log.gz";
   const Trajectory reference = io::ReadCarmenReference(log);
-  auto step_error = [&](const Trajectory& t, size_t i) {
-    const mrpt::poses::CPose2D truth(reference.at(i + 1).pose - reference.at(i).pose);
-    const mrpt::poses::CPose2D estimate(t.at(i + 1).pose - t.at(i).pose);
-    return (estimate - truth).norm();
-  };
+  auto step_error = [&](const Trajectory& t, size_t i) { return StepError(t, reference, i); };
   SlamOptions front_end;
   front_end.method = "scan_matching";
   ScanMatchingOptions no_recheck;
@@ -158,22 +161,46 @@ TEST(CarmenFrontEndTest, WithoutOdometryARecheckWithTheLaterKeyframesFindsTheSte
   EXPECT_LT(all.mean_m, 0.10);
 }
 
+TEST(CarmenFrontEndTest, WithoutOdometryARecheckMayCostTheKeyframesOwnScanALittle) {
+  // At scan 41 orebro turns 76° on the spot; the scan alone fits a place 0.46 m aside
+  // a little better (0.53 against 0.50 on the search grid), and scans 42-44 turn on
+  // from there. Scans 41-43 as one rigid scan fit the right place 0.10 better. The
+  // recheck moves them when the own scan loses at most recheck_own_max_loss (0.05);
+  // at 0.02 it does not, and scan 45 jumps back instead (0.39 m off).
+  const std::string data = testing::DataDir();
+  SPECHT_REQUIRE_FILE(data);
+  const std::string log = data + "/slam/carmen/orebro-corrected.log.gz";
+  const Trajectory reference = io::ReadCarmenReference(log);
+  SlamOptions front_end;
+  front_end.method = "scan_matching";
+  ScanMatchingOptions strict;
+  strict.recheck_own_max_loss = 0.02;
+  const Trajectory moved = RunSlam(log, front_end, {})->trajectory();
+  const Trajectory kept = RunSlam(log, front_end, strict)->trajectory();
+  std::printf("orebro front end, steps 40 -> 41 and 44 -> 45: %.3f and %.3f m off (own loss 0.05), %.3f and %.3f m "
+              "(0.02)\n",
+              StepError(moved, reference, 40), StepError(moved, reference, 44), StepError(kept, reference, 40),
+              StepError(kept, reference, 44));
+  EXPECT_LT(StepError(moved, reference, 40), 0.2);
+  EXPECT_LT(StepError(moved, reference, 44), 0.2);
+  EXPECT_GT(StepError(kept, reference, 40), 0.3);
+}
+
 TEST(CarmenLoopClosureTest, OrebrosLastRoomIsClosedByTheFirstScanOnceItsSubmapIsFinished) {
   // Orebro starts in a room it sees only in part (scan 0 faces east, scans 1-4 look
   // out through the door) and ends in it. The last room's keyframes never match the
   // first submap well enough; the other way round, the first scan sits inside the
   // finished last submap. Those loops exist only through the search of old keyframes
-  // against a finished submap (an option), and they agree with the reference.
+  // against a finished submap, and they agree with the reference. They also need the
+  // front end to reach the last room whole: at scan 213, after the loops before it
+  // moved the map, ICP slides 1.2 m and 15° off a right searched pose, and the search
+  // must keep its own pose rather than fall back to the constant-velocity guess.
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data);
   const std::string log = data + "/slam/carmen/orebro-corrected.log.gz";
   const Trajectory reference = io::ReadCarmenReference(log);
-  // The search of old keyframes alone: with the recheck of searched steps too, this
-  // draw loses the last room at the default gate (README, the recheck's figures).
-  ScanMatchingOptions matching;
-  matching.recheck_keyframes = 0;
   auto last_room_loops = [&](const LoopClosureOptions& loops) {
-    const auto slam = RunSlam(log, {}, matching, loops);
+    const auto slam = RunSlam(log, {}, {}, loops);
     const auto& kfs = slam->keyframes();
     std::vector<double> errors;  // of each loop from a submap after scan 200 to scans 0-4, against the reference
     for (const auto& e : slam->graph().edges) {
@@ -182,12 +209,15 @@ TEST(CarmenLoopClosureTest, OrebrosLastRoomIsClosedByTheFirstScanOnceItsSubmapIs
       const mrpt::poses::CPose2D truth(reference.at(to).pose - reference.at(from).pose);
       errors.push_back((e.measurement - truth).norm());
     }
+    const double step_error = StepError(slam->trajectory(), reference, 212);
+    std::printf("orebro: step 212 -> 213 %.3f m off the reference\n", step_error);
+    EXPECT_LT(step_error, 0.3);
     return errors;
   };
-  EXPECT_TRUE(last_room_loops({}).empty());  // off by default
-  LoopClosureOptions with_old;
-  with_old.old_keyframes_per_submap = 4;
-  const auto errors = last_room_loops(with_old);
+  LoopClosureOptions without_old;
+  without_old.old_keyframes_per_submap = 0;
+  EXPECT_TRUE(last_room_loops(without_old).empty());
+  const auto errors = last_room_loops({});
   ASSERT_FALSE(errors.empty());
   for (double e : errors) {
     std::printf("orebro: a loop from the last room to the first scans, %.3f m off the reference\n", e);

@@ -41,13 +41,15 @@ bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const Scan
 }
 
 // The correlative matcher's best pose around each of `centres` against `reference`,
-// refined by ICP, and the best of those: nullopt when nothing scores `min_score`, or
-// ICP pairs too few points or moves the coarse pose out of bounds. `score` is on the
-// correlative grid; a tie goes to the earlier centre. A refinement that loses more
-// than refine_max_loss of the coarse pose's score is refused for the coarse pose. The
-// grid is built on the first search and kept for the next from the same reference;
-// the searches around several centres run in parallel (the grid is read-only; ICP
-// refines on the calling thread).
+// refined by ICP, and the best of those: nullopt when nothing scores `min_score`.
+// `score` is on the correlative grid; a tie goes to the earlier centre. A refinement
+// is refused for the coarse pose when it pairs too few points, moves the coarse pose
+// out of bounds, or loses more than refine_max_loss of its score: the search's score
+// already vouches for the coarse pose, and ICP that slid off it must not throw the
+// search away (orebro's scan 213: ICP 1.2 m and 15° off a right coarse pose sent the
+// front end back to the constant-velocity guess). The grid is built on the first
+// search and kept for the next from the same reference; the searches around several
+// centres run in parallel (the grid is read-only; ICP refines on the calling thread).
 struct SearchResult {
   CPose2D pose;
   double score = 0;
@@ -78,13 +80,12 @@ class Searcher {
       if (!coarse[i]) return;
       const IcpResult refined = icp_.Align(reference_, points_, coarse[i]->pose);
       stats_.icp_iterations += refined.iterations;
-      if (refined.goodness < options_.min_goodness / 2 ||
-          !WithinCorrectionBounds(refined.pose, coarse[i]->pose, options_)) {
-        return;
+      CPose2D pose = coarse[i]->pose;
+      double score = coarse[i]->score;
+      if (refined.goodness >= options_.min_goodness / 2 && WithinCorrectionBounds(refined.pose, pose, options_)) {
+        const double refined_score = matcher_->Score(query_, refined.pose, prior_);
+        if (refined_score >= (1 - options_.refine_max_loss) * score) pose = refined.pose, score = refined_score;
       }
-      CPose2D pose = refined.pose;
-      double score = matcher_->Score(query_, pose, prior_);
-      if (score < (1 - options_.refine_max_loss) * coarse[i]->score) pose = coarse[i]->pose, score = coarse[i]->score;
       if (!best || score > best->score) {
         best = SearchResult{pose, score, icp_pose ? matcher_->Score(query_, *icp_pose, prior_) : 0.0};
       }

@@ -12,10 +12,9 @@
 //               match scoring `min_score` or more, refined by ICP with goodness
 //               `min_icp_goodness` or more, becomes a loop edge anchor → keyframe
 //               under a robust loss.
-//   old nodes   optionally (`old_keyframes_per_submap` > 0; off by default, see the
-//               README's orebro figures), a submap once finished, and the last one
-//               at Finish() when half full, is in turn searched by that many earlier
-//               keyframes nearest its centre that have no loop of their own yet
+//   old nodes   a submap once finished, and the last one at Finish() when half
+//               full, is in turn searched by `old_keyframes_per_submap` (4; 0: off)
+//               earlier keyframes nearest its centre that have no loop of their own yet
 //               (Cartographer's constraints for old nodes): a place is whole in a
 //               submap only once finished, and a keyframe that saw part of it long
 //               before may match it although the submaps of its own time never
@@ -47,7 +46,7 @@ struct LoopClosureOptions {
   double search_radius_m = 10.0;
   int exclude_recent_keyframes = 40;
   int max_candidates = 6;
-  int old_keyframes_per_submap = 0;
+  int old_keyframes_per_submap = 4;
   double window_m = 3.0;
   double window_deg = 30.0;
   double min_score = 0.55;

@@ -88,6 +88,7 @@ struct ScanMatchingOptions {
   double recheck_window_m = 3.0;
   double recheck_window_deg = 1.0;
   double recheck_min_gain = 0.05;
+  double recheck_own_max_loss = 0.05;
   bool fuse_odometry = false;
   double point_sigma_m = 0.03;
   double prior_fraction = 0.1;
@@ -153,6 +154,10 @@ struct ScanMatchingOptions {
             Range::Of(0.0, 45.0));
     v.Param("recheck_min_gain", recheck_min_gain,
             "move the keyframes when the best pose scores this much above where they are", Range::Of(0.0, 1.0));
+    v.Param("recheck_own_max_loss", recheck_own_max_loss,
+            "nor when the checked keyframe's own scan would then score more than this below where it is (the "
+            "group is torn by a later step, whose own check will find it)",
+            Range::Of(0.0, 1.0));
     v.Param("fuse_odometry", fuse_odometry,
             "fuse each ICP match with the odometry step by their information (corridors: odometry decides "
             "the direction the scan cannot)");
