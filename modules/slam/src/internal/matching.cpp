@@ -43,13 +43,19 @@ bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const Scan
 // The correlative matcher's best pose around each of `centres` against `reference`,
 // refined by ICP, and the best of those: nullopt when nothing scores `min_score`.
 // `score` is on the correlative grid; a tie goes to the earlier centre. A refinement
-// is refused for the coarse pose when it pairs too few points, moves the coarse pose
-// out of bounds, or loses more than refine_max_loss of its score: the search's score
-// already vouches for the coarse pose, and ICP that slid off it must not throw the
-// search away (orebro's scan 213: ICP 1.2 m and 15° off a right coarse pose sent the
-// front end back to the constant-velocity guess). The grid is built on the first
-// search and kept for the next from the same reference; the searches around several
-// centres run in parallel (the grid is read-only; ICP refines on the calling thread).
+// is refused for the coarse pose when it loses more than refine_max_loss of the
+// coarse pose's score, and also when it pairs too few points or leaves the bounds if
+// the coarse pose can stand on its own: always without odometry
+// (`coarse_stands_anywhere`: the search is the only estimate, its score and drive
+// prior vouch for it; orebro's scan 213, where ICP slid 1.2 m and 15° off a right
+// coarse pose, used to send the front end back to the constant-velocity guess), and
+// after a rejected ICP match with odometry only when the coarse pose lies within the
+// correction bounds of the guess (a wide search in a featureless corridor finds
+// aliases turned by a right angle whose refinement fails: the simulated course loop,
+// 77°). Otherwise a failed refinement discards the candidate. The grid is built on
+// the first search and kept for the next from the same reference; the searches around
+// several centres run in parallel (the grid is read-only; ICP refines on the calling
+// thread).
 struct SearchResult {
   CPose2D pose;
   double score = 0;
@@ -61,7 +67,7 @@ class Searcher {
            const ScanMatchingOptions& options, MappingStats& stats, const DrivePrior& prior)
       : icp_(icp), reference_(reference), points_(points), options_(options), stats_(stats), prior_(prior) {}
 
-  std::optional<SearchResult> Around(const std::vector<CPose2D>& centres, double min_score,
+  std::optional<SearchResult> Around(const std::vector<CPose2D>& centres, double min_score, bool coarse_stands_anywhere,
                                      const std::optional<CPose2D>& icp_pose = std::nullopt) {
     const double res = options_.recovery_resolution_m;
     if (!matcher_) {
@@ -82,7 +88,11 @@ class Searcher {
       stats_.icp_iterations += refined.iterations;
       CPose2D pose = coarse[i]->pose;
       double score = coarse[i]->score;
-      if (refined.goodness >= options_.min_goodness / 2 && WithinCorrectionBounds(refined.pose, pose, options_)) {
+      const bool refined_ok =
+          refined.goodness >= options_.min_goodness / 2 && WithinCorrectionBounds(refined.pose, pose, options_);
+      const bool coarse_stands = coarse_stands_anywhere || WithinCorrectionBounds(pose, centres[i], options_);
+      if (!refined_ok && !coarse_stands) return;
+      if (refined_ok) {
         const double refined_score = matcher_->Score(query_, refined.pose, prior_);
         if (refined_score >= (1 - options_.refine_max_loss) * score) pose = refined.pose, score = refined_score;
       }
@@ -129,7 +139,7 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, c
     std::vector<CPose2D> centres = {guess};
     const bool guess_moved = last && (guess.distanceTo(*last) > 0 || guess.phi() != last->phi());
     if (guess_moved) centres.push_back(*last);
-    const auto found = search.Around(centres, options.search_min_score);
+    const auto found = search.Around(centres, options.search_min_score, /*coarse_stands_anywhere=*/true);
     if (found) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};
@@ -142,7 +152,7 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, c
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
   // (After a search first, searching again from the same guess would find the same.)
   if (recovery && !search_first) {
-    const auto found = search.Around({guess}, options.recovery_min_score, match.pose);
+    const auto found = search.Around({guess}, options.recovery_min_score, /*coarse_stands_anywhere=*/false, match.pose);
     if (found && (!icp_weak_ok || found->score > found->icp_score)) {
       ++stats.recovered_matches;
       return {found->pose, MatchSource::kRecovered};
