@@ -33,7 +33,9 @@
 // The search's score decides: ICP refines the searched pose to below a grid cell, but
 // a refinement that scores less than (1 − refine_max_loss) of the searched pose on
 // the same grid has slid into another minimum (orebro's turns on the spot, 40° a scan:
-// 4–6° off), and the searched pose is kept instead.
+// 4–6° off), and the searched pose is kept instead; so it is when ICP pairs too few
+// points or leaves its bounds (after a rejected ICP match with odometry, only when
+// the searched pose lies within the bounds of the odometry's guess).
 // Recheck: a searched step is decided on one scan, and along a corridor a stop and a
 // step of metres can score alike. As each of the next `recheck_keyframes` keyframes
 // arrives, the searched keyframe and those after it are searched again as one rigid
@@ -155,8 +157,8 @@ struct ScanMatchingOptions {
     v.Param("recheck_min_gain", recheck_min_gain,
             "move the keyframes when the best pose scores this much above where they are", Range::Of(0.0, 1.0));
     v.Param("recheck_own_max_loss", recheck_own_max_loss,
-            "nor when the checked keyframe's own scan would then score more than this below where it is (the "
-            "group is torn by a later step, whose own check will find it)",
+            "a recheck does not move the keyframes when the checked keyframe's own scan would score more than "
+            "this below where it is (the group is torn by a later step, whose own check will find it)",
             Range::Of(0.0, 1.0));
     v.Param("fuse_odometry", fuse_odometry,
             "fuse each ICP match with the odometry step by their information (corridors: odometry decides "
