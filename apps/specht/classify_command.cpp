@@ -105,7 +105,7 @@ int RunPrepare(const ClassifyArgs& a) {
   for (const auto& w : windows) class_set.insert(w.label);
   classify::PreparedDataset d;
   d.classes.assign(class_set.begin(), class_set.end());
-  d.windows.features = static_cast<int>(o.features.size());
+  d.windows.features = classify::FeatureRows(o);
   d.windows.length = o.length;
   for (const auto& w : windows) {
     const classify::MapFeatures& map = MapOf(maps, w.object_id);

@@ -38,6 +38,26 @@ TEST(AisPositionsTest, ShipTypeCodesMapToThePapersClasses) {
   EXPECT_EQ(ShipTypeOfDmaText("Undefined"), -1);
 }
 
+// ITU-R M.585: the MID sits at the front of a ship station's MMSI, after the 8 of a
+// handheld and the 98 of a craft associated with a parent ship; the other number
+// kinds name no vessel's flag.
+TEST(AisPositionsTest, FlagMidFollowsTheMmsiFormats) {
+  EXPECT_EQ(FlagMid(227306100), 227);  // France
+  EXPECT_EQ(FlagMid(316001017), 316);  // Canada
+  EXPECT_EQ(FlagMid(775999999), 775);  // the last MID (Venezuela)
+  EXPECT_EQ(FlagMid(822712345), 227);  // handheld
+  EXPECT_EQ(FlagMid(982271234), 227);  // craft associated with a parent ship
+  EXPECT_EQ(FlagMid(3160001), 0);      // coast station 003160001
+  EXPECT_EQ(FlagMid(31600001), 0);     // group 031600001
+  EXPECT_EQ(FlagMid(992271234), 0);    // aid to navigation
+  EXPECT_EQ(FlagMid(111227100), 0);    // SAR aircraft
+  EXPECT_EQ(FlagMid(970012345), 0);    // AIS-SART
+  EXPECT_EQ(FlagMid(199999999), 0);    // MID 199 is not allocated
+  EXPECT_EQ(FlagMid(800012345), 0);    // handheld with MID 000
+  EXPECT_EQ(FlagMid(0), 0);
+  EXPECT_EQ(FlagMid(1234567890), 0);   // ten digits
+}
+
 TEST(AisPositionsTest, SpechtLayoutGroupsVesselsSortsAndDerivesSpeed) {
   const std::string path = TempDir() + "/t.csv";
   // Vessel 1: three reports 60 s apart moving north by 0.01° (1111.95 m in 60 s =

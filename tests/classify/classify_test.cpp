@@ -388,9 +388,9 @@ TEST(ForestBaselineTest, VoteFractionsAgreeWithPredictAndCombine) {
   EXPECT_THROW(CombinedProbabilities(network, {0.5f, 0.5f}), InputError);
 }
 
-// The baseline gets only the geography the network's features name: the last five
-// handcrafted features are static distance mean and min, harbour distance mean and
-// the region (x, y).
+// The baseline gets only the geography and category the network's features name:
+// the last six handcrafted features are static distance mean and min, harbour
+// distance mean, the region (x, y) and the object's category.
 TEST(ForestBaselineTest, HandcraftedFeaturesUseOnlyNamedGeography) {
   MapFeatures map;
   map.distance_to_static = [](double, double) { return 1.0; };
@@ -398,17 +398,53 @@ TEST(ForestBaselineTest, HandcraftedFeaturesUseOnlyNamedGeography) {
   map.region = [](double, double) { return std::array<double, 2>{0.1, 0.2}; };
   PreprocessOptions o;
   o.length = 16;
-  const Window w = Chunk(Line("a", 16, 1.0, 0.5, 0), o).at(0);
-  auto geography = [&](const std::vector<std::string>& features) {
+  Trajectory t = Line("a", 16, 1.0, 0.5, 0);
+  t.category = 227;
+  const Window w = Chunk(t, o).at(0);
+  auto named = [&](const std::vector<std::string>& features) {
     const auto h = HandcraftedFeatures(w, map, features);
-    return std::vector<float>(h.end() - 5, h.end());
+    return std::vector<float>(h.end() - 6, h.end());
   };
-  EXPECT_EQ(geography({"x", "y", "speed"}), (std::vector<float>{0, 0, 0, 0, 0}));
-  EXPECT_EQ(geography({"x", "dist_poi", "region_y"}), (std::vector<float>{0, 0, 2, 0.1f, 0.2f}));
-  EXPECT_EQ(geography({"dist_static", "dist_poi", "region_x"}), (std::vector<float>{1, 1, 2, 0.1f, 0.2f}));
-  // The motion features do not depend on the geography at all.
-  const auto all = HandcraftedFeatures(w, map, {"dist_static"}), none = HandcraftedFeatures(w, {}, {});
-  EXPECT_EQ(std::vector<float>(all.begin(), all.end() - 5), std::vector<float>(none.begin(), none.end() - 5));
+  EXPECT_EQ(named({"x", "y", "speed"}), (std::vector<float>{0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(named({"x", "dist_poi", "region_y"}), (std::vector<float>{0, 0, 2, 0.1f, 0.2f, 0}));
+  EXPECT_EQ(named({"dist_static", "dist_poi", "region_x"}), (std::vector<float>{1, 1, 2, 0.1f, 0.2f, 0}));
+  EXPECT_EQ(named({"speed", "category"}), (std::vector<float>{0, 0, 0, 0, 0, 227}));
+  // The motion features do not depend on the geography or category at all.
+  const auto all = HandcraftedFeatures(w, map, {"dist_static", "category"}), none = HandcraftedFeatures(w, {}, {});
+  EXPECT_EQ(std::vector<float>(all.begin(), all.end() - 6), std::vector<float>(none.begin(), none.end() - 6));
+}
+
+// The object's category reaches every window of every piece, and the feature is
+// u = category / category_cap at each valid point (0 in the padding), followed by
+// ½ + ½ sin and cos of 2π u, 2π 2u, … (category_frequencies pairs).
+TEST(PreprocessTest, CategoryIsCarriedToEveryWindowAndScaled) {
+  PreprocessOptions o;
+  o.length = 8;
+  o.min_fill = 0.5;
+  o.max_gap_s = 5;
+  o.features = {"speed", "category"};
+  o.category_cap = 1000;
+  o.category_frequencies = 2;
+  ASSERT_EQ(FeatureRows(o), 6);
+  Trajectory t = Line("a", 20, 1.0, 0.5, 0);
+  for (size_t i = 14; i < t.points.size(); ++i) t.points[i].t_s += 100;  // a gap: two pieces
+  t.category = 316;
+  const std::vector<Window> windows = MakeWindows({t}, o);
+  ASSERT_EQ(windows.size(), 3u);  // 14 points → 8 + 6, then 6
+  for (const auto& w : windows) {
+    EXPECT_EQ(w.category, 316);
+    const std::vector<float> f = Features(w, o, {});
+    ASSERT_EQ(f.size(), 6u * o.length);
+    const double u = 0.316;
+    const std::vector<double> rows = {u,
+                                      0.5 + 0.5 * std::sin(2 * M_PI * u),
+                                      0.5 + 0.5 * std::cos(2 * M_PI * u),
+                                      0.5 + 0.5 * std::sin(4 * M_PI * u),
+                                      0.5 + 0.5 * std::cos(4 * M_PI * u)};
+    for (size_t r = 0; r < rows.size(); ++r)
+      for (int i = 0; i < o.length; ++i)
+        EXPECT_FLOAT_EQ(f[(1 + r) * o.length + i], i < w.valid ? static_cast<float>(rows[r]) : 0.0f) << r << " " << i;
+  }
 }
 
 TEST(SplitTest, DisjointByObject) {

@@ -50,9 +50,10 @@ AisPreprocessOptions::AisPreprocessOptions() {
   stationary_threshold = 1e-4;  // ≈ 11 m per report on average
   transform = "relative_to_first";
   normalisation = "local";
-  features = {"x",         "y",           "dt",       "speed",    "course",  "accel",
-              "turn_rate", "dist_static", "dist_poi", "region_x", "region_y"};
+  features = {"x",         "y",           "dt",       "speed",    "course",   "accel",
+              "turn_rate", "dist_static", "dist_poi", "region_x", "region_y", "category"};
   log_scaled = {"dt", "dist_static", "dist_poi"};
+  category_frequencies = 8;  // MIDs 1 apart are 1/1000 of the range; 2^7 cycles separate neighbours
   max_speed = 30 * kKnot / kMetresPerDegree;  // 30 kn in degrees of latitude per second
   max_accel = 1 * kKnot / kMetresPerDegree;   // 1 kn/s
   max_turn_rate = 0.5;                        // rad/s
@@ -101,6 +102,7 @@ classify::Trajectory ToTrajectory(const Vessel& v, double& cos_lat0) {
   classify::Trajectory t;
   t.object_id = std::to_string(v.mmsi);
   t.label = ClassOfShipType(v.ship_type);
+  t.category = FlagMid(v.mmsi);
   cos_lat0 = v.reports.empty() ? 1.0 : std::max(0.05, std::cos(v.reports.front().lat * M_PI / 180.0));
   t.points.reserve(v.reports.size());
   for (const auto& r : v.reports) t.points.push_back({r.t_s, r.lon * cos_lat0, r.lat});
@@ -115,7 +117,7 @@ classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, 
     throw InputError("ais_classify.normalisation: AIS preparation streams vessels; use \"local\" or \"fixed\"");
   classify::PreparedDataset d;
   d.classes = VesselClasses();
-  d.windows.features = static_cast<int>(o.features.size());
+  d.windows.features = classify::FeatureRows(o);
   d.windows.length = o.length;
   std::set<std::string> vessels_seen;
 

@@ -116,6 +116,16 @@ std::string ClassOfShipType(int t) {
   return "";
 }
 
+int FlagMid(int64_t mmsi) {
+  if (mmsi < 100000000 || mmsi > 999999999) return 0;  // not nine digits, or a leading 0 (groups, coast stations)
+  const int lead = static_cast<int>(mmsi / 100000000), lead2 = static_cast<int>(mmsi / 10000000);
+  int mid = 0;
+  if (lead >= 2 && lead <= 7) mid = static_cast<int>(mmsi / 1000000);      // MIDXXXXXX
+  else if (lead == 8) mid = static_cast<int>(mmsi / 100000 % 1000);        // 8MIDXXXXX
+  else if (lead2 == 98) mid = static_cast<int>(mmsi / 10000 % 1000);       // 98MIDXXXX
+  return mid >= 201 && mid <= 775 ? mid : 0;
+}
+
 int ShipTypeOfDmaText(const std::string& text) {
   static const std::map<std::string, int> codes = {
       {"wig", 20},          {"fishing", 30},          {"towing", 31},         {"towing long/wide", 32},

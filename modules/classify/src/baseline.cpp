@@ -29,13 +29,14 @@ double Quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
-int HandcraftedFeatureCount() { return 19; }
+int HandcraftedFeatureCount() { return 20; }
 
 std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, const std::vector<std::string>& features) {
   auto named = [&](const char* f) { return std::find(features.begin(), features.end(), f) != features.end(); };
   const bool use_static = map.distance_to_static && named("dist_static");
   const bool use_poi = map.distance_to_poi && named("dist_poi");
   const bool use_region = map.region && (named("region_x") || named("region_y"));
+  const bool use_category = named("category");
   const auto& p = w.points;
   std::vector<double> speed, accel, turn, ds, dp, rx, ry;
   double path = 0, prev_course = 0;
@@ -71,7 +72,8 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, 
           static_cast<float>(path > 0 ? net / path : 0),
           static_cast<float>(p.empty() ? 0 : p.back().t_s - p.front().t_s),
           static_cast<float>(Mean(ds)),     static_cast<float>(ds.empty() ? 0 : *std::min_element(ds.begin(), ds.end())),
-          static_cast<float>(Mean(dp)),     static_cast<float>(Mean(rx)),    static_cast<float>(Mean(ry))};
+          static_cast<float>(Mean(dp)),     static_cast<float>(Mean(rx)),    static_cast<float>(Mean(ry)),
+          static_cast<float>(use_category ? w.category : 0)};
 }
 
 std::vector<float> CombinedProbabilities(const std::vector<float>& network, const std::vector<float>& forest) {
@@ -137,6 +139,9 @@ ForestBaseline ForestBaseline::Load(const std::string& path) {
     throw InputError(path + ": not an OpenCV RTrees model (" + e.msg + ")");
   }
   if (!f.forest_ || !f.forest_->isTrained()) throw InputError(path + ": not a trained OpenCV RTrees model");
+  if (f.forest_->getVarCount() != HandcraftedFeatureCount())
+    throw InputError(path + ": a forest on " + std::to_string(f.forest_->getVarCount()) + " features, this version uses " +
+                     std::to_string(HandcraftedFeatureCount()) + " (train it again)");
   return f;
 }
 

@@ -26,8 +26,14 @@ void CheckPoints(const Trajectory& t) {
 const std::vector<std::string>& FeatureNames() {
   static const std::vector<std::string> names = {"x",     "y",         "dt",          "speed",   "course",
                                                  "accel", "turn_rate", "dist_static", "dist_poi",
-                                                 "region_x", "region_y"};
+                                                 "region_x", "region_y", "category"};
   return names;
+}
+
+int FeatureRows(const PreprocessOptions& o) {
+  int rows = 0;
+  for (const auto& f : o.features) rows += f == "category" ? 1 + 2 * o.category_frequencies : 1;
+  return rows;
 }
 
 std::vector<std::string> PreprocessOptions::Relations() const {
@@ -53,7 +59,7 @@ std::vector<Trajectory> Split(const Trajectory& t, const PreprocessOptions& o) {
       cut = dt > o.max_gap_s ||
             (d2 > o.max_jump_sq && (o.max_jump_speed <= 0 || d2 > std::pow(o.max_jump_speed * dt, 2)));
     }
-    if (cut) out.push_back({t.object_id, t.label, {}});
+    if (cut) out.push_back({t.object_id, t.label, {}, t.category});
     out.back().points.push_back(t.points[i]);
   }
   return out;
@@ -68,6 +74,7 @@ std::vector<Window> Chunk(const Trajectory& t, const PreprocessOptions& o) {
     Window w;
     w.object_id = t.object_id;
     w.label = t.label;
+    w.category = t.category;
     w.t0_s = t.points[start].t_s;
     w.valid = static_cast<int>(count);
     w.points.assign(t.points.begin() + start, t.points.begin() + start + count);
@@ -182,23 +189,34 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
     accel[i] = (speed[i] - speed[i - 1]) / dt[i];
     turn[i] = std::remainder(course[i] - course[i - 1], 2 * M_PI) / dt[i];
   }
-  std::vector<float> out(o.features.size() * n, 0.0f);
-  // One row per feature; the name is resolved once per row, not per point.
-  for (size_t f = 0; f < o.features.size(); ++f) {
-    const std::string& name = o.features[f];
+  std::vector<float> out(static_cast<size_t>(FeatureRows(o)) * n, 0.0f);
+  // One row per feature (the category's several); names resolved once per row.
+  float* row = out.data();
+  for (const std::string& name : o.features) {
     const bool log = std::find(o.log_scaled.begin(), o.log_scaled.end(), name) != o.log_scaled.end();
-    float* row = out.data() + f * n;
     auto fill = [&](auto value_at) {
       for (int i = 0; i < valid; ++i) row[i] = static_cast<float>(value_at(i));
+      row += n;
     };
     auto fill_map = [&](const std::function<double(double, double)>& fn, double cap) {
-      if (fn) fill([&](int i) {
+      if (!fn) return fill([](int) { return 0.0; });
+      fill([&](int i) {
         const double d = fn(w.points[i].x, w.points[i].y);
         return log ? log_scale(d, cap) : scale(d, 0, cap);
       });
     };
     auto fill_region = [&](int axis) {
-      if (map.region) fill([&](int i) { return Clamp01(map.region(w.points[i].x, w.points[i].y)[axis]); });
+      if (!map.region) return fill([](int) { return 0.0; });
+      fill([&](int i) { return Clamp01(map.region(w.points[i].x, w.points[i].y)[axis]); });
+    };
+    auto fill_category = [&] {
+      const double u = scale(w.category, 0, o.category_cap);
+      fill([&](int) { return u; });
+      for (int k = 0; k < o.category_frequencies; ++k) {
+        const double phase = 2 * M_PI * std::ldexp(u, k);
+        fill([&](int) { return 0.5 + 0.5 * std::sin(phase); });
+        fill([&](int) { return 0.5 + 0.5 * std::cos(phase); });
+      }
     };
     if (name == "x") fill([&](int i) { return scale(pos[i].x, b.min_x, b.max_x); });
     else if (name == "y") fill([&](int i) { return scale(pos[i].y, b.min_y, b.max_y); });
@@ -211,6 +229,7 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
     else if (name == "dist_poi") fill_map(map.distance_to_poi, o.poi_cap);
     else if (name == "region_x") fill_region(0);
     else if (name == "region_y") fill_region(1);
+    else if (name == "category") fill_category();
   }
   return out;
 }

@@ -26,8 +26,8 @@ TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path, const s
   } catch (const nlohmann::json::exception& e) {
     throw InputError(where + ": preprocessing: " + e.what());
   }
-  if (static_cast<int>(o.features.size()) != model.features() || o.length != model.length())
-    throw InputError(where + ": the preprocessing makes windows of " + std::to_string(o.features.size()) + " × " +
+  if (FeatureRows(o) != model.features() || o.length != model.length())
+    throw InputError(where + ": the preprocessing makes windows of " + std::to_string(FeatureRows(o)) + " × " +
                      std::to_string(o.length) + ", the network takes " + std::to_string(model.features()) + " × " +
                      std::to_string(model.length()));
   TrajectoryClassifier classifier(std::move(model), std::move(o), bounds);

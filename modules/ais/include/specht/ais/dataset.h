@@ -63,7 +63,8 @@ struct AisOptions {
 // (≈ 10 min to 5 h here): a fishing vessel has ≈ 190 reports in this data, so
 // 360-point windows leave 14 fishing vessels in all (README). Features: the
 // paper's (position, Δt, speed, course, distance to coast and harbour) plus
-// acceleration, turn rate and the region (longitude, latitude); Δt and the
+// acceleration, turn rate, the region (longitude, latitude) and the flag state
+// (feature "category": the MID of the MMSI, FlagMid, / 1000); Δt and the
 // distances log-scaled.
 struct AisPreprocessOptions : classify::PreprocessOptions {
   AisPreprocessOptions();
@@ -91,7 +92,8 @@ class Geography {
   double coast_cap_km_, harbour_cap_km_;
 };
 
-// A vessel as a trajectory in its own equirectangular frame; label = its class.
+// A vessel as a trajectory in its own equirectangular frame; label = its class,
+// category = its flag (FlagMid).
 classify::Trajectory ToTrajectory(const Vessel& v, double& cos_lat0);
 
 struct PrepareReport {

@@ -39,6 +39,12 @@ struct Vessel {
 // 70–89, Fishing 30, Passenger 60–69, Pleasure Craft 36–37, Tug 31, 32, 52; "" else.
 std::string ClassOfShipType(int code);
 const std::vector<std::string>& VesselClasses();
+// The flag state of a vessel: the Maritime Identification Digits of its MMSI
+// (ITU-R M.585: MIDXXXXXX for a ship station, 8MIDXXXXX for a handheld, 98MIDXXXX
+// for a craft associated with a parent ship), 201–775; 0 for numbers that are not
+// a vessel's (coast stations 00MID…, groups 0MID…, aids to navigation 99MID…, SAR
+// aircraft 111MID…, AIS-SART/MOB/EPIRB 97…) or carry no valid MID.
+int FlagMid(int64_t mmsi);
 // DMA ship type text ("Cargo", "Towing long/wide", …) to its ITU code, −1 unknown.
 int ShipTypeOfDmaText(const std::string& text);
 

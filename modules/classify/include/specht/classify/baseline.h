@@ -4,7 +4,8 @@
 //   |turn rate| mean, std, max; fraction of steps below 10 % of the window's max speed
 //   (stops); straightness (net displacement / path length); duration; distance to the
 //   static layer (mean, min) and to the nearest point of interest (mean); the mean
-//   region (map position, when the map gives one; else 0).
+//   region (map position, when the map gives one; else 0); the object's category
+//   code (AIS: the flag's MID; the trees split its ranges, e.g. 2xx Europe).
 #pragma once
 
 #include <memory>
@@ -21,10 +22,11 @@ class RTrees;
 
 namespace specht::classify {
 
-// The baseline's features of one window. Its geography is only what the network's
-// `features` name (dist_static, dist_poi, region_x / region_y; 0 where not named),
-// so that both models compare on the same information, an ablation without
-// geography takes it from both, and training and prediction cannot disagree.
+// The baseline's features of one window. Its geography and category are only what
+// the network's `features` name (dist_static, dist_poi, region_x / region_y,
+// category; 0 where not named), so that both models compare on the same
+// information, an ablation takes it from both, and training and prediction cannot
+// disagree.
 std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, const std::vector<std::string>& features);
 int HandcraftedFeatureCount();
 

@@ -17,7 +17,12 @@
 //      "fixed" (±position_extent around the first point, keeping the size); the
 //      other features with fixed bounds: Δt by max_gap_s, speed by max_speed, course
 //      by 2π, acceleration and turn rate symmetric around 0.5 by their caps, map
-//      distances by their query caps. Features in log_scaled (Δt, map distances)
+//      distances by their query caps. The object's category c (the same at every
+//      point) takes 1 + 2K rows: u = c / category_cap, then for k = 0 … K−1
+//      (K = category_frequencies) ½ + ½ sin(2π 2^k u) and ½ + ½ cos(2π 2^k u), so
+//      that a network can tell apart codes a few units apart (a convolution on u
+//      alone would need very steep weights; a forest splits u's ranges directly).
+//      Features in log_scaled (Δt, map distances)
 //      map by log(1 + v) / log(1 + cap) instead, for values spread over decades
 //      (AIS reports 2 s to hours apart).
 #pragma once
@@ -40,6 +45,9 @@ struct Trajectory {
   std::string object_id;
   std::string label;  // class name, empty when unknown
   std::vector<TrajectoryPoint> points;
+  // A code the source gives the whole object, 0 when it has none (AIS: the flag
+  // state, the MID of the MMSI, 201–775). Feature "category" = category / category_cap.
+  int category = 0;
 };
 
 // Section "classify".
@@ -61,6 +69,8 @@ struct PreprocessOptions {
   double max_turn_rate = 3.0;
   double static_cap = 10.0;
   double poi_cap = 50.0;
+  double category_cap = 1000.0;
+  int category_frequencies = 0;
 
   template <class V>
   void Visit(V& v) {
@@ -79,7 +89,9 @@ struct PreprocessOptions {
              "positions: min-max over the window, over the dataset, or ±position_extent");
     v.Param("position_extent", position_extent, "half-width of the fixed normalisation (position units)",
             Range::Of(1e-9, 1e9).Log());
-    v.Param("features", features, "per-point features, from: x y dt speed course accel turn_rate dist_static dist_poi region_x region_y");
+    v.Param("features", features,
+            "per-point features, from: x y dt speed course accel turn_rate dist_static dist_poi region_x region_y "
+            "category");
     v.Param("log_scaled", log_scaled, "features scaled by log(1 + v) / log(1 + cap): any of dt dist_static dist_poi");
     v.Param("max_speed", max_speed, "speed normalisation bound (position units per s)", Range::Of(1e-9, 1e9).Log());
     v.Param("max_accel", max_accel, "acceleration bound (units/s²)", Range::Of(1e-9, 1e9).Log());
@@ -87,12 +99,20 @@ struct PreprocessOptions {
     v.Param("static_cap", static_cap, "distance to the nearest static obstacle is capped here (m)",
             Range::Of(1e-3, 1e9).Log());
     v.Param("poi_cap", poi_cap, "distance to the nearest point of interest is capped here", Range::Of(1e-3, 1e9).Log());
+    v.Param("category_cap", category_cap, "the object's category code is divided by this (feature category)",
+            Range::Of(1.0, 1e9).Log());
+    v.Param("category_frequencies", category_frequencies,
+            "sine/cosine pairs encoding the category for the network (frequencies 1, 2, 4, … per category_cap)",
+            Range::Of(0, 16));
   }
   std::vector<std::string> Relations() const;
 };
 
 // The features a window can carry, in their canonical names.
 const std::vector<std::string>& FeatureNames();
+// Rows of a window's feature matrix: one per feature, 1 + 2·category_frequencies
+// for "category".
+int FeatureRows(const PreprocessOptions& o);
 
 // Map features at a position: distance to the nearest occupied static cell (the
 // analogue of distance-to-coast) and to the nearest point of interest (of
@@ -107,6 +127,7 @@ struct MapFeatures {
 
 struct Window {
   std::string object_id, label;
+  int category = 0;  // the trajectory's
   double t0_s = 0;
   int valid = 0;                 // points before the zero padding
   std::vector<TrajectoryPoint> points;  // the raw points (valid of them)
@@ -132,7 +153,7 @@ struct PositionBounds {
   double min_x = 0, max_x = 1, min_y = 0, max_y = 1;
 };
 
-// Steps 4–5: a features × length matrix (row-major, feature-major), zero-padded.
+// Steps 4–5: a FeatureRows × length matrix (row-major, feature-major), zero-padded.
 // `global` is used when normalisation is "global".
 std::vector<float> Features(const Window& w, const PreprocessOptions& o, const MapFeatures& map,
                             const PositionBounds& global = {});
