@@ -64,8 +64,8 @@ struct AisOptions {
 // 360-point windows leave 14 fishing vessels in all (README). Features: the
 // paper's (position, Δt, speed, course, distance to coast and harbour) plus
 // acceleration, turn rate, the region (longitude, latitude) and the flag state
-// (feature "category": the MID of the MMSI, FlagMid, / 1000); Δt and the
-// distances log-scaled.
+// (feature "category": the MID of the MMSI, FlagMid, / 1000, and 8 sine/cosine
+// pairs of it for the network); Δt and the distances log-scaled.
 struct AisPreprocessOptions : classify::PreprocessOptions {
   AisPreprocessOptions();
 };

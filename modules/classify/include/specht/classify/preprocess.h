@@ -22,9 +22,8 @@
 //      (K = category_frequencies) ½ + ½ sin(2π 2^k u) and ½ + ½ cos(2π 2^k u), so
 //      that a network can tell apart codes a few units apart (a convolution on u
 //      alone would need very steep weights; a forest splits u's ranges directly).
-//      Features in log_scaled (Δt, map distances)
-//      map by log(1 + v) / log(1 + cap) instead, for values spread over decades
-//      (AIS reports 2 s to hours apart).
+//      Features in log_scaled (Δt, map distances) map by log(1 + v) / log(1 + cap)
+//      instead, for values spread over decades (AIS reports 2 s to hours apart).
 #pragma once
 
 #include <array>
