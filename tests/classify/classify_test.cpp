@@ -9,6 +9,7 @@
 
 #include "specht/classify/baseline.h"
 #include "specht/classify/crossval.h"
+#include "specht/classify/dataset_io.h"
 #include "specht/classify/map_features.h"
 #include "specht/classify/metrics.h"
 #include "specht/classify/model.h"
@@ -445,6 +446,57 @@ TEST(PreprocessTest, CategoryIsCarriedToEveryWindowAndScaled) {
       for (int i = 0; i < o.length; ++i)
         EXPECT_FLOAT_EQ(f[(1 + r) * o.length + i], i < w.valid ? static_cast<float>(rows[r]) : 0.0f) << r << " " << i;
   }
+}
+
+// A prepared dataset reads back as written; a truncated or corrupted file, a
+// handcrafted.npy of another width (an older version's 19 features) or row count,
+// and a windows.csv with a row missing are refused with the file named.
+TEST(DatasetIoTest, RoundTripsAndRefusesDamagedFiles) {
+  PreparedDataset d;
+  d.windows.features = 2, d.windows.length = 3;
+  d.classes = {"a", "b"};
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 6; ++j) d.windows.x.push_back(0.1f * (i * 6 + j));
+    d.windows.y.push_back(i % 2);
+    d.windows.object_ids.push_back("obj" + std::to_string(i / 2));
+    d.labels.push_back(d.classes[i % 2]);
+    for (int j = 0; j < HandcraftedFeatureCount(); ++j) d.handcrafted.push_back(static_cast<float>(i * 100 + j));
+  }
+  const std::string dir = testing::TempDir("dataset_io");
+  WritePrepared(d, dir);
+  const PreparedDataset r = ReadPrepared(dir);
+  EXPECT_EQ(r.windows.x, d.windows.x);
+  EXPECT_EQ(r.windows.y, d.windows.y);
+  EXPECT_EQ(r.windows.object_ids, d.windows.object_ids);
+  EXPECT_EQ(r.handcrafted, d.handcrafted);
+  EXPECT_EQ(HandcraftedRows(r, {3}), std::vector<float>(d.handcrafted.end() - HandcraftedFeatureCount(), d.handcrafted.end()));
+
+  auto refused = [&](const std::string& file, const std::string& bytes, const std::string& says) {
+    const std::string good = testing::ReadFile(dir + "/" + file);
+    testing::WriteFile(dir + "/" + file, bytes);
+    try {
+      ReadPrepared(dir);
+      ADD_FAILURE() << file << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), ::testing::HasSubstr(file)) << e.what();
+      EXPECT_THAT(e.what(), ::testing::HasSubstr(says)) << e.what();
+    }
+    testing::WriteFile(dir + "/" + file, good);
+  };
+  const std::string windows = testing::ReadFile(dir + "/windows.npy");
+  refused("windows.npy", windows.substr(0, windows.size() - 5), "windows.npy");
+  refused("windows.npy", "not numpy at all", "windows.npy");
+  std::vector<float> old_width(4 * 19, 0.0f);
+  WriteNpy(dir + "/old.npy", old_width, {4, 19});
+  refused("handcrafted.npy", testing::ReadFile(dir + "/old.npy"), "prepare it again");
+  std::vector<float> fewer_rows(static_cast<size_t>(3) * HandcraftedFeatureCount(), 0.0f);
+  WriteNpy(dir + "/fewer.npy", fewer_rows, {3, static_cast<size_t>(HandcraftedFeatureCount())});
+  refused("handcrafted.npy", testing::ReadFile(dir + "/fewer.npy"), "expected 4 windows");
+  const std::string csv = testing::ReadFile(dir + "/windows.csv");
+  refused("windows.csv", csv.substr(0, csv.rfind('\n', csv.size() - 2) + 1), "3 rows");
+  refused("windows.csv", "index,object_id,label\n0;obj0;a\n", "need index,object_id,label");
+  refused("dataset.json", "{\"classes\": ", "dataset.json");
+  EXPECT_NO_THROW(ReadPrepared(dir));  // every damaged file was put back
 }
 
 TEST(SplitTest, DisjointByObject) {

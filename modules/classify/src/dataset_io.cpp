@@ -87,10 +87,12 @@ PreparedDataset ReadPrepared(const std::string& dir) {
   d.windows.x = ReadNpy(dir + "/windows.npy", shape);
   if (shape.size() != 3) throw InputError(dir + "/windows.npy: expected windows × features × length");
   d.windows.features = static_cast<int>(shape[1]), d.windows.length = static_cast<int>(shape[2]);
+  const size_t windows = shape[0];
   d.handcrafted = ReadNpy(dir + "/handcrafted.npy", shape);
-  if (shape.size() != 2 || shape[1] != static_cast<size_t>(HandcraftedFeatureCount()))
-    throw InputError(dir + "/handcrafted.npy: expected windows × " + std::to_string(HandcraftedFeatureCount()) +
-                     " features (a dataset of an older version: prepare it again)");
+  if (shape.size() != 2 || shape[0] != windows || shape[1] != static_cast<size_t>(HandcraftedFeatureCount()))
+    throw InputError(dir + "/handcrafted.npy: expected " + std::to_string(windows) + " windows × " +
+                     std::to_string(HandcraftedFeatureCount()) +
+                     " features, as windows.npy (a dataset of an older version: prepare it again)");
   std::ifstream csv(dir + "/windows.csv");
   std::string line;
   std::getline(csv, line);
