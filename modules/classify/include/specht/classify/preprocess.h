@@ -45,7 +45,8 @@ struct Trajectory {
   std::string label;  // class name, empty when unknown
   std::vector<TrajectoryPoint> points;
   // A code the source gives the whole object, 0 when it has none (AIS: the flag
-  // state, the MID of the MMSI, 201–775). Feature "category" = category / category_cap.
+  // state, the MID of the MMSI, 201–775). Feature "category": its scaled value and
+  // sine/cosine pairs (step 5 above).
   int category = 0;
 };
 
