@@ -389,6 +389,30 @@ TEST(ForestBaselineTest, VoteFractionsAgreeWithPredictAndCombine) {
   EXPECT_THROW(CombinedProbabilities(network, {0.5f, 0.5f}), InputError);
 }
 
+// The motion features on a window whose values are known by hand: 11 samples along
+// +x at 2 m/s, reported every 2 s except for every fifth step, 10 s (AIS class B
+// reports every 30 s, class A every 2–10 s: the percentiles of the time between
+// samples tell transponders apart).
+TEST(ForestBaselineTest, MotionFeaturesMatchHandComputedValues) {
+  Window w;
+  double t = 0;
+  for (int i = 0; i <= 10; ++i) {
+    if (i > 0) t += i % 5 == 0 ? 10.0 : 2.0;
+    w.points.push_back({t, 2.0 * t, 0.0});
+  }
+  const std::vector<float> h = HandcraftedFeatures(w, {}, {});
+  ASSERT_EQ(h.size(), static_cast<size_t>(HandcraftedFeatureCount()));
+  EXPECT_FLOAT_EQ(h[0], 2.0f);    // speed mean
+  EXPECT_FLOAT_EQ(h[1], 0.0f);    // speed std
+  EXPECT_FLOAT_EQ(h[6], 0.0f);    // |acceleration| mean
+  EXPECT_FLOAT_EQ(h[11], 0.0f);   // no stops
+  EXPECT_FLOAT_EQ(h[12], 1.0f);   // straight
+  EXPECT_FLOAT_EQ(h[13], 36.0f);  // duration: 8 × 2 s + 2 × 10 s
+  EXPECT_FLOAT_EQ(h[14], 2.0f);   // interval 10th percentile
+  EXPECT_FLOAT_EQ(h[15], 2.0f);   // median
+  EXPECT_FLOAT_EQ(h[16], 10.0f);  // 90th percentile
+}
+
 // The baseline gets only the geography and category the network's features name:
 // the last six handcrafted features are static distance mean and min, harbour
 // distance mean, the region (x, y) and the object's category.

@@ -29,7 +29,7 @@ double Quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
-int HandcraftedFeatureCount() { return 20; }
+int HandcraftedFeatureCount() { return 23; }
 
 std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, const std::vector<std::string>& features) {
   auto named = [&](const char* f) { return std::find(features.begin(), features.end(), f) != features.end(); };
@@ -38,11 +38,12 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, 
   const bool use_region = map.region && (named("region_x") || named("region_y"));
   const bool use_category = named("category");
   const auto& p = w.points;
-  std::vector<double> speed, accel, turn, ds, dp, rx, ry;
+  std::vector<double> speed, accel, turn, intervals, ds, dp, rx, ry;
   double path = 0, prev_course = 0;
   for (size_t i = 1; i < p.size(); ++i) {
     const double dt = p[i].t_s - p[i - 1].t_s, step = std::hypot(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y);
     path += step;
+    intervals.push_back(dt);
     if (dt <= 0) continue;
     speed.push_back(step / dt);
     const double course = std::atan2(p[i].y - p[i - 1].y, p[i].x - p[i - 1].x);
@@ -71,6 +72,8 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, 
           static_cast<float>(Std(turn)),    static_cast<float>(tmax),        static_cast<float>(stops),
           static_cast<float>(path > 0 ? net / path : 0),
           static_cast<float>(p.empty() ? 0 : p.back().t_s - p.front().t_s),
+          static_cast<float>(Quantile(intervals, 0.1)), static_cast<float>(Quantile(intervals, 0.5)),
+          static_cast<float>(Quantile(intervals, 0.9)),
           static_cast<float>(Mean(ds)),     static_cast<float>(ds.empty() ? 0 : *std::min_element(ds.begin(), ds.end())),
           static_cast<float>(Mean(dp)),     static_cast<float>(Mean(rx)),    static_cast<float>(Mean(ry)),
           static_cast<float>(use_category ? w.category : 0)};
