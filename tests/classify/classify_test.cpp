@@ -470,6 +470,18 @@ TEST(PreprocessTest, CategoryIsCarriedToEveryWindowAndScaled) {
       for (int i = 0; i < o.length; ++i)
         EXPECT_FLOAT_EQ(f[(1 + r) * o.length + i], i < w.valid ? static_cast<float>(rows[r]) : 0.0f) << r << " " << i;
   }
+  // Codes outside [0, category_cap] are clamped to its ends: u = 1 or 0, and the
+  // pairs are those of u (sin 2πu = 0 at both ends, cos 2πu = 1).
+  for (int code : {1500, -3}) {
+    Window w = windows[0];
+    w.category = code;
+    const std::vector<float> f = Features(w, o, {});
+    const float u = code > 0 ? 1.0f : 0.0f;
+    for (int r = 1; r <= 5; ++r) {
+      const float expected = r == 1 ? u : r % 2 == 0 ? 0.5f : 1.0f;
+      EXPECT_NEAR(f[static_cast<size_t>(r) * o.length], expected, 1e-6) << code << " row " << r;
+    }
+  }
 }
 
 // A prepared dataset reads back as written; a truncated or corrupted file, a
