@@ -9,12 +9,14 @@
 //       the paper's Figure 3), dataset files as classify writes them.
 //   train <dataset> -o DIR [--resume]   the 1D ResNet (section "ais_model") and the
 //       random forest, as `classify train`.
-//   eval <dataset> -o DIR [--folds 5] [--networks tiny,mlp]   cross-validation
-//       with folds disjoint by MMSI: per model (each network, the forest, each
-//       network combined with the forest) macro/weighted F1 mean ± std,
+//   eval <dataset> -o DIR [--folds 5] [--repeats 1] [--networks tiny,mlp]
+//       cross-validation with folds disjoint by MMSI: per model (each network, the
+//       forest, each network combined with the forest) macro/weighted F1 mean ± std,
 //       per-class F1, pooled confusion matrices (PNG), scored per window, per vessel
 //       and per window from the vessel's windows so far; every window's test
-//       probabilities in predictions.csv. A trained model is scored on a dataset
+//       probabilities in predictions.csv. --repeats R deals the vessels to the folds
+//       R times (seeds seed … seed + R − 1) and reports over all R · k folds and
+//       each deal's mean. A trained model is scored on a dataset
 //       with `specht classify eval`.
 //   predict <model dir> <tracks.csv>... -o DIR   classes per vessel (objects.csv: the
 //       mean of its windows' probabilities) and per window (windows.csv: its own
@@ -50,7 +52,7 @@ struct AisArgs {
   CommonArgs common;
   std::vector<std::string> inputs;
   std::string dataset, model_dir, networks = "tiny,mlp";
-  int folds = 5;
+  int folds = 5, repeats = 1;
   bool resume = false, no_forest = false, network_only = false;
 };
 
@@ -217,20 +219,22 @@ std::vector<std::string> SplitList(const std::string& s) {
   return out;
 }
 
-// predictions.csv: per window and model, the fold that tested it, the truth, the
-// prediction and the class probabilities (join with the dataset's windows.csv by index).
+// predictions.csv: per window, repeat and model, the fold that tested it, the truth,
+// the prediction and the class probabilities (join with the dataset's windows.csv by
+// index).
 void WritePredictions(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
                       const std::string& path) {
-  const size_t k = d.classes.size();
-  std::string csv = "index,object_id,fold,model,truth,predicted" + ProbabilityHeader(d.classes) + "\n";
+  const size_t k = d.classes.size(), n = d.windows.size();
+  std::string csv = "index,object_id,repeat,fold,model,truth,predicted" + ProbabilityHeader(d.classes) + "\n";
   for (const auto& name : result.models) {
     const std::vector<float>& p = result.probabilities.at(name);
     const std::vector<int> predicted = classify::MostProbable(p, static_cast<int>(k));
-    for (size_t i = 0; i < d.windows.size(); ++i) {
-      csv += std::to_string(i) + ',' + d.windows.object_ids[i] + ',' + std::to_string(result.fold_of[i]) + ',' +
-             name + ',' + d.classes[static_cast<size_t>(d.windows.y[i])] + ',' +
-             d.classes[static_cast<size_t>(predicted[i])];
-      AppendProbabilities(csv, p.data() + i * k, k);
+    for (size_t row = 0; row < p.size() / k; ++row) {
+      const size_t i = row % n;
+      csv += std::to_string(i) + ',' + d.windows.object_ids[i] + ',' + std::to_string(row / n) + ',' +
+             std::to_string(result.fold_of[row]) + ',' + name + ',' + d.classes[static_cast<size_t>(d.windows.y[i])] +
+             ',' + d.classes[static_cast<size_t>(predicted[row])];
+      AppendProbabilities(csv, p.data() + row * k, k);
       csv += '\n';
     }
   }
@@ -242,6 +246,7 @@ int RunEval(const AisArgs& a) {
   const classify::ModelOptions base = params.Get<ais::AisModelOptions>("ais_model");
   classify::CrossValidationOptions cv;
   cv.folds = a.folds;
+  cv.repeats = a.repeats;
   cv.seed = base.seed;
   cv.forest = !a.no_forest;
   for (const auto& variant : SplitList(a.networks)) {
@@ -263,18 +268,20 @@ int RunEval(const AisArgs& a) {
   j["dataset"] = a.dataset;
   j["windows"] = d.windows.size();
   j["folds"] = a.folds;
+  j["repeats"] = a.repeats;
   j["models"] = result.ToJson(d.classes);
   j["timing"] = {{"seconds", Seconds(t0)}};
+  const std::string scheme = std::to_string(a.folds) + "-fold CV" +
+                             (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by MMSI";
   for (const auto& name : result.models) {
-    classify::WriteConfusionPng(result.pooled.at(name), d.classes,
-                                name + ": " + std::to_string(a.folds) + "-fold CV by MMSI, pooled",
+    classify::WriteConfusionPng(result.pooled.at(name), d.classes, name + ": " + scheme + ", pooled",
                                 out + "/confusion_" + name + ".png");
     report.AddOutput("confusion_" + name + ".png");
   }
   WritePredictions(result, d, out + "/predictions.csv");
   report.AddOutput("predictions.csv");
   report.Write(out);
-  std::printf("ais eval: %zu windows, %d folds by MMSI\n", d.windows.size(), a.folds);
+  std::printf("ais eval: %zu windows, %s\n", d.windows.size(), scheme.c_str());
   // Per window (the paper's), per vessel (majority of its windows), and per window
   // from the vessel's windows so far (mean probabilities): label, report key.
   const std::pair<const char*, const char*> levels[] = {
@@ -289,6 +296,15 @@ int RunEval(const AisArgs& a) {
                   m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
                   m["weighted_f1"]["std"].get<double>());
       for (const auto& c : d.classes) std::printf(" %14.3f", m["per_class_f1"][c]["mean"].get<double>());
+      std::printf("\n");
+    }
+  }
+  if (a.repeats > 1) {  // how far the deal of vessels to folds alone moves the figures
+    std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");
+    for (const auto& name : result.models) {
+      std::printf("  %-14s", name.c_str());
+      for (const auto& r : j["models"][name]["repeats"])
+        std::printf(" %.3f (%.3f)", r["macro_f1"].get<double>(), r["weighted_f1"].get<double>());
       std::printf("\n");
     }
   }
@@ -397,6 +413,8 @@ void AddAisCommand(CLI::App& app, int& exit_code) {
   CLI::App* e = cmd->add_subcommand("eval", "cross-validation with folds disjoint by MMSI");
   e->add_option("dataset", ev->dataset, "a directory written by ais prepare")->required();
   e->add_option("--folds", ev->folds, "number of folds")->check(CLI::Range(2, 50));
+  e->add_option("--repeats", ev->repeats, "deal the vessels to the folds this many times (seeds seed, seed + 1, …)")
+      ->check(CLI::Range(1, 20));
   e->add_option("--networks", ev->networks, "comma-separated network variants (tiny,shallow,deep,split,mlp)");
   e->add_flag("--no-forest", ev->no_forest, "skip the random-forest baseline");
   AddCommonOptions(*e, ev->common, "specht-out/ais-eval");

@@ -547,6 +547,45 @@ TEST(SplitTest, DisjointByObject) {
   EXPECT_NEAR(static_cast<double>(held.size()) / ids.size(), 0.25, 0.12);
 }
 
+// Repeated cross-validation: repeat r is exactly the single run with seed + r, and
+// the report holds every repeat's folds and each repeat's mean.
+TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
+  PreparedDataset d;
+  d.classes = {"a", "b"};
+  d.windows.features = 1, d.windows.length = 2;
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0, 1);
+  for (int object = 0; object < 40; ++object) {
+    const int label = object % 2;
+    for (int w = 0; w < 3; ++w) {
+      d.windows.x.insert(d.windows.x.end(), {0.0f, 0.0f});
+      d.windows.y.push_back(label);
+      d.windows.object_ids.push_back("o" + std::to_string(object));
+      for (int j = 0; j < HandcraftedFeatureCount(); ++j) d.handcrafted.push_back(label + noise(rng));
+    }
+  }
+  CrossValidationOptions o;
+  o.folds = 3, o.repeats = 2, o.seed = 4;
+  const CrossValidationResult both = CrossValidate(d, o);
+  o.repeats = 1, o.seed = 5;
+  const CrossValidationResult second = CrossValidate(d, o);
+  ASSERT_EQ(both.per_fold.size(), 6u);
+  ASSERT_EQ(both.fold_of.size(), 2 * d.windows.size());
+  EXPECT_EQ(std::vector<int>(both.fold_of.begin() + static_cast<long>(d.windows.size()), both.fold_of.end()),
+            second.fold_of);
+  EXPECT_NE(std::vector<int>(both.fold_of.begin(), both.fold_of.begin() + static_cast<long>(d.windows.size())),
+            second.fold_of);  // another deal
+  const std::vector<float>& p = both.probabilities.at("forest");
+  EXPECT_EQ(std::vector<float>(p.begin() + static_cast<long>(p.size() / 2), p.end()), second.probabilities.at("forest"));
+  const nlohmann::json j = both.ToJson(d.classes), one = second.ToJson(d.classes);
+  ASSERT_EQ(j["forest"]["folds"].size(), 6u);
+  ASSERT_EQ(j["forest"]["repeats"].size(), 2u);
+  EXPECT_DOUBLE_EQ(j["forest"]["repeats"][1]["macro_f1"].get<double>(), one["forest"]["macro_f1"]["mean"].get<double>());
+  EXPECT_GT(one["forest"]["macro_f1"]["mean"].get<double>(), 0.9);  // the label is in every feature
+  o.repeats = 0;
+  EXPECT_THROW(CrossValidate(d, o), InputError);
+}
+
 TEST(CrossValidationTest, HistoryIsTheMeanOfTheObjectsWindowsSoFar) {
   // Two objects interleaved, two classes: each row is the mean of its object's rows up to it.
   const std::vector<std::string> ids = {"a", "b", "a", "a", "b"};

@@ -57,9 +57,20 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   EXPECT_EQ(cv["models"]["tiny"]["with_history"]["folds"].size(), 2u);  // each window from its vessel's so far
   // One row per window and model (tiny, forest, tiny+forest), with the header.
   const std::string predictions = testing::ReadFile(dir + "/cv/predictions.csv");
-  EXPECT_THAT(predictions, ::testing::StartsWith("index,object_id,fold,model,truth,predicted,p_"));
+  EXPECT_THAT(predictions, ::testing::StartsWith("index,object_id,repeat,fold,model,truth,predicted,p_"));
   EXPECT_EQ(std::count(predictions.begin(), predictions.end(), '\n'), 1 + 3 * cv["windows"].get<long>());
   EXPECT_TRUE(std::filesystem::exists(dir + "/cv/confusion_forest.png"));
+  // Two deals of the vessels to the folds: the second is the run with seed 2.
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --repeats 2 --networks '' -q -o '" + dir + "/cv2'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("2-fold CV × 2 by MMSI"));
+  const auto twice = Report(dir + "/cv2");
+  EXPECT_EQ(twice["models"]["forest"]["folds"].size(), 4u);
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks '' --set ais_model.seed=2 -q -o '" + dir +
+                         "/cv3'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_DOUBLE_EQ(twice["models"]["forest"]["repeats"][1]["macro_f1"].get<double>(),
+                   Report(dir + "/cv3")["models"]["forest"]["macro_f1"]["mean"].get<double>());
   r = testing::RunSpecht("ais train '" + dir + "/data' -q -o '" + dir + "/model'" + quick);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // Same dataset and seed → the same model.

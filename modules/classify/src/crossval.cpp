@@ -87,50 +87,45 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& ids, const std::v
   return out;
 }
 
-CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
-                                    const std::function<void(const std::string&)>& log) {
+namespace {
+
+// One k-fold run of CrossValidate: repeat r, every seed raised by r.
+void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o, int r,
+                       const std::function<void(const std::string&)>& log, CrossValidationResult& result) {
   const int k = static_cast<int>(d.classes.size());
-  const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed);
-  CrossValidationResult result;
-  for (const auto& [name, options] : o.networks) result.models.push_back(name);
-  if (o.forest) {
-    result.models.push_back("forest");
-    for (const auto& [name, options] : o.networks) result.models.push_back(name + "+forest");
-  }
-  result.per_fold.resize(o.folds);
-  result.per_fold_objects.resize(o.folds);
-  result.per_fold_history.resize(o.folds);
-  result.fold_of = fold;
-  const size_t kc = d.classes.size();
-  for (const auto& name : result.models) result.probabilities[name].assign(fold.size() * kc, 0.0f);
+  const size_t kc = d.classes.size(), n = d.windows.size();
+  const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed + r);
+  result.fold_of.insert(result.fold_of.end(), fold.begin(), fold.end());
   char line[256];
   for (int f = 0; f < o.folds; ++f) {
+    const size_t slot = static_cast<size_t>(r) * o.folds + f;
     std::vector<size_t> train_rows, test_rows;
     for (size_t i = 0; i < fold.size(); ++i) (fold[i] == f ? test_rows : train_rows).push_back(i);
     const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
     // Scores a model's test probabilities three ways and keeps them.
     auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
       const std::vector<int> predicted = MostProbable(probabilities, k);
-      result.per_fold[f][name] = Score(test.y, predicted, k);
+      result.per_fold[slot][name] = Score(test.y, predicted, k);
       std::vector<int> ot, op;
       VoteByObject(test.object_ids, test.y, predicted, k, ot, op);
-      result.per_fold_objects[f][name] = Score(ot, op, k);
-      result.per_fold_history[f][name] =
+      result.per_fold_objects[slot][name] = Score(ot, op, k);
+      result.per_fold_history[slot][name] =
           Score(test.y, MostProbable(RunningMeanByObject(test.object_ids, probabilities, k), k), k);
-      auto& all = result.probabilities[name];
-      for (size_t r = 0; r < test_rows.size(); ++r) {
-        std::copy_n(probabilities.begin() + static_cast<long>(r * kc), kc,
-                    all.begin() + static_cast<long>(test_rows[r] * kc));
-      }
-      return result.per_fold[f][name];
+      auto all = result.probabilities[name].begin() + static_cast<long>(r * n * kc);
+      for (size_t t = 0; t < test_rows.size(); ++t)
+        std::copy_n(probabilities.begin() + static_cast<long>(t * kc), kc, all + static_cast<long>(test_rows[t] * kc));
+      return result.per_fold[slot][name];
     };
+    const std::string repeat = o.repeats > 1 ? "repeat " + std::to_string(r + 1) + "/" + std::to_string(o.repeats) + " " : "";
     auto report = [&](const std::string& name, const Scores& sc, const std::string& details) {
-      std::snprintf(line, sizeof(line), "fold %d/%d %-11s macro F1 %.3f weighted %.3f%s", f + 1, o.folds, name.c_str(),
-                    sc.macro_f1, sc.weighted_f1, details.c_str());
+      std::snprintf(line, sizeof(line), "%sfold %d/%d %-11s macro F1 %.3f weighted %.3f%s", repeat.c_str(), f + 1,
+                    o.folds, name.c_str(), sc.macro_f1, sc.weighted_f1, details.c_str());
       if (log) log(line);
     };
     std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
-    for (const auto& [name, options] : o.networks) {
+    for (const auto& [name, network_options] : o.networks) {
+      ModelOptions options = network_options;
+      options.seed += r;
       std::vector<size_t> fit, val;
       SplitByObject(train_all.object_ids, options.validation_fraction, options.seed + f, fit, val);
       Classifier model(options, d.windows.features, d.windows.length, d.classes);
@@ -144,7 +139,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
       report(name, record(name, network_probabilities.back().second), details);
     }
     if (o.forest) {
-      ForestBaseline forest(200, 12, o.seed);
+      ForestBaseline forest(200, 12, o.seed + r);
       forest.Train(HandcraftedRows(d, train_rows), train_all.y);
       const std::vector<float> test_x = HandcraftedRows(d, test_rows);
       // The forest's own answer is its most voted class (RTrees::predict's, tie
@@ -156,6 +151,28 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
       }
     }
   }
+}
+
+}  // namespace
+
+CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
+                                    const std::function<void(const std::string&)>& log) {
+  if (o.repeats < 1) throw InputError("cross-validation needs at least 1 repeat");
+  CrossValidationResult result;
+  result.folds = o.folds, result.repeats = o.repeats;
+  for (const auto& [name, options] : o.networks) result.models.push_back(name);
+  if (o.forest) {
+    result.models.push_back("forest");
+    for (const auto& [name, options] : o.networks) result.models.push_back(name + "+forest");
+  }
+  const size_t slots = static_cast<size_t>(o.folds) * o.repeats;
+  result.per_fold.resize(slots);
+  result.per_fold_objects.resize(slots);
+  result.per_fold_history.resize(slots);
+  for (const auto& name : result.models)
+    result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);
+  for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, log, result);
+  const int k = static_cast<int>(d.classes.size());
   for (const auto& name : result.models) {
     std::vector<Scores> folds;
     for (const auto& per : result.per_fold) folds.push_back(per.at(name));
@@ -166,8 +183,9 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
 
 namespace {
 
+// `per_fold` holds whole repeats of `folds` folds each.
 nlohmann::json Summary(const std::vector<std::map<std::string, Scores>>& per_fold, const std::string& name,
-                       const std::vector<std::string>& classes) {
+                       const std::vector<std::string>& classes, int folds_per_repeat) {
   std::vector<double> macro, weighted;
   std::vector<std::vector<double>> per_class(classes.size());
   nlohmann::json folds = nlohmann::json::array();
@@ -186,10 +204,18 @@ nlohmann::json Summary(const std::vector<std::map<std::string, Scores>>& per_fol
     const auto [m, s] = MeanStd(per_class[c]);
     pc[classes[c]] = {{"mean", m}, {"std", s}};
   }
+  nlohmann::json repeats = nlohmann::json::array();
+  const auto per_repeat = static_cast<long>(std::max(1, folds_per_repeat));
+  for (long first = 0; first < static_cast<long>(macro.size()); first += per_repeat) {
+    const long end = std::min(static_cast<long>(macro.size()), first + per_repeat);
+    repeats.push_back({{"macro_f1", MeanStd({macro.begin() + first, macro.begin() + end}).first},
+                       {"weighted_f1", MeanStd({weighted.begin() + first, weighted.begin() + end}).first}});
+  }
   return {{"macro_f1", {{"mean", mm}, {"std", ms}}},
           {"weighted_f1", {{"mean", wm}, {"std", ws}}},
           {"per_class_f1", pc},
-          {"folds", folds}};
+          {"folds", folds},
+          {"repeats", repeats}};
 }
 
 }  // namespace
@@ -197,10 +223,10 @@ nlohmann::json Summary(const std::vector<std::map<std::string, Scores>>& per_fol
 nlohmann::json CrossValidationResult::ToJson(const std::vector<std::string>& classes) const {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& name : models) {
-    j[name] = Summary(per_fold, name, classes);
+    j[name] = Summary(per_fold, name, classes, folds);
     j[name]["pooled"] = pooled.at(name).ToJson(classes);
-    j[name]["per_object"] = Summary(per_fold_objects, name, classes);
-    j[name]["with_history"] = Summary(per_fold_history, name, classes);
+    j[name]["per_object"] = Summary(per_fold_objects, name, classes, folds);
+    j[name]["with_history"] = Summary(per_fold_history, name, classes, folds);
   }
   return j;
 }
