@@ -576,11 +576,13 @@ TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
   EXPECT_NE(std::vector<int>(both.fold_of.begin(), both.fold_of.begin() + static_cast<long>(d.windows.size())),
             second.fold_of);  // another deal
   const std::vector<float>& p = both.probabilities.at("forest");
-  EXPECT_EQ(std::vector<float>(p.begin() + static_cast<long>(p.size() / 2), p.end()), second.probabilities.at("forest"));
+  EXPECT_EQ(std::vector<float>(p.begin() + static_cast<long>(p.size() / 2), p.end()),
+            second.probabilities.at("forest"));
   const nlohmann::json j = both.ToJson(d.classes), one = second.ToJson(d.classes);
   ASSERT_EQ(j["forest"]["folds"].size(), 6u);
   ASSERT_EQ(j["forest"]["repeats"].size(), 2u);
-  EXPECT_DOUBLE_EQ(j["forest"]["repeats"][1]["macro_f1"].get<double>(), one["forest"]["macro_f1"]["mean"].get<double>());
+  EXPECT_DOUBLE_EQ(j["forest"]["repeats"][1]["macro_f1"].get<double>(),
+                   one["forest"]["macro_f1"]["mean"].get<double>());
   EXPECT_GT(one["forest"]["macro_f1"]["mean"].get<double>(), 0.9);  // the label is in every feature
   o.repeats = 0;
   EXPECT_THROW(CrossValidate(d, o), InputError);

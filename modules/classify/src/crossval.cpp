@@ -116,7 +116,8 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
         std::copy_n(probabilities.begin() + static_cast<long>(t * kc), kc, all + static_cast<long>(test_rows[t] * kc));
       return result.per_fold[slot][name];
     };
-    const std::string repeat = o.repeats > 1 ? "repeat " + std::to_string(r + 1) + "/" + std::to_string(o.repeats) + " " : "";
+    const std::string repeat =
+        o.repeats > 1 ? "repeat " + std::to_string(r + 1) + "/" + std::to_string(o.repeats) + " " : "";
     auto report = [&](const std::string& name, const Scores& sc, const std::string& details) {
       std::snprintf(line, sizeof(line), "%sfold %d/%d %-11s macro F1 %.3f weighted %.3f%s", repeat.c_str(), f + 1,
                     o.folds, name.c_str(), sc.macro_f1, sc.weighted_f1, details.c_str());
