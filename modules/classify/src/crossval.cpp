@@ -160,7 +160,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
                                     const std::function<void(const std::string&)>& log) {
   if (o.repeats < 1) throw InputError("cross-validation needs at least 1 repeat");
   CrossValidationResult result;
-  result.folds = o.folds, result.repeats = o.repeats;
+  result.folds = o.folds;
   for (const auto& [name, options] : o.networks) result.models.push_back(name);
   if (o.forest) {
     result.models.push_back("forest");
