@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,31 @@ std::string EnvOr(const char* name, const char* fallback) {
   const char* v = std::getenv(name);
   return v != nullptr && *v != '\0' ? std::string(v) : std::string(fallback);
 }
+
+// This process's scratch root: every TempDir() lies below it.
+fs::path ProcessTempRoot() { return fs::path(::testing::TempDir()) / ("specht-" + std::to_string(getpid())); }
+
+// Removes the process's scratch root when every test passed, so that a suite run
+// (ctest starts one process per test) leaves nothing behind; a failing run keeps
+// its files for inspection, as does SPECHT_KEEP_TEST_FILES=1.
+class TempRootCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    const fs::path root = ProcessTempRoot();
+    if (!fs::exists(root)) return;
+    if (::testing::UnitTest::GetInstance()->Passed() && EnvOr("SPECHT_KEEP_TEST_FILES", "").empty()) {
+      std::error_code ignored;
+      fs::remove_all(root, ignored);
+    } else {
+      std::fprintf(stderr, "test files kept in %s\n", root.c_str());
+    }
+  }
+};
+
+// gtest_main runs RUN_ALL_TESTS; an environment registered during static
+// initialisation takes part (the registration gtest documents for that case).
+[[maybe_unused]] ::testing::Environment* const kTempRootCleanup =
+    ::testing::AddGlobalTestEnvironment(new TempRootCleanup);
 
 }  // namespace
 
@@ -42,7 +68,7 @@ std::string MrptDemoDir() {
 std::string TempDir(const std::string& suffix) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = std::string(info->test_suite_name()) + "." + info->name() + suffix;
-  const fs::path dir = fs::path(::testing::TempDir()) / ("specht-" + std::to_string(getpid())) / name;
+  const fs::path dir = ProcessTempRoot() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();

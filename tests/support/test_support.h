@@ -20,6 +20,8 @@ std::string BuiltInRawlog();
 std::string MrptDemoDir();
 
 // A fresh empty directory under the test temp dir, named after the running test.
+// The process's directories are removed when all its tests pass (kept on failure
+// or with SPECHT_KEEP_TEST_FILES=1).
 std::string TempDir(const std::string& suffix = "");
 
 struct CommandResult {
