@@ -4,6 +4,8 @@
 # all but the slow tests again, then the concurrent parts (the tsan preset's filter) under
 # ThreadSanitizer. Evaluation data is read from ../shared/data when it
 # exists (override with SPECHT_DATA_DIR); tests that need it skip without it.
+# The sanitizer builds carry line tables only (-g1, CMakePresets.json): enough for
+# their reports' stack traces, at a fraction of the disk full debug info takes.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
