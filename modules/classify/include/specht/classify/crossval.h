@@ -61,7 +61,7 @@ struct CrossValidationOptions {
 // repeat · windows + window.
 struct CrossValidationResult {
   std::vector<std::string> models;                      // in report order
-  int folds = 0;  // per repeat; per_fold.size() / folds repeats
+  int folds = 0;  // folds in one repeat (the repeat count is per_fold.size() / folds)
   std::vector<std::map<std::string, Scores>> per_fold;  // fold → model → scores per window
   std::vector<std::map<std::string, Scores>> per_fold_objects;  // … per object (majority vote)
   std::vector<std::map<std::string, Scores>> per_fold_history;  // … per window, from its object's history
