@@ -17,7 +17,8 @@
 //       probabilities in predictions.csv. --repeats R deals the vessels to the folds
 //       R times (seeds seed … seed + R − 1) and reports over all R · k folds and
 //       each deal's mean. A trained model is scored on a dataset
-//       with `specht classify eval`.
+//       with `specht classify eval`. The cross-validation is crossval_command.cpp,
+//       shared with `specht classify crossval`.
 //   predict <model dir> <tracks.csv>... -o DIR   classes per vessel (objects.csv: the
 //       mean of its windows' probabilities) and per window (windows.csv: its own
 //       class and the class from the vessel's windows so far) with the model's own
@@ -28,7 +29,6 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <sstream>
 
 #include "commands.h"
 #include "probability_csv.h"
@@ -51,9 +51,8 @@ namespace {
 struct AisArgs {
   CommonArgs common;
   std::vector<std::string> inputs;
-  std::string dataset, model_dir, networks = "tiny,mlp";
-  int folds = 5, repeats = 1;
-  bool resume = false, no_forest = false, network_only = false;
+  std::string dataset, model_dir;
+  bool resume = false, network_only = false;
 };
 
 double Seconds(std::chrono::steady_clock::time_point t0) {
@@ -209,108 +208,6 @@ int RunPrepare(const AisArgs& a) {
   return 0;
 }
 
-// ---- eval (cross-validation) ----------------------------------------------------
-
-std::vector<std::string> SplitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  for (std::string x; std::getline(in, x, ',');)
-    if (!x.empty()) out.push_back(x);
-  return out;
-}
-
-// predictions.csv: per window, repeat and model, the fold that tested it, the truth,
-// the prediction and the class probabilities (join with the dataset's windows.csv by
-// index).
-void WritePredictions(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
-                      const std::string& path) {
-  const size_t k = d.classes.size(), n = d.windows.size();
-  std::string csv = "index,object_id,repeat,fold,model,truth,predicted" + ProbabilityHeader(d.classes) + "\n";
-  for (const auto& name : result.models) {
-    const std::vector<float>& p = result.probabilities.at(name);
-    const std::vector<int> predicted = classify::MostProbable(p, static_cast<int>(k));
-    for (size_t row = 0; row < p.size() / k; ++row) {
-      const size_t i = row % n;
-      csv += std::to_string(i) + ',' + d.windows.object_ids[i] + ',' + std::to_string(row / n) + ',' +
-             std::to_string(result.fold_of[row]) + ',' + name + ',' + d.classes[static_cast<size_t>(d.windows.y[i])] +
-             ',' + d.classes[static_cast<size_t>(predicted[row])];
-      AppendProbabilities(csv, p.data() + row * k, k);
-      csv += '\n';
-    }
-  }
-  io::WriteTextAtomically(path, csv);
-}
-
-int RunEval(const AisArgs& a) {
-  const params::Params params = LoadParams(a.common);
-  const classify::ModelOptions base = params.Get<ais::AisModelOptions>("ais_model");
-  classify::CrossValidationOptions cv;
-  cv.folds = a.folds;
-  cv.repeats = a.repeats;
-  cv.seed = base.seed;
-  cv.forest = !a.no_forest;
-  for (const auto& variant : SplitList(a.networks)) {
-    classify::ModelOptions m = base;
-    m.variant = variant;
-    if (variant != "tiny" && variant != "shallow" && variant != "deep" && variant != "split" && variant != "mlp")
-      throw InputError("--networks: unknown variant \"" + variant + "\" (tiny, shallow, deep, split, mlp)");
-    cv.networks.push_back({variant, m});
-  }
-  const classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
-  PrepareOutputDir(a.common, params);
-  const std::string& out = a.common.out_dir;
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto result = classify::CrossValidate(d, cv, [&](const std::string& line) {
-    if (!a.common.quiet) std::fprintf(stderr, "ais eval: %s (%.0f s)\n", line.c_str(), Seconds(t0));
-  });
-  io::RunReport report("ais eval");
-  auto& j = report.json();
-  j["dataset"] = a.dataset;
-  j["windows"] = d.windows.size();
-  j["folds"] = a.folds;
-  j["repeats"] = a.repeats;
-  j["models"] = result.ToJson(d.classes);
-  j["timing"] = {{"seconds", Seconds(t0)}};
-  const std::string scheme = std::to_string(a.folds) + "-fold CV" +
-                             (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by MMSI";
-  for (const auto& name : result.models) {
-    classify::WriteConfusionPng(result.pooled.at(name), d.classes, name + ": " + scheme + ", pooled",
-                                out + "/confusion_" + name + ".png");
-    report.AddOutput("confusion_" + name + ".png");
-  }
-  WritePredictions(result, d, out + "/predictions.csv");
-  report.AddOutput("predictions.csv");
-  report.Write(out);
-  std::printf("ais eval: %zu windows, %s\n", d.windows.size(), scheme.c_str());
-  // Per window (the paper's), per vessel (majority of its windows), and per window
-  // from the vessel's windows so far (mean probabilities): label, report key.
-  const std::pair<const char*, const char*> levels[] = {
-      {"windows", nullptr}, {"vessels", "per_object"}, {"so far", "with_history"}};
-  for (const auto& [level, key] : levels) {
-    std::printf("  %-14s %17s %17s", level, "macro F1", "weighted F1");
-    for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
-    std::printf("\n");
-    for (const auto& name : result.models) {
-      const auto& m = key ? j["models"][name][key] : j["models"][name];
-      std::printf("  %-14s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
-                  m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
-                  m["weighted_f1"]["std"].get<double>());
-      for (const auto& c : d.classes) std::printf(" %14.3f", m["per_class_f1"][c]["mean"].get<double>());
-      std::printf("\n");
-    }
-  }
-  if (a.repeats > 1) {  // how far the deal of vessels to folds alone moves the figures
-    std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");
-    for (const auto& name : result.models) {
-      std::printf("  %-14s", name.c_str());
-      for (const auto& r : j["models"][name]["repeats"])
-        std::printf(" %.3f (%.3f)", r["macro_f1"].get<double>(), r["weighted_f1"].get<double>());
-      std::printf("\n");
-    }
-  }
-  return 0;
-}
-
 // ---- predict ------------------------------------------------------------------
 
 int RunPredict(const AisArgs& a) {
@@ -409,16 +306,14 @@ void AddAisCommand(CLI::App& app, int& exit_code) {
                                       train->dataset, train->resume, "ais train");
   });
 
-  auto ev = std::make_shared<AisArgs>();
+  auto ev = std::make_shared<CrossValidationArgs>();
   CLI::App* e = cmd->add_subcommand("eval", "cross-validation with folds disjoint by MMSI");
-  e->add_option("dataset", ev->dataset, "a directory written by ais prepare")->required();
-  e->add_option("--folds", ev->folds, "number of folds")->check(CLI::Range(2, 50));
-  e->add_option("--repeats", ev->repeats, "deal the vessels to the folds this many times (seeds seed, seed + 1, …)")
-      ->check(CLI::Range(1, 20));
-  e->add_option("--networks", ev->networks, "comma-separated network variants (tiny,shallow,deep,split,mlp)");
-  e->add_flag("--no-forest", ev->no_forest, "skip the random-forest baseline");
-  AddCommonOptions(*e, ev->common, "specht-out/ais-eval");
-  e->callback([ev, &exit_code] { exit_code = RunEval(*ev); });
+  const CrossValidationNames names{"ais eval", "ais prepare", "MMSI", "vessels", "specht-out/ais-eval"};
+  AddCrossValidationOptions(*e, *ev, names);
+  e->callback([ev, names, &exit_code] {
+    const params::Params params = LoadParams(ev->common);
+    exit_code = RunCrossValidation(*ev, params, params.Get<ais::AisModelOptions>("ais_model"), names);
+  });
 
   auto pr = std::make_shared<AisArgs>();
   CLI::App* q = cmd->add_subcommand("predict", "classify vessels from tabular AIS with a trained model");

@@ -1,4 +1,4 @@
-// `specht classify prepare|train|eval|predict`: the trajectory classifier (classify module).
+// `specht classify prepare|train|eval|crossval|predict`: the trajectory classifier (classify module).
 //   prepare <tracks.csv>... [--scenario S.yaml]... -o DIR
 //       object tracks (io/object_tracks.h; label = truth_class, else class) →
 //       windows (section "classify"), with map features from the scenario whose name
@@ -12,6 +12,11 @@
 //   eval <model dir> <dataset> -o DIR   macro/weighted/per-class F1 of both and of the
 //       two combined (mean probabilities), confusion
 //       matrices as PNG, inference rate.
+//   crossval <dataset> -o DIR [--folds 5] [--repeats 1] [--networks tiny,mlp]
+//       k-fold cross-validation with folds disjoint by track (crossval_command.cpp,
+//       as `ais eval`): every network, the forest and each network combined with
+//       it, scored per window, per track and from the track's windows so far;
+//       --repeats R deals the tracks to the folds R times.
 //   predict <model dir> <tracks.csv>... [--scenario S.yaml]... -o DIR   classes of
 //       new tracks with the model's own preprocessing, the network's probabilities
 //       averaged with the forest's (--network-only: the network's): windows.csv (one row per
@@ -343,6 +348,16 @@ void AddClassifyCommand(CLI::App& app, int& exit_code) {
   e->add_option("dataset", ev->dataset, "a directory written by prepare")->required();
   AddCommonOptions(*e, ev->common, "specht-out/classify-eval");
   e->callback([ev, &exit_code] { exit_code = RunEval(*ev); });
+
+  auto cv = std::make_shared<CrossValidationArgs>();
+  CLI::App* c = cmd->add_subcommand("crossval", "k-fold cross-validation with folds disjoint by track");
+  const CrossValidationNames names{"classify crossval", "classify prepare", "track", "tracks",
+                                   "specht-out/classify-crossval"};
+  AddCrossValidationOptions(*c, *cv, names);
+  c->callback([cv, names, &exit_code] {
+    const params::Params params = LoadParams(cv->common);
+    exit_code = RunCrossValidation(*cv, params, params.Get<classify::ModelOptions>("classify_model"), names);
+  });
 
   auto pr = std::make_shared<ClassifyArgs>();
   CLI::App* q = cmd->add_subcommand("predict", "classify object tracks (CSV) with a trained model");

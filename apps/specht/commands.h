@@ -38,4 +38,25 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
 // `track --model`.
 classify::TrajectoryClassifier LoadTrainedClassifier(const std::string& model_dir, bool network_only);
 
+// Cross-validation with folds disjoint by object on a prepared dataset
+// (crossval_command.cpp); shared by `ais eval` and `classify crossval`.
+struct CrossValidationArgs {
+  CommonArgs common;
+  std::string dataset, networks = "tiny,mlp";
+  int folds = 5, repeats = 1;
+  bool no_forest = false;
+};
+// How a command names things: "ais eval", "ais prepare", "MMSI" (what the folds are
+// disjoint by), "vessels" (the objects), "specht-out/ais-eval".
+struct CrossValidationNames {
+  std::string command, prepare, key, objects, default_out;
+};
+// Registers the dataset argument, --folds, --repeats, --networks, --no-forest and
+// the common options.
+void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names);
+// Runs it with `base` for every network (variant replaced); writes report.json,
+// report.md, a pooled confusion PNG per model and predictions.csv; prints the summary.
+int RunCrossValidation(const CrossValidationArgs& a, const params::Params& params, const classify::ModelOptions& base,
+                       const CrossValidationNames& names);
+
 }  // namespace specht::app

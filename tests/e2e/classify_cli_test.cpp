@@ -3,6 +3,8 @@
 // evaluation, prediction and online classification; the network and the forest
 // combined by default, the network alone on request.
 #include <filesystem>
+#include <map>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +17,40 @@ using ::testing::HasSubstr;
 
 nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
+// `classify crossval` on the prepared windows (the forest alone, fast): every window
+// tested once per deal, a track's windows all in one fold, and the forest well above
+// chance (1/3) on tracks it has not seen.
+void ExpectCrossValidationDisjointByTrack(const std::string& dir) {
+  const auto r =
+      testing::RunSpecht("classify crossval '" + dir + "/data' --folds 3 --networks '' -q -o '" + dir + "/cv'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("3-fold CV by track"));
+  const auto cv = Report(dir + "/cv");
+  EXPECT_GT(cv["models"]["forest"]["macro_f1"]["mean"].get<double>(), 0.75);  // 0.856 measured
+  std::stringstream csv(testing::ReadFile(dir + "/cv/predictions.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line.rfind("index,object_id,repeat,fold,model,truth,predicted,p_car", 0), 0u) << line;
+  std::map<std::string, std::string> fold_of_track;
+  size_t rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    ASSERT_GE(f.size(), 7u) << line;
+    const auto [it, inserted] = fold_of_track.emplace(f[1], f[3]);
+    EXPECT_EQ(it->second, f[3]) << "track " << f[1] << " tested in two folds";
+    ++rows;
+  }
+  EXPECT_EQ(rows, cv["windows"].get<size_t>());
+  EXPECT_GT(fold_of_track.size(), 20u);
+
+  const auto bad =
+      testing::RunSpecht("classify crossval '" + dir + "/data' --networks resnet50 -q -o '" + dir + "/cv2'");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_THAT(bad.err, HasSubstr("unknown variant \"resnet50\""));
+}
+
 TEST(ClassifyCliTest, PrepareTrainEvalPredictAndClassifyOnline) {
   const std::string dir = testing::TempDir("classify_pipeline");
   const std::string scenarios = testing::SourceDir() + "/datasets/scenarios";
@@ -25,6 +61,7 @@ TEST(ClassifyCliTest, PrepareTrainEvalPredictAndClassifyOnline) {
   r = testing::RunSpecht("classify prepare '" + dir + "/tracks/tracks.csv'" + maps + " -q -o '" + dir + "/data'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("pedestrian"));
+  ExpectCrossValidationDisjointByTrack(dir);
   r = testing::RunSpecht("classify train '" + dir + "/data' --set classify_model.epochs=1 -q -o '" + dir + "/model'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(std::filesystem::exists(dir + "/model/forest.yml"));

@@ -1,0 +1,148 @@
+// Cross-validation of a prepared dataset with folds disjoint by object, shared by
+// `specht ais eval` (objects are vessels, by MMSI) and `specht classify crossval`
+// (objects are tracks): per model (each network, the forest, each network combined
+// with the forest) macro/weighted F1 mean ± std, per-class F1, pooled confusion
+// matrices (PNG), scored per window, per object and per window from the object's
+// windows so far; every window's test probabilities in predictions.csv.
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
+#include "commands.h"
+#include "probability_csv.h"
+#include "specht/classify/crossval.h"
+#include "specht/classify/dataset_io.h"
+#include "specht/classify/metrics.h"
+#include "specht/core/error.h"
+#include "specht/io/atomic_file.h"
+#include "specht/io/report.h"
+
+namespace specht::app {
+namespace {
+
+std::vector<std::string> SplitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string x; std::getline(in, x, ',');)
+    if (!x.empty()) out.push_back(x);
+  return out;
+}
+
+// predictions.csv: per window, repeat and model, the fold that tested it, the truth,
+// the prediction and the class probabilities (join with the dataset's windows.csv by
+// index).
+void WritePredictions(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
+                      const std::string& path) {
+  const size_t k = d.classes.size(), n = d.windows.size();
+  std::string csv = "index,object_id,repeat,fold,model,truth,predicted" + ProbabilityHeader(d.classes) + "\n";
+  for (const auto& name : result.models) {
+    const std::vector<float>& p = result.probabilities.at(name);
+    const std::vector<int> predicted = classify::MostProbable(p, static_cast<int>(k));
+    for (size_t row = 0; row < p.size() / k; ++row) {
+      const size_t i = row % n;
+      csv += std::to_string(i) + ',' + d.windows.object_ids[i] + ',' + std::to_string(row / n) + ',' +
+             std::to_string(result.fold_of[row]) + ',' + name + ',' + d.classes[static_cast<size_t>(d.windows.y[i])] +
+             ',' + d.classes[static_cast<size_t>(predicted[row])];
+      AppendProbabilities(csv, p.data() + row * k, k);
+      csv += '\n';
+    }
+  }
+  io::WriteTextAtomically(path, csv);
+}
+
+classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const classify::ModelOptions& base) {
+  classify::CrossValidationOptions cv;
+  cv.folds = a.folds;
+  cv.repeats = a.repeats;
+  cv.seed = base.seed;
+  cv.forest = !a.no_forest;
+  for (const auto& variant : SplitList(a.networks)) {
+    classify::ModelOptions m = base;
+    m.variant = variant;
+    if (variant != "tiny" && variant != "shallow" && variant != "deep" && variant != "split" && variant != "mlp")
+      throw InputError("--networks: unknown variant \"" + variant + "\" (tiny, shallow, deep, split, mlp)");
+    cv.networks.push_back({variant, m});
+  }
+  return cv;
+}
+
+// The console summary: one table per scoring level, then each repeat's mean.
+void PrintSummary(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
+                  const nlohmann::json& models, const CrossValidationNames& names, const std::string& scheme,
+                  int repeats) {
+  std::printf("%s: %zu windows, %s\n", names.command.c_str(), d.windows.size(), scheme.c_str());
+  // Per window (the paper's), per object (majority of its windows), and per window
+  // from the object's windows so far (mean probabilities): label, report key.
+  const std::pair<std::string, const char*> levels[] = {
+      {"windows", nullptr}, {names.objects, "per_object"}, {"so far", "with_history"}};
+  for (const auto& [level, key] : levels) {
+    std::printf("  %-14s %17s %17s", level.c_str(), "macro F1", "weighted F1");
+    for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
+    std::printf("\n");
+    for (const auto& name : result.models) {
+      const auto& m = key ? models[name][key] : models[name];
+      std::printf("  %-14s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
+                  m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
+                  m["weighted_f1"]["std"].get<double>());
+      for (const auto& c : d.classes) std::printf(" %14.3f", m["per_class_f1"][c]["mean"].get<double>());
+      std::printf("\n");
+    }
+  }
+  if (repeats > 1) {  // how far the deal of objects to folds alone moves the figures
+    std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");
+    for (const auto& name : result.models) {
+      std::printf("  %-14s", name.c_str());
+      for (const auto& r : models[name]["repeats"])
+        std::printf(" %.3f (%.3f)", r["macro_f1"].get<double>(), r["weighted_f1"].get<double>());
+      std::printf("\n");
+    }
+  }
+}
+
+}  // namespace
+
+void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names) {
+  cmd.add_option("dataset", args.dataset, "a directory written by " + names.prepare)->required();
+  cmd.add_option("--folds", args.folds, "number of folds")->check(CLI::Range(2, 50));
+  cmd.add_option("--repeats", args.repeats,
+                 "deal the " + names.objects + " to the folds this many times (seeds seed, seed + 1, …)")
+      ->check(CLI::Range(1, 20));
+  cmd.add_option("--networks", args.networks, "comma-separated network variants (tiny,shallow,deep,split,mlp)");
+  cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
+  AddCommonOptions(cmd, args.common, names.default_out);
+}
+
+int RunCrossValidation(const CrossValidationArgs& a, const params::Params& params, const classify::ModelOptions& base,
+                       const CrossValidationNames& names) {
+  const classify::CrossValidationOptions cv = OptionsOf(a, base);
+  const classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
+  PrepareOutputDir(a.common, params);
+  const std::string& out = a.common.out_dir;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  const auto result = classify::CrossValidate(d, cv, [&](const std::string& line) {
+    if (!a.common.quiet) std::fprintf(stderr, "%s: %s (%.0f s)\n", names.command.c_str(), line.c_str(), seconds());
+  });
+  io::RunReport report(names.command);
+  auto& j = report.json();
+  j["dataset"] = a.dataset;
+  j["windows"] = d.windows.size();
+  j["folds"] = a.folds;
+  j["repeats"] = a.repeats;
+  j["models"] = result.ToJson(d.classes);
+  j["timing"] = {{"seconds", seconds()}};
+  const std::string scheme = std::to_string(a.folds) + "-fold CV" +
+                             (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by " + names.key;
+  for (const auto& name : result.models) {
+    classify::WriteConfusionPng(result.pooled.at(name), d.classes, name + ": " + scheme + ", pooled",
+                                out + "/confusion_" + name + ".png");
+    report.AddOutput("confusion_" + name + ".png");
+  }
+  WritePredictions(result, d, out + "/predictions.csv");
+  report.AddOutput("predictions.csv");
+  report.Write(out);
+  PrintSummary(result, d, j["models"], names, scheme, a.repeats);
+  return 0;
+}
+
+}  // namespace specht::app
