@@ -3,7 +3,8 @@
 // (objects are tracks): per model (each network, the forest, each network combined
 // with the forest) macro/weighted F1 mean ± std, per-class F1, pooled confusion
 // matrices (PNG), scored per window, per object and per window from the object's
-// windows so far; every window's test probabilities in predictions.csv.
+// windows so far; each pair of models compared fold by fold; every window's test
+// probabilities in predictions.csv.
 #include <chrono>
 #include <cstdio>
 #include <sstream>
@@ -88,6 +89,17 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
       std::printf("\n");
     }
   }
+  // The same folds for every model: their fold-by-fold difference is free of the
+  // folds' own spread, which dominates each model's ±.
+  if (result.models.size() > 1)
+    std::printf("  %-26s macro F1 per fold, first minus second (mean ± std); folds ahead / behind\n", "paired");
+  for (size_t i = 0; i < result.models.size(); ++i)
+    for (size_t k = i + 1; k < result.models.size(); ++k) {
+      const classify::PairedComparison c = result.Compare(result.models[i], result.models[k]);
+      const std::string pair = result.models[i] + " vs " + result.models[k];
+      std::printf("  %-26s %+.3f ± %.3f  %d / %d of %d\n", pair.c_str(), c.mean_difference, c.std_difference,
+                  c.ahead, c.behind, c.folds);
+    }
   if (repeats > 1) {  // how far the deal of objects to folds alone moves the figures
     std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");
     for (const auto& name : result.models) {
@@ -130,6 +142,7 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   j["folds"] = a.folds;
   j["repeats"] = a.repeats;
   j["models"] = result.ToJson(d.classes);
+  j["paired"] = result.PairedComparisonsJson();
   j["timing"] = {{"seconds", seconds()}};
   const std::string scheme = std::to_string(a.folds) + "-fold CV" +
                              (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by " + names.key;

@@ -588,6 +588,31 @@ TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
   EXPECT_THROW(CrossValidate(d, o), InputError);
 }
 
+// Fold-by-fold differences, worked by hand: d = 0.1, −0.1, 0.2 → mean 1/15,
+// sd √((1/30² + 5/30² + 4/30²)/2) = √(7/300), ahead in 2 folds, behind in 1.
+TEST(CrossValidationTest, PairedComparisonIsFoldByFold) {
+  CrossValidationResult r;
+  r.models = {"a", "b"};
+  r.folds = 3;
+  const double a[] = {0.8, 0.6, 0.7}, b[] = {0.7, 0.7, 0.5};
+  for (int f = 0; f < 3; ++f) {
+    r.per_fold.emplace_back();
+    r.per_fold.back()["a"].macro_f1 = a[f];
+    r.per_fold.back()["b"].macro_f1 = b[f];
+  }
+  const PairedComparison c = r.Compare("a", "b");
+  EXPECT_NEAR(c.mean_difference, 1.0 / 15, 1e-12);
+  EXPECT_NEAR(c.std_difference, std::sqrt(7.0 / 300), 1e-12);
+  EXPECT_EQ(c.ahead, 2);
+  EXPECT_EQ(c.behind, 1);
+  EXPECT_EQ(c.folds, 3);
+  const nlohmann::json j = r.PairedComparisonsJson();
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j["a vs b"]["folds_ahead"], 2);
+  EXPECT_NEAR(j["a vs b"]["macro_f1_difference"]["mean"].get<double>(), 1.0 / 15, 1e-12);
+  EXPECT_NEAR(r.Compare("b", "a").mean_difference, -1.0 / 15, 1e-12);
+}
+
 TEST(CrossValidationTest, HistoryIsTheMeanOfTheObjectsWindowsSoFar) {
   // Two objects interleaved, two classes: each row is the mean of its object's rows up to it.
   const std::vector<std::string> ids = {"a", "b", "a", "a", "b"};

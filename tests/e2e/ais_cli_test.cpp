@@ -55,6 +55,14 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   EXPECT_TRUE(cv["models"].contains("forest"));
   EXPECT_EQ(cv["models"]["tiny+forest"]["folds"].size(), 2u);  // the network and the forest combined
   EXPECT_EQ(cv["models"]["tiny"]["with_history"]["folds"].size(), 2u);  // each window from its vessel's so far
+  // Each pair of models fold by fold: the combination against each of its parts.
+  const auto& paired = cv["paired"];
+  EXPECT_EQ(paired.size(), 3u);
+  const double tiny_minus_forest = cv["models"]["tiny"]["macro_f1"]["mean"].get<double>() -
+                                   cv["models"]["forest"]["macro_f1"]["mean"].get<double>();
+  EXPECT_NEAR(paired["tiny vs forest"]["macro_f1_difference"]["mean"].get<double>(), tiny_minus_forest, 1e-9);
+  EXPECT_EQ(paired["tiny vs forest"]["folds"], 2);
+  EXPECT_THAT(r.out, HasSubstr("tiny vs tiny+forest"));
   // One row per window and model (tiny, forest, tiny+forest), with the header.
   const std::string predictions = testing::ReadFile(dir + "/cv/predictions.csv");
   EXPECT_THAT(predictions, ::testing::StartsWith("index,object_id,repeat,fold,model,truth,predicted,p_"));

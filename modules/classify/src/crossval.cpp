@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <tuple>
 
 #include "specht/classify/baseline.h"
 #include "specht/core/error.h"
@@ -220,6 +221,32 @@ nlohmann::json Summary(const std::vector<std::map<std::string, Scores>>& per_fol
 }
 
 }  // namespace
+
+PairedComparison CrossValidationResult::Compare(const std::string& a, const std::string& b) const {
+  PairedComparison c;
+  std::vector<double> d;
+  for (const auto& per : per_fold) {
+    d.push_back(per.at(a).macro_f1 - per.at(b).macro_f1);
+    c.ahead += d.back() > 0;
+    c.behind += d.back() < 0;
+  }
+  std::tie(c.mean_difference, c.std_difference) = MeanStd(d);
+  c.folds = static_cast<int>(d.size());
+  return c;
+}
+
+nlohmann::json CrossValidationResult::PairedComparisonsJson() const {
+  nlohmann::json j = nlohmann::json::object();
+  for (size_t i = 0; i < models.size(); ++i)
+    for (size_t k = i + 1; k < models.size(); ++k) {
+      const PairedComparison c = Compare(models[i], models[k]);
+      j[models[i] + " vs " + models[k]] = {{"macro_f1_difference", {{"mean", c.mean_difference}, {"std", c.std_difference}}},
+                                           {"folds_ahead", c.ahead},
+                                           {"folds_behind", c.behind},
+                                           {"folds", c.folds}};
+    }
+  return j;
+}
 
 nlohmann::json CrossValidationResult::ToJson(const std::vector<std::string>& classes) const {
   nlohmann::json j = nlohmann::json::object();

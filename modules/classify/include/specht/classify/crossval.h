@@ -57,6 +57,18 @@ struct CrossValidationOptions {
   bool forest = true;
 };
 
+// Two models scored on the same folds, compared fold by fold: the difference
+// d_i = F1_a,i − F1_b,i of each fold's macro F1, its mean and standard deviation
+// over the n folds, and in how many folds a is ahead (d_i > 0) or behind (d_i < 0).
+// The folds' own spread (which vessels a fold holds) cancels in d_i, so a mean
+// difference can be clear while both models' ± overlap; over repeats the folds are
+// not independent (the same windows, dealt again), so read the count of folds won
+// as a description, not as a test.
+struct PairedComparison {
+  double mean_difference = 0, std_difference = 0;
+  int ahead = 0, behind = 0, folds = 0;
+};
+
 // Per fold entries are indexed repeat · folds + fold; per window entries
 // repeat · windows + window.
 struct CrossValidationResult {
@@ -75,6 +87,11 @@ struct CrossValidationResult {
   // ("repeats"); the same per object under "per_object" and from each object's
   // history under "with_history".
   nlohmann::json ToJson(const std::vector<std::string>& classes) const;
+  // Model `a` against model `b` fold by fold (per window macro F1); see
+  // PairedComparison.
+  PairedComparison Compare(const std::string& a, const std::string& b) const;
+  // Every pair of models in report order, keyed "a vs b".
+  nlohmann::json PairedComparisonsJson() const;
 };
 
 // `log` (may be empty) receives one line per trained model and fold.
