@@ -67,7 +67,8 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
   return cv;
 }
 
-// The console summary: one table per scoring level, then each repeat's mean.
+// The console summary: one table per scoring level, each pair of models fold by
+// fold, then each repeat's mean.
 void PrintSummary(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
                   const nlohmann::json& models, const CrossValidationNames& names, const std::string& scheme,
                   int repeats) {
