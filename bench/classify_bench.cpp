@@ -42,7 +42,7 @@ specht::classify::Dataset RandomWindows(int n, int features, int length, int cla
 int main() {
   const std::vector<std::string> classes = {"a", "b", "c", "d", "e"};
   for (const int length : {360, 60}) {
-    for (const std::string variant : {"tiny", "shallow", "deep", "split", "mlp"}) {
+    for (const std::string& variant : specht::classify::ModelVariants()) {
       specht::classify::ModelOptions o;
       o.variant = variant;
       o.threads = 2;

@@ -5,6 +5,7 @@
 // matrices (PNG), scored per window, per object and per window from the object's
 // windows so far; each pair of models compared fold by fold; every window's test
 // probabilities in predictions.csv.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <sstream>
@@ -60,8 +61,12 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
   for (const auto& variant : SplitList(a.networks)) {
     classify::ModelOptions m = base;
     m.variant = variant;
-    if (variant != "tiny" && variant != "shallow" && variant != "deep" && variant != "split" && variant != "mlp")
-      throw InputError("--networks: unknown variant \"" + variant + "\" (tiny, shallow, deep, split, mlp)");
+    const auto& known = classify::ModelVariants();
+    if (std::find(known.begin(), known.end(), variant) == known.end()) {
+      std::string list;
+      for (const auto& v : known) list += (list.empty() ? "" : ", ") + v;
+      throw InputError("--networks: unknown variant \"" + variant + "\" (" + list + ")");
+    }
     cv.networks.push_back({variant, m});
   }
   return cv;

@@ -36,6 +36,12 @@
 
 namespace specht::classify {
 
+// The network variants above, in the order the help lists them.
+inline const std::vector<std::string>& ModelVariants() {
+  static const std::vector<std::string> variants = {"tiny", "shallow", "deep", "split", "mlp"};
+  return variants;
+}
+
 // Section "classify_model".
 struct ModelOptions {
   std::string variant = "tiny";
@@ -54,7 +60,7 @@ struct ModelOptions {
   template <class V>
   void Visit(V& v) {
     using params::Range;
-    v.Choice("variant", variant, {"tiny", "shallow", "deep", "split", "mlp"}, "network (see classify/model.h)");
+    v.Choice("variant", variant, ModelVariants(), "network (see classify/model.h)");
     v.Param("batch_norm", batch_norm, "batch normalisation after each convolution");
     v.Param("epochs", epochs, "maximum training epochs", Range::Of(1, 10000));
     v.Param("batch_size", batch_size, "windows per optimiser step", Range::Of(1, 4096).Log());
