@@ -75,8 +75,8 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
 // The console summary: one table per scoring level, each pair of models fold by
 // fold, then each repeat's mean.
 void PrintSummary(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
-                  const nlohmann::json& models, const CrossValidationNames& names, const std::string& scheme,
-                  int repeats) {
+                  const nlohmann::json& models, const std::vector<classify::PairedComparison>& paired,
+                  const CrossValidationNames& names, const std::string& scheme, int repeats) {
   std::printf("%s: %zu windows, %s\n", names.command.c_str(), d.windows.size(), scheme.c_str());
   // Per window (the paper's), per object (majority of its windows), and per window
   // from the object's windows so far (mean probabilities): label, report key.
@@ -97,15 +97,13 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
   }
   // The same folds for every model: their fold-by-fold difference is free of the
   // folds' own spread, which dominates each model's ±.
-  if (result.models.size() > 1)
+  if (!paired.empty())
     std::printf("  %-26s macro F1 per fold, first minus second (mean ± std); folds ahead / behind\n", "paired");
-  for (size_t i = 0; i < result.models.size(); ++i)
-    for (size_t k = i + 1; k < result.models.size(); ++k) {
-      const classify::PairedComparison c = result.Compare(result.models[i], result.models[k]);
-      const std::string pair = result.models[i] + " vs " + result.models[k];
-      std::printf("  %-26s %+.3f ± %.3f  %d / %d of %d\n", pair.c_str(), c.mean_difference, c.std_difference,
-                  c.ahead, c.behind, c.folds);
-    }
+  for (const auto& c : paired) {
+    const std::string pair = c.a + " vs " + c.b;
+    std::printf("  %-26s %+.3f ± %.3f  %d / %d of %d\n", pair.c_str(), c.mean_difference, c.std_difference, c.ahead,
+                c.behind, c.folds);
+  }
   if (repeats > 1) {  // how far the deal of objects to folds alone moves the figures
     std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");
     for (const auto& name : result.models) {
@@ -148,7 +146,8 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   j["folds"] = a.folds;
   j["repeats"] = a.repeats;
   j["models"] = result.ToJson(d.classes);
-  j["paired"] = result.PairedComparisonsJson();
+  const std::vector<classify::PairedComparison> paired = result.PairedComparisons();
+  j["paired"] = classify::PairedComparisonsJson(paired);
   j["timing"] = {{"seconds", seconds()}};
   const std::string scheme = std::to_string(a.folds) + "-fold CV" +
                              (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by " + names.key;
@@ -160,7 +159,7 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   WritePredictions(result, d, out + "/predictions.csv");
   report.AddOutput("predictions.csv");
   report.Write(out);
-  PrintSummary(result, d, j["models"], names, scheme, a.repeats);
+  PrintSummary(result, d, j["models"], paired, names, scheme, a.repeats);
   return 0;
 }
 

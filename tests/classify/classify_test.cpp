@@ -606,7 +606,12 @@ TEST(CrossValidationTest, PairedComparisonIsFoldByFold) {
   EXPECT_EQ(c.ahead, 2);
   EXPECT_EQ(c.behind, 1);
   EXPECT_EQ(c.folds, 3);
-  const nlohmann::json j = r.PairedComparisonsJson();
+  const std::vector<PairedComparison> all = r.PairedComparisons();
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].a, "a");
+  EXPECT_EQ(all[0].b, "b");
+  EXPECT_EQ(all[0].ahead, 2);
+  const nlohmann::json j = PairedComparisonsJson(all);
   ASSERT_EQ(j.size(), 1u);
   EXPECT_EQ(j["a vs b"]["folds_ahead"], 2);
   EXPECT_NEAR(j["a vs b"]["macro_f1_difference"]["mean"].get<double>(), 1.0 / 15, 1e-12);

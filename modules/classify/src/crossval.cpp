@@ -224,6 +224,7 @@ nlohmann::json Summary(const std::vector<std::map<std::string, Scores>>& per_fol
 
 PairedComparison CrossValidationResult::Compare(const std::string& a, const std::string& b) const {
   PairedComparison c;
+  c.a = a, c.b = b;
   std::vector<double> d;
   for (const auto& per : per_fold) {
     d.push_back(per.at(a).macro_f1 - per.at(b).macro_f1);
@@ -235,16 +236,20 @@ PairedComparison CrossValidationResult::Compare(const std::string& a, const std:
   return c;
 }
 
-nlohmann::json CrossValidationResult::PairedComparisonsJson() const {
-  nlohmann::json j = nlohmann::json::object();
+std::vector<PairedComparison> CrossValidationResult::PairedComparisons() const {
+  std::vector<PairedComparison> all;
   for (size_t i = 0; i < models.size(); ++i)
-    for (size_t k = i + 1; k < models.size(); ++k) {
-      const PairedComparison c = Compare(models[i], models[k]);
-      j[models[i] + " vs " + models[k]] = {{"macro_f1_difference", {{"mean", c.mean_difference}, {"std", c.std_difference}}},
-                                           {"folds_ahead", c.ahead},
-                                           {"folds_behind", c.behind},
-                                           {"folds", c.folds}};
-    }
+    for (size_t k = i + 1; k < models.size(); ++k) all.push_back(Compare(models[i], models[k]));
+  return all;
+}
+
+nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& comparisons) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& c : comparisons)
+    j[c.a + " vs " + c.b] = {{"macro_f1_difference", {{"mean", c.mean_difference}, {"std", c.std_difference}}},
+                             {"folds_ahead", c.ahead},
+                             {"folds_behind", c.behind},
+                             {"folds", c.folds}};
   return j;
 }
 

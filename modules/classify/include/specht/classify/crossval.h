@@ -65,6 +65,7 @@ struct CrossValidationOptions {
 // not independent (the same windows, dealt again), so read the count of folds won
 // as a description, not as a test.
 struct PairedComparison {
+  std::string a, b;
   double mean_difference = 0, std_difference = 0;
   int ahead = 0, behind = 0, folds = 0;
 };
@@ -90,9 +91,12 @@ struct CrossValidationResult {
   // Model `a` against model `b` fold by fold (per window macro F1); see
   // PairedComparison.
   PairedComparison Compare(const std::string& a, const std::string& b) const;
-  // Every pair of models in report order, keyed "a vs b".
-  nlohmann::json PairedComparisonsJson() const;
+  // Every pair of models (a before b in report order).
+  std::vector<PairedComparison> PairedComparisons() const;
 };
+
+// The comparisons keyed "a vs b".
+nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& comparisons);
 
 // `log` (may be empty) receives one line per trained model and fold.
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
