@@ -16,6 +16,7 @@ PACKAGES=(
   libompl-dev        # Reeds-Shepp paths (hybrid A*), RRT baseline
   libopencv-dev      # images, PNG output, drawing
   libeigen3-dev
+  libboost-dev       # Student's t distribution (Boost.Math) for the corrected t-test in cross-validation
   zlib1g-dev         # reading gzip CARMEN logs, AIS files
   libshp-dev         # coastline shapefile (AIS distance to coast)
   libnanoflann-dev   # k-d tree (AIS nearest coast vertex / harbour)

@@ -96,13 +96,16 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
     }
   }
   // The same folds for every model: their fold-by-fold difference is free of the
-  // folds' own spread, which dominates each model's ±.
+  // folds' own spread, which dominates each model's ±; the corrected t-test allows
+  // for the folds' overlapping training sets (classify::PairedComparison).
   if (!paired.empty())
-    std::printf("  %-26s macro F1 per fold, first minus second (mean ± std); folds ahead / behind\n", "paired");
+    std::printf("  %-26s macro F1 per fold, first minus second (mean ± std); folds ahead / behind; "
+                "corrected resampled t-test: p, 95 %% interval\n",
+                "paired");
   for (const auto& c : paired) {
     const std::string pair = c.a + " vs " + c.b;
-    std::printf("  %-26s %+.3f ± %.3f  %d / %d of %d\n", pair.c_str(), c.mean_difference, c.std_difference, c.ahead,
-                c.behind, c.folds);
+    std::printf("  %-26s %+.3f ± %.3f  %2d / %2d of %-2d  p %.3f  [%+.3f, %+.3f]\n", pair.c_str(), c.mean_difference,
+                c.std_difference, c.ahead, c.behind, c.folds, c.p_value, c.interval_low, c.interval_high);
   }
   if (repeats > 1) {  // how far the deal of objects to folds alone moves the figures
     std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");

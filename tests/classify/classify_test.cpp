@@ -600,6 +600,7 @@ TEST(CrossValidationTest, PairedComparisonIsFoldByFold) {
     r.per_fold.back()["a"].macro_f1 = a[f];
     r.per_fold.back()["b"].macro_f1 = b[f];
   }
+  r.test_train_windows = {{10, 20}, {10, 20}, {5, 25}};
   const PairedComparison c = r.Compare("a", "b");
   EXPECT_NEAR(c.mean_difference, 1.0 / 15, 1e-12);
   EXPECT_NEAR(c.std_difference, std::sqrt(7.0 / 300), 1e-12);
@@ -616,6 +617,52 @@ TEST(CrossValidationTest, PairedComparisonIsFoldByFold) {
   EXPECT_EQ(j["a vs b"]["folds_ahead"], 2);
   EXPECT_NEAR(j["a vs b"]["macro_f1_difference"]["mean"].get<double>(), 1.0 / 15, 1e-12);
   EXPECT_NEAR(r.Compare("b", "a").mean_difference, -1.0 / 15, 1e-12);
+}
+
+// The corrected resampled t-test worked by hand on the folds above: ρ = (10/20 +
+// 10/20 + 5/25) / 3 = 0.4, σ² = (1/3 + 0.4) · 7/300 = 77/4500, t = (1/15) / σ =
+// 0.50965; with 2 degrees of freedom P(|T| > t) = 1 − t / √(2 + t²) = 0.66097, and
+// t_0.975,2 = 4.30265 (tables) gives the interval 1/15 ± 4.30265 σ.
+TEST(CrossValidationTest, CorrectedResampledTTestWorkedByHand) {
+  CrossValidationResult r;
+  r.models = {"a", "b"};
+  r.folds = 3;
+  const double a[] = {0.8, 0.6, 0.7}, b[] = {0.7, 0.7, 0.5};
+  for (int f = 0; f < 3; ++f) {
+    r.per_fold.emplace_back();
+    r.per_fold.back()["a"].macro_f1 = a[f];
+    r.per_fold.back()["b"].macro_f1 = b[f];
+  }
+  r.test_train_windows = {{10, 20}, {10, 20}, {5, 25}};
+  const PairedComparison c = r.Compare("a", "b");
+  const double sigma = std::sqrt(77.0 / 4500);
+  EXPECT_NEAR(c.corrected_t, (1.0 / 15) / sigma, 1e-9);
+  EXPECT_NEAR(c.corrected_t, 0.50965, 1e-5);
+  EXPECT_NEAR(c.p_value, 1 - c.corrected_t / std::sqrt(2 + c.corrected_t * c.corrected_t), 1e-9);
+  EXPECT_NEAR(c.p_value, 0.66097, 1e-5);
+  EXPECT_NEAR(c.interval_low, 1.0 / 15 - 4.30265 * sigma, 1e-5);
+  EXPECT_NEAR(c.interval_high, 1.0 / 15 + 4.30265 * sigma, 1e-5);
+  // Symmetric: b against a has the same p and the mirrored interval.
+  const PairedComparison m = r.Compare("b", "a");
+  EXPECT_NEAR(m.p_value, c.p_value, 1e-12);
+  EXPECT_NEAR(m.interval_low, -c.interval_high, 1e-12);
+  const nlohmann::json j = PairedComparisonsJson({c});
+  EXPECT_NEAR(j["a vs b"]["corrected_t_test"]["p_value"].get<double>(), c.p_value, 1e-12);
+  EXPECT_NEAR(j["a vs b"]["corrected_t_test"]["interval_95"][1].get<double>(), c.interval_high, 1e-12);
+
+  // The same difference in every fold: no spread, so the interval is the point and p is 0.
+  for (int f = 0; f < 3; ++f) r.per_fold[f]["b"].macro_f1 = a[f] - 0.05;
+  const PairedComparison same = r.Compare("a", "b");
+  EXPECT_NEAR(same.interval_low, 0.05, 1e-12);
+  EXPECT_NEAR(same.interval_high, 0.05, 1e-12);
+  EXPECT_EQ(same.p_value, 0.0);
+  // Identical models: no difference, p = 1.
+  EXPECT_EQ(r.Compare("a", "a").p_value, 1.0);
+  // Fold sizes missing or a fold without training windows: refused, not guessed.
+  r.test_train_windows.clear();
+  EXPECT_THROW(r.Compare("a", "b"), InputError);
+  r.test_train_windows = {{10, 20}, {10, 0}, {5, 25}};
+  EXPECT_THROW(r.Compare("a", "b"), InputError);
 }
 
 TEST(CrossValidationTest, HistoryIsTheMeanOfTheObjectsWindowsSoFar) {

@@ -62,6 +62,12 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
                                    cv["models"]["forest"]["macro_f1"]["mean"].get<double>();
   EXPECT_NEAR(paired["tiny vs forest"]["macro_f1_difference"]["mean"].get<double>(), tiny_minus_forest, 1e-9);
   EXPECT_EQ(paired["tiny vs forest"]["folds"], 2);
+  // The corrected t-test's interval is around the mean difference, its p a probability.
+  const auto& test = paired["tiny vs forest"]["corrected_t_test"];
+  EXPECT_LE(test["interval_95"][0].get<double>(), tiny_minus_forest + 1e-12);
+  EXPECT_GE(test["interval_95"][1].get<double>(), tiny_minus_forest - 1e-12);
+  EXPECT_GE(test["p_value"].get<double>(), 0.0);
+  EXPECT_LE(test["p_value"].get<double>(), 1.0);
   EXPECT_THAT(r.out, HasSubstr("tiny vs tiny+forest"));
   // One row per window and model (tiny, forest, tiny+forest), with the header.
   const std::string predictions = testing::ReadFile(dir + "/cv/predictions.csv");

@@ -7,6 +7,8 @@
 #include <set>
 #include <tuple>
 
+#include <boost/math/distributions/students_t.hpp>
+
 #include "specht/classify/baseline.h"
 #include "specht/core/error.h"
 
@@ -103,6 +105,7 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     std::vector<size_t> train_rows, test_rows;
     for (size_t i = 0; i < fold.size(); ++i) (fold[i] == f ? test_rows : train_rows).push_back(i);
     const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
+    result.test_train_windows[slot] = {static_cast<long>(test_rows.size()), static_cast<long>(train_rows.size())};
     // Scores a model's test probabilities three ways and keeps them.
     auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
       const std::vector<int> predicted = MostProbable(probabilities, k);
@@ -171,6 +174,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   result.per_fold.resize(slots);
   result.per_fold_objects.resize(slots);
   result.per_fold_history.resize(slots);
+  result.test_train_windows.resize(slots);
   for (const auto& name : result.models)
     result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);
   for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, log, result);
@@ -220,6 +224,35 @@ nlohmann::json Summary(const std::vector<std::map<std::string, Scores>>& per_fol
           {"repeats", repeats}};
 }
 
+// ρ of the corrected t-test: the mean over folds of n_test / n_train.
+double TestToTrainRatio(const std::vector<std::pair<long, long>>& test_train) {
+  double sum = 0;
+  for (const auto& [test, train] : test_train) {
+    if (train <= 0) throw InputError("paired comparison: a fold without training windows");
+    sum += static_cast<double>(test) / static_cast<double>(train);
+  }
+  if (test_train.empty()) throw InputError("paired comparison: no fold sizes recorded");
+  return sum / static_cast<double>(test_train.size());
+}
+
+// The corrected resampled t-test of PairedComparison's comment, from its mean and
+// standard deviation over `folds` folds.
+void CorrectedResampledTTest(PairedComparison& c, double rho) {
+  const int n = c.folds;
+  if (n < 2) throw InputError("paired comparison: at least 2 folds");
+  const double sigma = std::sqrt((1.0 / n + rho) * c.std_difference * c.std_difference);
+  const boost::math::students_t t_dist(n - 1);
+  if (sigma <= 0) {
+    c.corrected_t = 0, c.p_value = c.mean_difference == 0 ? 1 : 0;
+    c.interval_low = c.interval_high = c.mean_difference;
+    return;
+  }
+  c.corrected_t = c.mean_difference / sigma;
+  c.p_value = 2 * boost::math::cdf(boost::math::complement(t_dist, std::abs(c.corrected_t)));
+  const double half = boost::math::quantile(boost::math::complement(t_dist, 0.025)) * sigma;
+  c.interval_low = c.mean_difference - half, c.interval_high = c.mean_difference + half;
+}
+
 }  // namespace
 
 PairedComparison CrossValidationResult::Compare(const std::string& a, const std::string& b) const {
@@ -233,6 +266,7 @@ PairedComparison CrossValidationResult::Compare(const std::string& a, const std:
   }
   std::tie(c.mean_difference, c.std_difference) = MeanStd(d);
   c.folds = static_cast<int>(d.size());
+  CorrectedResampledTTest(c, TestToTrainRatio(test_train_windows));
   return c;
 }
 
@@ -247,6 +281,10 @@ nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& compar
   nlohmann::json j = nlohmann::json::object();
   for (const auto& c : comparisons)
     j[c.a + " vs " + c.b] = {{"macro_f1_difference", {{"mean", c.mean_difference}, {"std", c.std_difference}}},
+                             {"corrected_t_test",
+                              {{"t", c.corrected_t},
+                               {"p_value", c.p_value},
+                               {"interval_95", {c.interval_low, c.interval_high}}}},
                              {"folds_ahead", c.ahead},
                              {"folds_behind", c.behind},
                              {"folds", c.folds}};

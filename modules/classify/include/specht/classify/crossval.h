@@ -61,13 +61,22 @@ struct CrossValidationOptions {
 // d_i = F1_a,i − F1_b,i of each fold's macro F1, its mean and standard deviation
 // over the n folds, and in how many folds a is ahead (d_i > 0) or behind (d_i < 0).
 // The folds' own spread (which vessels a fold holds) cancels in d_i, so a mean
-// difference can be clear while both models' ± overlap; over repeats the folds are
-// not independent (the same windows, dealt again), so read the count of folds won
-// as a description, not as a test.
+// difference can be clear while both models' ± overlap. The folds are not
+// independent (their training sets overlap; over repeats they are the same windows
+// dealt again), so the count of folds won only describes, and a plain paired t-test
+// would be far too confident. The test given is the corrected resampled t-test
+// (Nadeau & Bengio 2003, "Inference for the generalization error"; for repeated
+// k-fold, Bouckaert & Frank 2004), which widens the variance of the mean by the
+// test-to-training size ratio ρ to account for that overlap:
+//   σ² = (1/n + ρ) · s²,   s² = Σ (d_i − d̄)² / (n − 1),   ρ = mean_i n_test,i / n_train,i
+//   t = d̄ / σ  with n − 1 degrees of freedom;  p = 2 · P(T_{n−1} > |t|);
+//   95 % interval d̄ ± t_{0.975, n−1} · σ.
+// With s = 0 the interval is the point d̄ and p is 1 when d̄ = 0, else 0.
 struct PairedComparison {
   std::string a, b;
   double mean_difference = 0, std_difference = 0;
   int ahead = 0, behind = 0, folds = 0;
+  double corrected_t = 0, p_value = 1, interval_low = 0, interval_high = 0;  // see above
 };
 
 // Per fold entries are indexed repeat · folds + fold; per window entries
@@ -75,6 +84,9 @@ struct PairedComparison {
 struct CrossValidationResult {
   std::vector<std::string> models;                      // in report order
   int folds = 0;  // folds in one repeat (the repeat count is per_fold.size() / folds)
+  // Per fold: windows tested and windows trained on (the network's validation
+  // windows included), for the corrected t-test's ratio ρ.
+  std::vector<std::pair<long, long>> test_train_windows;
   std::vector<std::map<std::string, Scores>> per_fold;  // fold → model → scores per window
   std::vector<std::map<std::string, Scores>> per_fold_objects;  // … per object (majority vote)
   std::vector<std::map<std::string, Scores>> per_fold_history;  // … per window, from its object's history
