@@ -43,6 +43,7 @@ classify::TrajectoryClassifier LoadTrainedClassifier(const std::string& model_di
 struct CrossValidationArgs {
   CommonArgs common;
   std::string dataset, networks = "tiny,mlp";
+  std::string compare_to;  // an earlier run's output directory, or empty
   int folds = 5, repeats = 1;
   bool no_forest = false;
 };
@@ -51,8 +52,8 @@ struct CrossValidationArgs {
 struct CrossValidationNames {
   std::string command, prepare, key, objects, default_out;
 };
-// Registers the dataset argument, --folds, --repeats, --networks, --no-forest and
-// the common options.
+// Registers the dataset argument, --folds, --repeats, --networks, --no-forest,
+// --compare-to and the common options.
 void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names);
 // Runs it with `base` for every network (variant replaced); writes report.json,
 // report.md, a pooled confusion PNG per model and predictions.csv; prints the summary.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "commands.h"
@@ -72,10 +73,44 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
   return cv;
 }
 
+// Fold-by-fold comparisons under a title, one line each.
+void PrintPaired(const std::string& title, const std::vector<classify::PairedComparison>& comparisons) {
+  if (comparisons.empty()) return;
+  std::printf("  %-26s macro F1 per fold, first minus second (mean ± std); folds ahead / behind; "
+              "corrected resampled t-test: p, 95 %% interval\n",
+              title.c_str());
+  for (const auto& c : comparisons) {
+    const std::string pair = c.a + " vs " + c.b;
+    std::printf("  %-26s %+.3f ± %.3f  %2d / %2d of %-2d  p %.3f  [%+.3f, %+.3f]\n", pair.c_str(), c.mean_difference,
+                c.std_difference, c.ahead, c.behind, c.folds, c.p_value, c.interval_low, c.interval_high);
+  }
+}
+
+// An earlier run's report.json for --compare-to, checked up front against what this
+// run will deal (dataset size, folds, repeats, seed) so a mismatch fails before the
+// training, not after it.
+nlohmann::json ReadEarlierReport(const std::string& dir, const nlohmann::json& expected) {
+  const std::string path = dir + "/report.json";
+  std::ifstream in(path);
+  if (!in) throw InputError("--compare-to: cannot read " + path);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": not JSON (" + e.what() + ")");
+  }
+  for (const auto& [field, value] : expected.items())
+    if (!j.contains(field) || j[field] != value)
+      throw InputError(path + ": \"" + field + "\" is " + (j.contains(field) ? j[field].dump() : "missing") +
+                       " there and " + value.dump() + " here: not the same folds");
+  return j;
+}
+
 // The console summary: one table per scoring level, each pair of models fold by
-// fold, then each repeat's mean.
+// fold, this run against an earlier one, then each repeat's mean.
 void PrintSummary(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
                   const nlohmann::json& models, const std::vector<classify::PairedComparison>& paired,
+                  const std::vector<classify::PairedComparison>& earlier, const std::string& compare_to,
                   const CrossValidationNames& names, const std::string& scheme, int repeats) {
   std::printf("%s: %zu windows, %s\n", names.command.c_str(), d.windows.size(), scheme.c_str());
   // Per window (the paper's), per object (majority of its windows), and per window
@@ -98,15 +133,8 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
   // The same folds for every model: their fold-by-fold difference is free of the
   // folds' own spread, which dominates each model's ±; the corrected t-test allows
   // for the folds' overlapping training sets (classify::PairedComparison).
-  if (!paired.empty())
-    std::printf("  %-26s macro F1 per fold, first minus second (mean ± std); folds ahead / behind; "
-                "corrected resampled t-test: p, 95 %% interval\n",
-                "paired");
-  for (const auto& c : paired) {
-    const std::string pair = c.a + " vs " + c.b;
-    std::printf("  %-26s %+.3f ± %.3f  %2d / %2d of %-2d  p %.3f  [%+.3f, %+.3f]\n", pair.c_str(), c.mean_difference,
-                c.std_difference, c.ahead, c.behind, c.folds, c.p_value, c.interval_low, c.interval_high);
-  }
+  PrintPaired("paired", paired);
+  PrintPaired("against " + compare_to, earlier);
   if (repeats > 1) {  // how far the deal of objects to folds alone moves the figures
     std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");
     for (const auto& name : result.models) {
@@ -128,6 +156,9 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
       ->check(CLI::Range(1, 20));
   cmd.add_option("--networks", args.networks, "comma-separated network variants (tiny,shallow,deep,split,mlp)");
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
+  cmd.add_option("--compare-to", args.compare_to,
+                 "an earlier run's output directory on the same dataset, folds, repeats and seed: each model "
+                 "compared with its earlier self fold by fold");
   AddCommonOptions(cmd, args.common, names.default_out);
 }
 
@@ -135,6 +166,10 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
                        const CrossValidationNames& names) {
   const classify::CrossValidationOptions cv = OptionsOf(a, base);
   const classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
+  // What decides the folds: the same in an earlier run means the same folds.
+  const nlohmann::json deal = {{"windows", d.windows.size()}, {"folds", a.folds}, {"repeats", a.repeats},
+                               {"seed", cv.seed}};
+  const nlohmann::json earlier_report = a.compare_to.empty() ? nlohmann::json() : ReadEarlierReport(a.compare_to, deal);
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
   const auto t0 = std::chrono::steady_clock::now();
@@ -145,12 +180,24 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   io::RunReport report(names.command);
   auto& j = report.json();
   j["dataset"] = a.dataset;
-  j["windows"] = d.windows.size();
-  j["folds"] = a.folds;
-  j["repeats"] = a.repeats;
+  j.update(deal);
+  j["fold_windows"] = result.test_train_windows;
   j["models"] = result.ToJson(d.classes);
   const std::vector<classify::PairedComparison> paired = result.PairedComparisons();
   j["paired"] = classify::PairedComparisonsJson(paired);
+  // A comparison that fails (the earlier folds held other windows) must not cost
+  // this run's results: they are written first, the error raised after.
+  std::vector<classify::PairedComparison> earlier;
+  std::string comparison_error;
+  if (!a.compare_to.empty()) {
+    try {
+      earlier = classify::CompareWithEarlier(result, earlier_report, a.compare_to + "/report.json");
+      j["compared_to"] = {{"run", a.compare_to}, {"paired", classify::PairedComparisonsJson(earlier)}};
+    } catch (const InputError& e) {
+      comparison_error = e.what();
+      j["compared_to"] = {{"run", a.compare_to}, {"error", comparison_error}};
+    }
+  }
   j["timing"] = {{"seconds", seconds()}};
   const std::string scheme = std::to_string(a.folds) + "-fold CV" +
                              (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by " + names.key;
@@ -162,7 +209,9 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   WritePredictions(result, d, out + "/predictions.csv");
   report.AddOutput("predictions.csv");
   report.Write(out);
-  PrintSummary(result, d, j["models"], paired, names, scheme, a.repeats);
+  PrintSummary(result, d, j["models"], paired, earlier, a.compare_to, names, scheme, a.repeats);
+  if (!comparison_error.empty())
+    throw InputError(comparison_error + " (this run's results are written to " + out + ")");
   return 0;
 }
 

@@ -663,6 +663,47 @@ TEST(CrossValidationTest, CorrectedResampledTTestWorkedByHand) {
   EXPECT_THROW(r.Compare("a", "b"), InputError);
 }
 
+// A run against an earlier run on the same folds: each model with its earlier self.
+TEST(CrossValidationTest, ComparedWithAnEarlierRunOnTheSameFolds) {
+  const CrossValidationResult r = ThreeFoldResult();
+  nlohmann::json earlier = {{"fold_windows", {{10, 20}, {10, 20}, {5, 25}}}};
+  // The earlier "a" scored b's figures, and it had a model this run has not.
+  for (double f1 : {0.7, 0.7, 0.5}) earlier["models"]["a"]["folds"].push_back({{"macro_f1", f1}});
+  earlier["models"]["gone"]["folds"] = nlohmann::json::array();
+  const auto c = CompareWithEarlier(r, earlier, "old/report.json");
+  ASSERT_EQ(c.size(), 1u);  // "b" is not in the earlier run
+  EXPECT_EQ(c[0].a, "a");
+  EXPECT_EQ(c[0].b, "a (earlier)");
+  const PairedComparison same_as = r.Compare("a", "b");
+  EXPECT_NEAR(c[0].mean_difference, same_as.mean_difference, 1e-12);
+  EXPECT_NEAR(c[0].p_value, same_as.p_value, 1e-12);
+
+  // Other folds, a malformed report, nothing in common: refused, naming the report.
+  auto refused = [&](const nlohmann::json& j, const std::string& says) {
+    try {
+      CompareWithEarlier(r, j, "old/report.json");
+      ADD_FAILURE() << "accepted " << j.dump();
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), ::testing::HasSubstr("old/report.json")) << e.what();
+      EXPECT_THAT(e.what(), ::testing::HasSubstr(says)) << e.what();
+    }
+  };
+  nlohmann::json other = earlier;
+  other["fold_windows"][2] = {6, 24};
+  refused(other, "fold_windows");
+  other.erase("fold_windows");
+  refused(other, "fold_windows");
+  other = earlier;
+  other["models"]["a"]["folds"].push_back({{"macro_f1", 0.5}});  // four folds against three
+  refused(other, "folds");
+  other = earlier;
+  other["models"]["a"]["folds"][1] = {{"f1", 0.7}};
+  refused(other, "models.a.folds");
+  other = earlier;
+  other["models"].erase("a");
+  refused(other, "none of this run's models");
+}
+
 TEST(CrossValidationTest, HistoryIsTheMeanOfTheObjectsWindowsSoFar) {
   // Two objects interleaved, two classes: each row is the mean of its object's rows up to it.
   const std::vector<std::string> ids = {"a", "b", "a", "a", "b"};

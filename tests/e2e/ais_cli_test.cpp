@@ -80,6 +80,24 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   EXPECT_THAT(r.out, HasSubstr("2-fold CV × 2 by MMSI"));
   const auto twice = Report(dir + "/cv2");
   EXPECT_EQ(twice["models"]["forest"]["folds"].size(), 4u);
+  // The same run again against the first: the forest is deterministic, so no difference.
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --repeats 2 --networks '' -q -o '" + dir +
+                         "/cv2b' --compare-to '" + dir + "/cv2'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("forest vs forest (earlier)"));
+  const auto against = Report(dir + "/cv2b")["compared_to"]["paired"]["forest vs forest (earlier)"];
+  EXPECT_EQ(against["macro_f1_difference"]["mean"].get<double>(), 0.0);
+  EXPECT_EQ(against["corrected_t_test"]["p_value"].get<double>(), 1.0);
+  // Other folds (one deal, not two) are refused before any training, naming the report.
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks '' -q -o '" + dir + "/cv2c' --compare-to '" +
+                         dir + "/cv2'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("cv2/report.json: \"repeats\" is 2 there and 1 here"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/cv2c/report.json"));
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks '' -q -o '" + dir + "/cv2c' --compare-to '" +
+                         dir + "/nowhere'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("nowhere/report.json"));
   r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks '' --set ais_model.seed=2 -q -o '" + dir +
                          "/cv3'");
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -255,12 +255,28 @@ void CorrectedResampledTTest(PairedComparison& c, double rho) {
 
 }  // namespace
 
+std::vector<double> CrossValidationResult::MacroF1PerFold(const std::string& model) const {
+  std::vector<double> f1;
+  for (const auto& per : per_fold) f1.push_back(per.at(model).macro_f1);
+  return f1;
+}
+
 PairedComparison CrossValidationResult::Compare(const std::string& a, const std::string& b) const {
+  return CompareFolds(a, b, MacroF1PerFold(a), MacroF1PerFold(b), test_train_windows);
+}
+
+PairedComparison CompareFolds(const std::string& a, const std::string& b, const std::vector<double>& macro_a,
+                              const std::vector<double>& macro_b,
+                              const std::vector<std::pair<long, long>>& test_train_windows) {
+  if (macro_a.size() != macro_b.size() || macro_a.size() != test_train_windows.size())
+    throw InputError("paired comparison of " + a + " and " + b + ": " + std::to_string(macro_a.size()) + " against " +
+                     std::to_string(macro_b.size()) + " folds, " + std::to_string(test_train_windows.size()) +
+                     " fold sizes");
   PairedComparison c;
   c.a = a, c.b = b;
   std::vector<double> d;
-  for (const auto& per : per_fold) {
-    d.push_back(per.at(a).macro_f1 - per.at(b).macro_f1);
+  for (size_t i = 0; i < macro_a.size(); ++i) {
+    d.push_back(macro_a[i] - macro_b[i]);
     c.ahead += d.back() > 0;
     c.behind += d.back() < 0;
   }
@@ -268,6 +284,37 @@ PairedComparison CrossValidationResult::Compare(const std::string& a, const std:
   c.folds = static_cast<int>(d.size());
   CorrectedResampledTTest(c, TestToTrainRatio(test_train_windows));
   return c;
+}
+
+std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& result, const nlohmann::json& earlier,
+                                                 const std::string& where) {
+  std::vector<std::pair<long, long>> sizes;
+  try {
+    sizes = earlier.at("fold_windows").get<std::vector<std::pair<long, long>>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": field \"fold_windows\" missing or not pairs of counts (" + e.what() + ")");
+  }
+  if (sizes != result.test_train_windows)
+    throw InputError(where + ": its folds hold other windows than this run's (\"fold_windows\" differs): "
+                     "not the same dataset, folds, repeats and seed");
+  std::vector<PairedComparison> out;
+  for (const auto& name : result.models) {
+    const auto models = earlier.find("models");
+    if (models == earlier.end() || !models->contains(name)) continue;
+    std::vector<double> before;
+    try {
+      for (const auto& fold : models->at(name).at("folds")) before.push_back(fold.at("macro_f1").get<double>());
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(where + ": models." + name + ".folds: " + e.what());
+    }
+    const std::vector<double> now = result.MacroF1PerFold(name);
+    if (before.size() != now.size())
+      throw InputError(where + ": models." + name + ".folds has " + std::to_string(before.size()) +
+                       " folds, this run " + std::to_string(now.size()));
+    out.push_back(CompareFolds(name, name + " (earlier)", now, before, sizes));
+  }
+  if (out.empty()) throw InputError(where + ": none of this run's models is in it");
+  return out;
 }
 
 std::vector<PairedComparison> CrossValidationResult::PairedComparisons() const {

@@ -100,12 +100,29 @@ struct CrossValidationResult {
   // ("repeats"); the same per object under "per_object" and from each object's
   // history under "with_history".
   nlohmann::json ToJson(const std::vector<std::string>& classes) const;
+  // A model's per-window macro F1 in every fold, in fold order.
+  std::vector<double> MacroF1PerFold(const std::string& model) const;
   // Model `a` against model `b` fold by fold (per window macro F1); see
   // PairedComparison.
   PairedComparison Compare(const std::string& a, const std::string& b) const;
   // Every pair of models (a before b in report order).
   std::vector<PairedComparison> PairedComparisons() const;
 };
+
+// Per-fold macro F1 of two models on the same folds (fold i: macro_a[i],
+// macro_b[i], and its test and training window counts), compared as PairedComparison
+// says.
+PairedComparison CompareFolds(const std::string& a, const std::string& b, const std::vector<double>& macro_a,
+                              const std::vector<double>& macro_b,
+                              const std::vector<std::pair<long, long>>& test_train_windows);
+
+// This run's models against the same models of an earlier run on the same folds,
+// from the earlier run's report (its "fold_windows" and each model's per-fold
+// "macro_f1" under "models"): pairs "<model>" vs "<model> (earlier)", so a change
+// is judged on the folds both runs saw rather than against the folds' spread.
+// Throws InputError naming `where` when the folds differ or no model is in both.
+std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& result, const nlohmann::json& earlier,
+                                                 const std::string& where);
 
 // The comparisons keyed "a vs b".
 nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& comparisons);
