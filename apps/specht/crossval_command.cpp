@@ -76,13 +76,16 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
 // Fold-by-fold comparisons under a title, one line each.
 void PrintPaired(const std::string& title, const std::vector<classify::PairedComparison>& comparisons) {
   if (comparisons.empty()) return;
-  std::printf("  %-26s macro F1 per fold, first minus second (mean ± std); folds ahead / behind; "
+  int width = 26;  // the longest "a vs b", for aligned columns
+  for (const auto& c : comparisons) width = std::max(width, static_cast<int>((c.a + " vs " + c.b).size()));
+  std::printf("  %-*s macro F1 per fold, first minus second (mean ± std); folds ahead / behind; "
               "corrected resampled t-test: p, 95 %% interval\n",
-              title.c_str());
+              width, title.c_str());
   for (const auto& c : comparisons) {
     const std::string pair = c.a + " vs " + c.b;
-    std::printf("  %-26s %+.3f ± %.3f  %2d / %2d of %-2d  p %.3f  [%+.3f, %+.3f]\n", pair.c_str(), c.mean_difference,
-                c.std_difference, c.ahead, c.behind, c.folds, c.p_value, c.interval_low, c.interval_high);
+    std::printf("  %-*s %+.3f ± %.3f  %2d / %2d of %-2d  p %.3f  [%+.3f, %+.3f]\n", width, pair.c_str(),
+                c.mean_difference, c.std_difference, c.ahead, c.behind, c.folds, c.p_value, c.interval_low,
+                c.interval_high);
   }
 }
 
