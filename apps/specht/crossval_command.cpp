@@ -17,6 +17,7 @@
 #include "specht/classify/dataset_io.h"
 #include "specht/classify/metrics.h"
 #include "specht/core/error.h"
+#include "specht/core/progress.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/report.h"
 
@@ -177,8 +178,11 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   const std::string& out = a.common.out_dir;
   const auto t0 = std::chrono::steady_clock::now();
   const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  const auto result = classify::CrossValidate(d, cv, [&](const std::string& line) {
-    if (!a.common.quiet) std::fprintf(stderr, "%s: %s (%.0f s)\n", names.command.c_str(), line.c_str(), seconds());
+  const auto result = classify::CrossValidate(d, cv, [&](const std::string& line, double fraction) {
+    const double elapsed = seconds();
+    if (!a.common.quiet)
+      std::fprintf(stderr, "%s: %s (%.0f s, ETA %s)\n", names.command.c_str(), line.c_str(), elapsed,
+                   FormatEta(elapsed, fraction).c_str());
   });
   io::RunReport report(names.command);
   auto& j = report.json();

@@ -566,7 +566,14 @@ TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
   }
   CrossValidationOptions o;
   o.folds = 3, o.repeats = 2, o.seed = 4;
-  const CrossValidationResult both = CrossValidate(d, o);
+  // The log's fraction done (forest only: one unit a fold) after each of the six folds.
+  std::vector<double> fractions;
+  const CrossValidationResult both = CrossValidate(d, o, [&](const std::string&, double f) { fractions.push_back(f); });
+  ASSERT_EQ(fractions.size(), 6u);
+  for (size_t i = 0; i < fractions.size(); ++i) EXPECT_NEAR(fractions[i], (i + 1) / 6.0, 1e-12);
+  // Every fold and repeat has its test and training window counts (the t-test's ρ).
+  ASSERT_EQ(both.test_train_windows.size(), 6u);
+  for (const auto& [test, train] : both.test_train_windows) EXPECT_EQ(test + train, 120);
   o.repeats = 1, o.seed = 5;
   const CrossValidationResult second = CrossValidate(d, o);
   ASSERT_EQ(both.per_fold.size(), 6u);

@@ -19,5 +19,12 @@ TEST(ProgressLineTest, LongEtaIsInMinutesAndHours) {
   EXPECT_EQ(ProgressLine::Format("tune", 1, 0.001, "evals", 10.0, ""), "tune: 0.1% 1 evals 0.1 evals/s ETA 2h46m");
 }
 
+TEST(ProgressLineTest, EtaFromElapsedAndFractionDone) {
+  EXPECT_EQ(FormatEta(30.0, 0.25), "1m30s");  // a quarter in 30 s: 90 s to go
+  EXPECT_EQ(FormatEta(10.0, 1.0), "0s");
+  EXPECT_EQ(FormatEta(10.0, 0.0), "?");  // nothing done yet: unknown
+  EXPECT_EQ(ProgressLine::Format("run", 0, 0.0, "runs", 1.0, ""), "run: 0.0% 0 runs 0.0 runs/s ETA ?");
+}
+
 }  // namespace
 }  // namespace specht

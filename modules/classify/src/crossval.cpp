@@ -94,7 +94,7 @@ namespace {
 
 // One k-fold run of CrossValidate: repeat r, every seed raised by r.
 void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o, int r,
-                       const std::function<void(const std::string&)>& log, CrossValidationResult& result) {
+                       const CrossValidationLog& log, CrossValidationResult& result) {
   const int k = static_cast<int>(d.classes.size());
   const size_t kc = d.classes.size(), n = d.windows.size();
   const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed + r);
@@ -122,10 +122,18 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     };
     const std::string repeat =
         o.repeats > 1 ? "repeat " + std::to_string(r + 1) + "/" + std::to_string(o.repeats) + " " : "";
-    auto report = [&](const std::string& name, const Scores& sc, const std::string& details) {
+    // Work done, for the caller's ETA: the networks trained so far over all folds of
+    // all repeats (the forest and the combinations take seconds beside them), or the
+    // forests when there is no network.
+    const double units_per_fold = o.networks.empty() ? 1.0 : static_cast<double>(o.networks.size());
+    const double forest_units = o.networks.empty() ? 1.0 : 0.0;
+    double units = 0;
+    auto report = [&](const std::string& name, const Scores& sc, const std::string& details, double work) {
+      units += work;
       std::snprintf(line, sizeof(line), "%sfold %d/%d %-11s macro F1 %.3f weighted %.3f%s", repeat.c_str(), f + 1,
                     o.folds, name.c_str(), sc.macro_f1, sc.weighted_f1, details.c_str());
-      if (log) log(line);
+      const double slots = static_cast<double>(o.folds) * o.repeats;
+      if (log) log(line, (static_cast<double>(slot) + units / units_per_fold) / slots);
     };
     std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
     for (const auto& [name, network_options] : o.networks) {
@@ -141,7 +149,7 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
       char details[128];
       std::snprintf(details, sizeof(details), " (%zu train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
                     test.size(), epochs.size(), s);
-      report(name, record(name, network_probabilities.back().second), details);
+      report(name, record(name, network_probabilities.back().second), details, 1.0);
     }
     if (o.forest) {
       ForestBaseline forest(200, 12, o.seed + r);
@@ -150,9 +158,9 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
       // The forest's own answer is its most voted class (RTrees::predict's, tie
       // included: 0 of 19,331 AIS windows differ), so the trees run once.
       const std::vector<float> forest_probabilities = forest.Probabilities(test_x, k);
-      report("forest", record("forest", forest_probabilities), "");
+      report("forest", record("forest", forest_probabilities), "", forest_units);
       for (const auto& [name, p] : network_probabilities) {
-        report(name + "+forest", record(name + "+forest", CombinedProbabilities(p, forest_probabilities)), "");
+        report(name + "+forest", record(name + "+forest", CombinedProbabilities(p, forest_probabilities)), "", 0.0);
       }
     }
   }
@@ -161,7 +169,7 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
 }  // namespace
 
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
-                                    const std::function<void(const std::string&)>& log) {
+                                    const CrossValidationLog& log) {
   if (o.repeats < 1) throw InputError("cross-validation needs at least 1 repeat");
   CrossValidationResult result;
   result.folds = o.folds;

@@ -21,6 +21,10 @@ std::string FormatDuration(double s) {
 
 }  // namespace
 
+std::string FormatEta(double elapsed_s, double fraction) {
+  return fraction > 0 ? FormatDuration(elapsed_s * (1.0 - fraction) / fraction) : "?";
+}
+
 ProgressLine::ProgressLine(std::string label, std::string unit, bool enabled, double log_interval_s)
     : label_(std::move(label)),
       unit_(std::move(unit)),
@@ -46,8 +50,7 @@ std::string ProgressLine::Format(const std::string& label, double done, double f
   out << static_cast<long long>(done) << " " << unit;
   const double rate = elapsed_s > 0 ? done / elapsed_s : 0.0;
   out << std::fixed << std::setprecision(1) << " " << rate << " " << unit << "/s";
-  if (fraction > 0) out << " ETA " << FormatDuration(elapsed_s * (1.0 - fraction) / fraction);
-  else if (fraction == 0) out << " ETA ?";
+  if (fraction >= 0) out << " ETA " << FormatEta(elapsed_s, fraction);
   if (!note.empty()) out << " " << note;
   return out.str();
 }

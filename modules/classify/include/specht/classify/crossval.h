@@ -127,8 +127,12 @@ std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& re
 // The comparisons keyed "a vs b".
 nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& comparisons);
 
-// `log` (may be empty) receives one line per trained model and fold.
+// Receives one line per model and fold, and the fraction of the whole run done
+// (models trained so far over all to train; for an ETA).
+using CrossValidationLog = std::function<void(const std::string& line, double fraction_done)>;
+
+// `log` may be empty.
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
-                                    const std::function<void(const std::string&)>& log = {});
+                                    const CrossValidationLog& log = {});
 
 }  // namespace specht::classify

@@ -12,6 +12,10 @@
 
 namespace specht {
 
+// The time left when `fraction` (0, 1] of the work took `elapsed_s`, as "42s",
+// "3m07s" or "1h05m"; "?" when the fraction is not positive.
+std::string FormatEta(double elapsed_s, double fraction);
+
 class ProgressLine {
  public:
   // `unit` names what is counted ("scans"); the rate is shown in unit/s.
