@@ -107,6 +107,8 @@ nlohmann::json ReadEarlierReport(const std::string& dir, const nlohmann::json& e
     if (!j.contains(field) || j[field] != value)
       throw InputError(path + ": \"" + field + "\" is " + (j.contains(field) ? j[field].dump() : "missing") +
                        " there and " + value.dump() + " here: not the same folds");
+  if (!j.contains("fold_windows"))
+    throw InputError(path + ": no \"fold_windows\" (the fold sizes; reports before 2026-11-27 lack them): run it again");
   return j;
 }
 

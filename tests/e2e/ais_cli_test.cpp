@@ -98,6 +98,16 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
                          dir + "/nowhere'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("nowhere/report.json"));
+  // A report without the fold sizes (an older run's) is refused up front too.
+  auto old_report = twice;
+  old_report.erase("fold_windows");
+  std::filesystem::create_directories(dir + "/old");
+  testing::WriteFile(dir + "/old/report.json", old_report.dump());
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --repeats 2 --networks '' -q -o '" + dir +
+                         "/cv2c' --compare-to '" + dir + "/old'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("old/report.json: no \"fold_windows\""));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/cv2c/report.json"));
   r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks '' --set ais_model.seed=2 -q -o '" + dir +
                          "/cv3'");
   ASSERT_EQ(r.exit_code, 0) << r.err;

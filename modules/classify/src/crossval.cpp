@@ -122,18 +122,16 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     };
     const std::string repeat =
         o.repeats > 1 ? "repeat " + std::to_string(r + 1) + "/" + std::to_string(o.repeats) + " " : "";
-    // Work done, for the caller's ETA: the networks trained so far over all folds of
-    // all repeats (the forest and the combinations take seconds beside them), or the
-    // forests when there is no network.
+    // Work done, for the log's fraction (see CrossValidationLog).
     const double units_per_fold = o.networks.empty() ? 1.0 : static_cast<double>(o.networks.size());
     const double forest_units = o.networks.empty() ? 1.0 : 0.0;
-    double units = 0;
+    const double all_units = units_per_fold * o.folds * o.repeats;
+    double units = units_per_fold * static_cast<double>(slot);
     auto report = [&](const std::string& name, const Scores& sc, const std::string& details, double work) {
       units += work;
       std::snprintf(line, sizeof(line), "%sfold %d/%d %-11s macro F1 %.3f weighted %.3f%s", repeat.c_str(), f + 1,
                     o.folds, name.c_str(), sc.macro_f1, sc.weighted_f1, details.c_str());
-      const double slots = static_cast<double>(o.folds) * o.repeats;
-      if (log) log(line, (static_cast<double>(slot) + units / units_per_fold) / slots);
+      if (log) log(line, units / all_units);
     };
     std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
     for (const auto& [name, network_options] : o.networks) {

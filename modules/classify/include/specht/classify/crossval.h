@@ -127,8 +127,9 @@ std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& re
 // The comparisons keyed "a vs b".
 nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& comparisons);
 
-// Receives one line per model and fold, and the fraction of the whole run done
-// (models trained so far over all to train; for an ETA).
+// Receives one line per model and fold, and the fraction of the whole run done, for
+// an ETA (the networks trained so far over all to train, the forest and the
+// combinations taking seconds beside them; the forests when there is no network).
 using CrossValidationLog = std::function<void(const std::string& line, double fraction_done)>;
 
 // `log` may be empty.
