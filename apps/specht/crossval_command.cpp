@@ -190,7 +190,7 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   auto& j = report.json();
   j["dataset"] = a.dataset;
   j.update(deal);
-  j["fold_windows"] = result.test_train_windows;
+  j["fold_windows"] = result.FoldSizes();
   j["models"] = result.ToJson(d.classes);
   const std::vector<classify::PairedComparison> paired = result.PairedComparisons();
   j["paired"] = classify::PairedComparisonsJson(paired);

@@ -572,8 +572,14 @@ TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
   ASSERT_EQ(fractions.size(), 6u);
   for (size_t i = 0; i < fractions.size(); ++i) EXPECT_NEAR(fractions[i], (i + 1) / 6.0, 1e-12);
   // Every fold and repeat has its test and training window counts (the t-test's ρ).
-  ASSERT_EQ(both.test_train_windows.size(), 6u);
-  for (const auto& [test, train] : both.test_train_windows) EXPECT_EQ(test + train, 120);
+  const auto sizes = both.FoldSizes();
+  ASSERT_EQ(sizes.size(), 6u);
+  for (size_t slot = 0; slot < sizes.size(); ++slot) {
+    const auto first = both.fold_of.begin() + static_cast<long>((slot / 3) * d.windows.size());
+    const long tested = std::count(first, first + static_cast<long>(d.windows.size()), static_cast<int>(slot % 3));
+    EXPECT_EQ(sizes[slot].first, tested) << slot;
+    EXPECT_EQ(sizes[slot].second, 120 - tested) << slot;
+  }
   o.repeats = 1, o.seed = 5;
   const CrossValidationResult second = CrossValidate(d, o);
   ASSERT_EQ(both.per_fold.size(), 6u);
@@ -596,7 +602,7 @@ TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
 }
 
 // Two models "a" and "b" scored on three folds (macro F1 0.8 / 0.6 / 0.7 and
-// 0.7 / 0.7 / 0.5), each fold's test and training windows (10, 20), (10, 20), (5, 25).
+// 0.7 / 0.7 / 0.5) of 25 windows: 10, 10 and 5 tested, so 15, 15 and 20 trained on.
 CrossValidationResult ThreeFoldResult() {
   CrossValidationResult r;
   r.models = {"a", "b"};
@@ -607,7 +613,9 @@ CrossValidationResult ThreeFoldResult() {
     r.per_fold.back()["a"].macro_f1 = a[f];
     r.per_fold.back()["b"].macro_f1 = b[f];
   }
-  r.test_train_windows = {{10, 20}, {10, 20}, {5, 25}};
+  r.fold_of.assign(10, 0);
+  r.fold_of.resize(20, 1);
+  r.fold_of.resize(25, 2);
   return r;
 }
 
@@ -633,18 +641,18 @@ TEST(CrossValidationTest, PairedComparisonIsFoldByFold) {
   EXPECT_NEAR(r.Compare("b", "a").mean_difference, -1.0 / 15, 1e-12);
 }
 
-// The corrected resampled t-test worked by hand on the folds above: ρ = (10/20 +
-// 10/20 + 5/25) / 3 = 0.4, σ² = (1/3 + 0.4) · 7/300 = 77/4500, t = (1/15) / σ =
-// 0.50965; with 2 degrees of freedom P(|T| > t) = 1 − t / √(2 + t²) = 0.66097, and
-// t_0.975,2 = 4.30265 (tables) gives the interval 1/15 ± 4.30265 σ.
+// The corrected resampled t-test worked by hand on the folds above: ρ = (10/15 +
+// 10/15 + 5/20) / 3 = 19/36, σ² = (1/3 + 19/36) · 7/300 = 217/10800, t = (1/15) / σ
+// = 0.47032; with 2 degrees of freedom P(|T| > t) = 1 − t / √(2 + t²) = 0.68443,
+// and t_0.975,2 = 4.30265 (tables) gives the interval 1/15 ± 4.30265 σ.
 TEST(CrossValidationTest, CorrectedResampledTTestWorkedByHand) {
   CrossValidationResult r = ThreeFoldResult();
   const PairedComparison c = r.Compare("a", "b");
-  const double sigma = std::sqrt(77.0 / 4500);
+  const double sigma = std::sqrt(217.0 / 10800);
   EXPECT_NEAR(c.corrected_t, (1.0 / 15) / sigma, 1e-9);
-  EXPECT_NEAR(c.corrected_t, 0.50965, 1e-5);
+  EXPECT_NEAR(c.corrected_t, 0.47032, 1e-5);
   EXPECT_NEAR(c.p_value, 1 - c.corrected_t / std::sqrt(2 + c.corrected_t * c.corrected_t), 1e-9);
-  EXPECT_NEAR(c.p_value, 0.66097, 1e-5);
+  EXPECT_NEAR(c.p_value, 0.68443, 1e-5);
   EXPECT_NEAR(c.interval_low, 1.0 / 15 - 4.30265 * sigma, 1e-5);
   EXPECT_NEAR(c.interval_high, 1.0 / 15 + 4.30265 * sigma, 1e-5);
   // Symmetric: b against a has the same p and the mirrored interval.
@@ -663,17 +671,19 @@ TEST(CrossValidationTest, CorrectedResampledTTestWorkedByHand) {
   EXPECT_EQ(same.p_value, 0.0);
   // Identical models: no difference, p = 1.
   EXPECT_EQ(r.Compare("a", "a").p_value, 1.0);
-  // Fold sizes missing or a fold without training windows: refused, not guessed.
-  r.test_train_windows.clear();
+  // No fold assignment, a fold without training windows, a fold that does not exist: refused.
+  r.fold_of.clear();
   EXPECT_THROW(r.Compare("a", "b"), InputError);
-  r.test_train_windows = {{10, 20}, {10, 0}, {5, 25}};
+  r.fold_of.assign(25, 0);  // one fold holds every window: nothing to train on
+  EXPECT_THROW(r.Compare("a", "b"), InputError);
+  r.fold_of[3] = 7;  // a fold that does not exist
   EXPECT_THROW(r.Compare("a", "b"), InputError);
 }
 
 // A run against an earlier run on the same folds: each model with its earlier self.
 TEST(CrossValidationTest, ComparedWithAnEarlierRunOnTheSameFolds) {
   const CrossValidationResult r = ThreeFoldResult();
-  nlohmann::json earlier = {{"fold_windows", {{10, 20}, {10, 20}, {5, 25}}}};
+  nlohmann::json earlier = {{"fold_windows", {{10, 15}, {10, 15}, {5, 20}}}};
   // The earlier "a" scored b's figures, and it had a model this run has not.
   for (double f1 : {0.7, 0.7, 0.5}) earlier["models"]["a"]["folds"].push_back({{"macro_f1", f1}});
   earlier["models"]["gone"]["folds"] = nlohmann::json::array();
@@ -696,7 +706,7 @@ TEST(CrossValidationTest, ComparedWithAnEarlierRunOnTheSameFolds) {
     }
   };
   nlohmann::json other = earlier;
-  other["fold_windows"][2] = {6, 24};
+  other["fold_windows"][2] = {6, 19};
   refused(other, "fold_windows");
   other.erase("fold_windows");
   refused(other, "fold_windows");

@@ -105,7 +105,6 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     std::vector<size_t> train_rows, test_rows;
     for (size_t i = 0; i < fold.size(); ++i) (fold[i] == f ? test_rows : train_rows).push_back(i);
     const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
-    result.test_train_windows[slot] = {static_cast<long>(test_rows.size()), static_cast<long>(train_rows.size())};
     // Scores a model's test probabilities three ways and keeps them.
     auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
       const std::vector<int> predicted = MostProbable(probabilities, k);
@@ -180,7 +179,6 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   result.per_fold.resize(slots);
   result.per_fold_objects.resize(slots);
   result.per_fold_history.resize(slots);
-  result.test_train_windows.resize(slots);
   for (const auto& name : result.models)
     result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);
   for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, log, result);
@@ -267,8 +265,23 @@ std::vector<double> CrossValidationResult::MacroF1PerFold(const std::string& mod
   return f1;
 }
 
+std::vector<std::pair<long, long>> CrossValidationResult::FoldSizes() const {
+  const size_t repeats = folds > 0 ? per_fold.size() / static_cast<size_t>(folds) : 0;
+  if (repeats == 0 || fold_of.size() % repeats != 0) return {};
+  const size_t windows = fold_of.size() / repeats;
+  std::vector<std::pair<long, long>> sizes(per_fold.size(), {0, static_cast<long>(windows)});
+  for (size_t i = 0; i < fold_of.size(); ++i) {
+    if (fold_of[i] < 0 || fold_of[i] >= folds)
+      throw InputError("cross-validation result: window " + std::to_string(i % windows) + " in fold " +
+                       std::to_string(fold_of[i]) + " of " + std::to_string(folds));
+    auto& [test, train] = sizes[(i / windows) * static_cast<size_t>(folds) + static_cast<size_t>(fold_of[i])];
+    ++test, --train;
+  }
+  return sizes;
+}
+
 PairedComparison CrossValidationResult::Compare(const std::string& a, const std::string& b) const {
-  return CompareFolds(a, b, MacroF1PerFold(a), MacroF1PerFold(b), test_train_windows);
+  return CompareFolds(a, b, MacroF1PerFold(a), MacroF1PerFold(b), FoldSizes());
 }
 
 PairedComparison CompareFolds(const std::string& a, const std::string& b, const std::vector<double>& macro_a,
@@ -300,7 +313,7 @@ std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& re
   } catch (const nlohmann::json::exception& e) {
     throw InputError(where + ": field \"fold_windows\" missing or not pairs of counts (" + e.what() + ")");
   }
-  if (sizes != result.test_train_windows)
+  if (sizes != result.FoldSizes())
     throw InputError(where + ": its folds hold other windows than this run's (\"fold_windows\" differs): "
                      "not the same dataset, folds, repeats and seed");
   std::vector<PairedComparison> out;

@@ -84,9 +84,6 @@ struct PairedComparison {
 struct CrossValidationResult {
   std::vector<std::string> models;                      // in report order
   int folds = 0;  // folds in one repeat (the repeat count is per_fold.size() / folds)
-  // Per fold: windows tested and windows trained on (the network's validation
-  // windows included), for the corrected t-test's ratio ρ.
-  std::vector<std::pair<long, long>> test_train_windows;
   std::vector<std::map<std::string, Scores>> per_fold;  // fold → model → scores per window
   std::vector<std::map<std::string, Scores>> per_fold_objects;  // … per object (majority vote)
   std::vector<std::map<std::string, Scores>> per_fold_history;  // … per window, from its object's history
@@ -100,6 +97,9 @@ struct CrossValidationResult {
   // ("repeats"); the same per object under "per_object" and from each object's
   // history under "with_history".
   nlohmann::json ToJson(const std::vector<std::string>& classes) const;
+  // Per fold, in fold order: windows tested and windows trained on (the networks'
+  // validation windows included), from fold_of; the corrected t-test's ratio ρ.
+  std::vector<std::pair<long, long>> FoldSizes() const;
   // A model's per-window macro F1 in every fold, in fold order.
   std::vector<double> MacroF1PerFold(const std::string& model) const;
   // Model `a` against model `b` fold by fold (per window macro F1); see
