@@ -54,6 +54,13 @@ void WritePredictions(const classify::CrossValidationResult& result, const class
   io::WriteTextAtomically(path, csv);
 }
 
+// The network variants, "tiny, shallow, …", for the help and for errors.
+std::string VariantList() {
+  std::string list;
+  for (const auto& v : classify::ModelVariants()) list += (list.empty() ? "" : ", ") + v;
+  return list;
+}
+
 classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const classify::ModelOptions& base) {
   classify::CrossValidationOptions cv;
   cv.folds = a.folds;
@@ -64,11 +71,8 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
     classify::ModelOptions m = base;
     m.variant = variant;
     const auto& known = classify::ModelVariants();
-    if (std::find(known.begin(), known.end(), variant) == known.end()) {
-      std::string list;
-      for (const auto& v : known) list += (list.empty() ? "" : ", ") + v;
-      throw InputError("--networks: unknown variant \"" + variant + "\" (" + list + ")");
-    }
+    if (std::find(known.begin(), known.end(), variant) == known.end())
+      throw InputError("--networks: unknown variant \"" + variant + "\" (" + VariantList() + ")");
     cv.networks.push_back({variant, m});
   }
   return cv;
@@ -160,7 +164,7 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
   cmd.add_option("--repeats", args.repeats,
                  "deal the " + names.objects + " to the folds this many times (seeds seed, seed + 1, …)")
       ->check(CLI::Range(1, 20));
-  cmd.add_option("--networks", args.networks, "comma-separated network variants (tiny,shallow,deep,split,mlp)");
+  cmd.add_option("--networks", args.networks, "comma-separated network variants (" + VariantList() + ")");
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
   cmd.add_option("--compare-to", args.compare_to,
                  "an earlier run's output directory on the same dataset, folds, repeats and seed: each model "
