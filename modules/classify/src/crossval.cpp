@@ -316,9 +316,9 @@ std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& re
   if (sizes != result.FoldSizes())
     throw InputError(where + ": its folds hold other windows than this run's (\"fold_windows\" differs): "
                      "not the same dataset, folds, repeats and seed");
+  const auto models = earlier.find("models");
   std::vector<PairedComparison> out;
   for (const auto& name : result.models) {
-    const auto models = earlier.find("models");
     if (models == earlier.end() || !models->contains(name)) continue;
     std::vector<double> before;
     try {
