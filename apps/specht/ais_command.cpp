@@ -193,17 +193,18 @@ int RunPrepare(const AisArgs& a) {
   std::printf("ais prepare: %ld points, %zu windows of %d × %d (%.0f points/s); %ld vessels of other or unknown type\n",
               r.points, d.windows.size(), d.windows.features, o.length, r.points / std::max(1e-9, seconds),
               r.excluded_vessels);
+  std::vector<std::string> columns = ais::VesselClasses();
+  if (r.vessels_per_class.count(ais::kUnlabelled)) columns.push_back(ais::kUnlabelled);
   std::printf("  %-8s", "step");
-  for (const auto& c : ais::VesselClasses()) std::printf(" %15s", c.c_str());
+  for (const auto& c : columns) std::printf(" %15s", c.c_str());
   std::printf("\n");
   for (const auto& step : steps) {
     std::printf("  %-8s", step.c_str());
-    for (const auto& c : ais::VesselClasses()) std::printf(" %15ld", r.counts[step].count(c) ? r.counts[step][c] : 0L);
+    for (const auto& c : columns) std::printf(" %15ld", r.counts[step].count(c) ? r.counts[step][c] : 0L);
     std::printf("\n");
   }
   std::printf("  %-8s", "vessels");
-  for (const auto& c : ais::VesselClasses())
-    std::printf(" %15ld", r.vessels_per_class.count(c) ? r.vessels_per_class.at(c) : 0L);
+  for (const auto& c : columns) std::printf(" %15ld", r.vessels_per_class.count(c) ? r.vessels_per_class.at(c) : 0L);
   std::printf("\n");
   return 0;
 }

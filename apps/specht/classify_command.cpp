@@ -267,7 +267,8 @@ int RunPredict(const ClassifyArgs& a) {
 
 int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
                           const std::string& dataset, bool resume, const std::string& label) {
-  const classify::PreparedDataset d = classify::ReadPrepared(dataset);
+  classify::PreparedDataset d = classify::ReadPrepared(dataset);
+  classify::SplitOffUnlabelled(d);  // windows without a class (AIS: ais.unlabelled) are not trained on
   std::vector<size_t> train_rows, val_rows;
   classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
   const classify::Dataset train = d.windows.Subset(train_rows), val = d.windows.Subset(val_rows);

@@ -46,6 +46,7 @@ struct CrossValidationArgs {
   std::string compare_to;  // an earlier run's output directory, or empty
   int folds = 5, repeats = 1;
   bool no_forest = false;
+  double pseudo_label_votes = 0;  // classify::CrossValidationOptions; 0: off
 };
 // How a command names things: "ais eval", "ais prepare", "MMSI" (what the folds are
 // disjoint by), "vessels" (the objects), "specht-out/ais-eval".
@@ -53,7 +54,7 @@ struct CrossValidationNames {
   std::string command, prepare, key, objects, default_out;
 };
 // Registers the dataset argument, --folds, --repeats, --networks, --no-forest,
-// --compare-to and the common options.
+// --pseudo-labels, --compare-to and the common options.
 void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names);
 // Runs it with `base` for every network (variant replaced); writes report.json,
 // report.md, a pooled confusion PNG per model and predictions.csv; prints the summary.

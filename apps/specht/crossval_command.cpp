@@ -67,6 +67,7 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
   cv.repeats = a.repeats;
   cv.seed = base.seed;
   cv.forest = !a.no_forest;
+  cv.pseudo_label_votes = a.pseudo_label_votes;
   for (const auto& variant : SplitList(a.networks)) {
     classify::ModelOptions m = base;
     m.variant = variant;
@@ -166,6 +167,10 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
       ->check(CLI::Range(1, 20));
   cmd.add_option("--networks", args.networks, "comma-separated network variants (" + VariantList() + ")");
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
+  cmd.add_option("--pseudo-labels", args.pseudo_label_votes,
+                 "self-training: the dataset's unlabelled windows that the fold's forest gives at least this share "
+                 "of its votes join the networks' training windows with its class (0: off)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd.add_option("--compare-to", args.compare_to,
                  "an earlier run's output directory on the same dataset, folds, repeats and seed: each model "
                  "compared with its earlier self fold by fold");
@@ -175,7 +180,8 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
 int RunCrossValidation(const CrossValidationArgs& a, const params::Params& params, const classify::ModelOptions& base,
                        const CrossValidationNames& names) {
   const classify::CrossValidationOptions cv = OptionsOf(a, base);
-  const classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
+  classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
+  const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);  // never scored
   // What decides the folds: the same in an earlier run means the same folds.
   const nlohmann::json deal = {{"windows", d.windows.size()}, {"folds", a.folds}, {"repeats", a.repeats},
                                {"seed", cv.seed}};
@@ -189,12 +195,17 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
     if (!a.common.quiet)
       std::fprintf(stderr, "%s: %s (%.0f s, ETA %s)\n", names.command.c_str(), line.c_str(), elapsed,
                    FormatEta(elapsed, fraction).c_str());
-  });
+  }, unlabelled);
   io::RunReport report(names.command);
   auto& j = report.json();
   j["dataset"] = a.dataset;
   j.update(deal);
   j["fold_windows"] = result.FoldSizes();
+  j["unlabelled_windows"] = unlabelled.windows.size();
+  if (cv.pseudo_label_votes > 0) {
+    j["pseudo_labels"] = {{"votes", cv.pseudo_label_votes}, {"classes", d.classes},
+                          {"per_fold", result.pseudo_labelled}};
+  }
   j["models"] = result.ToJson(d.classes);
   const std::vector<classify::PairedComparison> paired = result.PairedComparisons();
   j["paired"] = classify::PairedComparisonsJson(paired);

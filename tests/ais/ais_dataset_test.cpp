@@ -4,6 +4,7 @@
 
 #include "specht/ais/dataset.h"
 #include "specht/classify/crossval.h"
+#include "specht/classify/dataset_io.h"
 #include "specht/core/error.h"
 #include "test_support.h"
 
@@ -192,6 +193,43 @@ TEST(AisDatasetTest, PreparationIsIndependentOfThreadsAndBatches) {
   EXPECT_EQ(r1.counts, r2.counts);
   // Every feature is normalised into [0, 1].
   for (float x : a.windows.x) ASSERT_TRUE(x >= 0.0f && x <= 1.0f) << x;
+}
+
+// The vessels of unknown type: excluded by default; with ais.unlabelled their
+// windows come as well, labelled "unlabelled" with class −1, and the labelled
+// windows are the same, in the same order.
+TEST(AisDatasetTest, VesselsOfUnknownTypeArePreparedOnRequest) {
+  if (DataDir().empty()) GTEST_SKIP() << "no data dir";
+  // A slice of the MPA file (its first vessels report no ship type).
+  std::string text = specht::testing::ReadDecompressed(DataDir() + "/ais/tracks/mpa-dev.csv.gz");
+  size_t cut = 0;
+  for (int i = 0; i < 40000; ++i) cut = text.find('\n', cut) + 1;
+  const std::string path = TempDir() + "/mpa-slice.csv";
+  WriteFile(path, text.substr(0, cut));
+  const Geography geo = Geography::Load(AisOptions(), DataDir());
+  const AisPreprocessOptions o;
+  AisOptions with;
+  with.unlabelled = true;
+  PrepareReport r_without, r_with;
+  const auto without = PrepareDataset({path}, AisOptions(), o, geo, r_without);
+  auto all = PrepareDataset({path}, with, o, geo, r_with);
+  EXPECT_GT(r_with.vessels_per_class[kUnlabelled], 10);
+  EXPECT_EQ(r_without.vessels_per_class.count(kUnlabelled), 0u);
+  EXPECT_LT(r_with.excluded_vessels, r_without.excluded_vessels);
+  EXPECT_EQ(r_with.counts["moving"][kUnlabelled] + static_cast<long>(without.windows.size()),
+            static_cast<long>(all.windows.size()));
+  long unlabelled = 0;
+  for (size_t i = 0; i < all.windows.size(); ++i)
+    if (all.windows.y[i] < 0) {
+      ++unlabelled;
+      EXPECT_EQ(all.labels[i], kUnlabelled);
+    }
+  EXPECT_EQ(unlabelled, r_with.counts["moving"][kUnlabelled]);
+  const auto rest = classify::SplitOffUnlabelled(all);
+  EXPECT_EQ(static_cast<long>(rest.windows.size()), unlabelled);
+  EXPECT_EQ(all.windows.x, without.windows.x);
+  EXPECT_EQ(all.windows.y, without.windows.y);
+  EXPECT_EQ(all.handcrafted, without.handcrafted);
 }
 
 TEST(AisDatasetTest, FoldsAreDisjointByVesselAndStratified) {

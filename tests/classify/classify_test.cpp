@@ -547,9 +547,9 @@ TEST(SplitTest, DisjointByObject) {
   EXPECT_NEAR(static_cast<double>(held.size()) / ids.size(), 0.25, 0.12);
 }
 
-// Repeated cross-validation: repeat r is exactly the single run with seed + r, and
-// the report holds every repeat's folds and each repeat's mean.
-TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
+// Two classes "a" and "b", 40 objects of 3 windows (1 feature × 2 points, all 0);
+// every handcrafted feature is the class index plus N(0, 1) noise.
+PreparedDataset TwoClassDataset() {
   PreparedDataset d;
   d.classes = {"a", "b"};
   d.windows.features = 1, d.windows.length = 2;
@@ -561,9 +561,17 @@ TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
       d.windows.x.insert(d.windows.x.end(), {0.0f, 0.0f});
       d.windows.y.push_back(label);
       d.windows.object_ids.push_back("o" + std::to_string(object));
+      d.labels.push_back(d.classes[static_cast<size_t>(label)]);
       for (int j = 0; j < HandcraftedFeatureCount(); ++j) d.handcrafted.push_back(label + noise(rng));
     }
   }
+  return d;
+}
+
+// Repeated cross-validation: repeat r is exactly the single run with seed + r, and
+// the report holds every repeat's folds and each repeat's mean.
+TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
+  const PreparedDataset d = TwoClassDataset();
   CrossValidationOptions o;
   o.folds = 3, o.repeats = 2, o.seed = 4;
   // The log's fraction done (forest only: one unit a fold) after each of the six folds.
@@ -732,6 +740,71 @@ TEST(CrossValidationTest, HistoryIsTheMeanOfTheObjectsWindowsSoFar) {
   // Row 2 alone says class 1; with its object's history it is a tie, which goes to class 0.
   EXPECT_EQ(MostProbable(mean, 2)[2], 0);
   EXPECT_THROW(RunningMeanByObject(ids, std::vector<float>(9), 2), InputError);
+}
+
+// Self-training: windows without a class are split off the dataset in order, the
+// fold's forest labels those it is sure of, they join the network's training
+// windows, and nothing about the forest or the folds changes.
+TEST(CrossValidationTest, PseudoLabelsComeFromTheFoldsForestAndAreNeverScored) {
+  const PreparedDataset labelled = TwoClassDataset();
+  // Interleave 12 unlabelled windows of 4 objects: 6 clearly "b" (features 5), 6 of
+  // a third kind the forest cannot be sure of (features 0.5, between "a" and "b").
+  PreparedDataset mixed = labelled;
+  mixed.windows = Dataset{1, 2, {}, {}, {}}, mixed.handcrafted.clear(), mixed.labels.clear();
+  const int width = HandcraftedFeatureCount();
+  for (size_t i = 0; i < labelled.windows.size(); ++i) {
+    if (i % 10 == 0) {
+      const size_t u = i / 10;
+      mixed.windows.Append(Dataset{1, 2, {0.0f, 0.0f}, {-1}, {"u" + std::to_string(u % 4)}});
+      mixed.labels.push_back("unlabelled");
+      mixed.handcrafted.insert(mixed.handcrafted.end(), width, u % 2 ? 0.5f : 5.0f);
+    }
+    mixed.windows.Append(labelled.windows.Subset({i}));
+    mixed.labels.push_back(labelled.labels[i]);
+    mixed.handcrafted.insert(mixed.handcrafted.end(), labelled.handcrafted.begin() + static_cast<long>(i * width),
+                             labelled.handcrafted.begin() + static_cast<long>((i + 1) * width));
+  }
+  const PreparedDataset unlabelled = SplitOffUnlabelled(mixed);
+  ASSERT_EQ(unlabelled.windows.size(), 12u);
+  EXPECT_EQ(unlabelled.windows.y, std::vector<int>(12, -1));
+  EXPECT_EQ(unlabelled.windows.object_ids[1], "u1");
+  EXPECT_EQ(unlabelled.handcrafted[0], 5.0f);
+  EXPECT_EQ(unlabelled.handcrafted[static_cast<size_t>(width)], 0.5f);
+  EXPECT_EQ(mixed.windows.x, labelled.windows.x);
+  EXPECT_EQ(mixed.windows.y, labelled.windows.y);
+  EXPECT_EQ(mixed.windows.object_ids, labelled.windows.object_ids);
+  EXPECT_EQ(mixed.handcrafted, labelled.handcrafted);
+  EXPECT_EQ(mixed.labels, labelled.labels);
+
+  CrossValidationOptions o;
+  o.folds = 3, o.seed = 4;
+  const CrossValidationResult plain = CrossValidate(mixed, o);
+  EXPECT_TRUE(plain.pseudo_labelled.empty());
+  o.pseudo_label_votes = 0.9;
+  ModelOptions m;
+  m.variant = "mlp", m.epochs = 1, m.threads = 1;
+  o.networks = {{"mlp", m}};
+  std::vector<std::string> lines;
+  const CrossValidationResult self = CrossValidate(mixed, o, [&](const std::string& l, double) { lines.push_back(l); },
+                                                   unlabelled);
+  ASSERT_EQ(self.pseudo_labelled.size(), 3u);
+  for (const auto& per_class : self.pseudo_labelled) EXPECT_EQ(per_class, (std::vector<long>{0, 6})) << "fold";
+  EXPECT_NE(lines[0].find("+ 6 pseudo-labelled"), std::string::npos) << lines[0];
+  // The forest learns from labelled windows only, on the same folds.
+  EXPECT_EQ(self.fold_of, plain.fold_of);
+  EXPECT_EQ(self.probabilities.at("forest"), plain.probabilities.at("forest"));
+  EXPECT_EQ(self.probabilities.at("mlp").size(), labelled.windows.size() * 2);
+
+  o.forest = false;  // the teacher
+  EXPECT_THROW(CrossValidate(mixed, o, {}, unlabelled), InputError);
+  o.forest = true;
+  EXPECT_THROW(CrossValidate(mixed, o), InputError);  // nothing to label
+  o.pseudo_label_votes = 1.5;
+  EXPECT_THROW(CrossValidate(mixed, o, {}, unlabelled), InputError);
+  o.pseudo_label_votes = 0;
+  PreparedDataset unsplit = mixed;
+  unsplit.windows.Append(unlabelled.windows);
+  EXPECT_THROW(CrossValidate(unsplit, o), InputError);  // unlabelled windows left among the scored ones
 }
 
 }  // namespace

@@ -113,6 +113,11 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_DOUBLE_EQ(twice["models"]["forest"]["repeats"][1]["macro_f1"].get<double>(),
                    Report(dir + "/cv3")["models"]["forest"]["macro_f1"]["mean"].get<double>());
+  // Self-training needs vessels of unknown type in the dataset (ais.unlabelled).
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks '' --pseudo-labels 0.6 -q -o '" + dir +
+                         "/cv4'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("no unlabelled windows (AIS: prepare with ais.unlabelled)"));
   r = testing::RunSpecht("ais train '" + dir + "/data' -q -o '" + dir + "/model'" + quick);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // Same dataset and seed → the same model.

@@ -27,7 +27,8 @@ struct VesselWindows {
 VesselWindows Process(const Vessel& v, const classify::PreprocessOptions& o, const Geography& geo) {
   VesselWindows out;
   double cos_lat0 = 1;
-  const classify::Trajectory t = ToTrajectory(v, cos_lat0);
+  classify::Trajectory t = ToTrajectory(v, cos_lat0);
+  if (t.label.empty()) t.label = kUnlabelled;  // only vessels of unknown type get here without a class
   out.windows = classify::MakeWindows({t}, o, &out.counts);
   const classify::MapFeatures map = geo.ForFrame(cos_lat0);
   for (const auto& w : out.windows) {
@@ -140,7 +141,8 @@ classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, 
         if (r.windows.empty()) continue;
         const std::string& label = r.windows.front().label;
         if (vessels_seen.insert(r.windows.front().object_id).second) ++report.vessels_per_class[label];
-        const int y = static_cast<int>(std::find(d.classes.begin(), d.classes.end(), label) - d.classes.begin());
+        const auto known = std::find(d.classes.begin(), d.classes.end(), label);
+        const int y = known == d.classes.end() ? -1 : static_cast<int>(known - d.classes.begin());
         for (const auto& w : r.windows) {
           d.windows.y.push_back(y);
           d.windows.object_ids.push_back(w.object_id);
@@ -154,7 +156,8 @@ classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, 
     Vessel v;
     while (reader.Next(v)) {
       report.points += static_cast<long>(v.reports.size());
-      if (ClassOfShipType(v.ship_type).empty()) {
+      const bool unknown_type = v.ship_type <= 0;  // none reported, or 0 "not available"
+      if (ClassOfShipType(v.ship_type).empty() && !(ais.unlabelled && unknown_type)) {
         ++report.excluded_vessels;
         continue;
       }

@@ -92,13 +92,38 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& ids, const std::v
 
 namespace {
 
+// The unlabelled windows the forest votes for with at least `votes` of its trees,
+// with that class (CrossValidationOptions::pseudo_label_votes); per class, how many.
+Dataset PseudoLabelled(const ForestBaseline& forest, const PreparedDataset& unlabelled, double votes, int k,
+                       std::vector<long>& per_class) {
+  std::vector<size_t> rows(unlabelled.windows.size());
+  for (size_t i = 0; i < rows.size(); ++i) rows[i] = i;
+  const std::vector<float> p = forest.Probabilities(HandcraftedRows(unlabelled, rows), k);
+  std::vector<size_t> kept;
+  std::vector<int> classes;
+  per_class.assign(static_cast<size_t>(k), 0);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const auto first = p.begin() + static_cast<long>(i * k);
+    const auto best = std::max_element(first, first + k);
+    if (*best + 1e-6 < votes) continue;
+    kept.push_back(i);
+    classes.push_back(static_cast<int>(best - first));
+    ++per_class[static_cast<size_t>(classes.back())];
+  }
+  Dataset out = unlabelled.windows.Subset(kept);
+  out.y = classes;
+  return out;
+}
+
 // One k-fold run of CrossValidate: repeat r, every seed raised by r.
 void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o, int r,
-                       const CrossValidationLog& log, CrossValidationResult& result) {
+                       const PreparedDataset& unlabelled, const CrossValidationLog& log,
+                       CrossValidationResult& result) {
   const int k = static_cast<int>(d.classes.size());
   const size_t kc = d.classes.size(), n = d.windows.size();
   const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed + r);
   result.fold_of.insert(result.fold_of.end(), fold.begin(), fold.end());
+  const bool pseudo_labels = o.pseudo_label_votes > 0;
   char line[256];
   for (int f = 0; f < o.folds; ++f) {
     const size_t slot = static_cast<size_t>(r) * o.folds + f;
@@ -132,25 +157,33 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
                     o.folds, name.c_str(), sc.macro_f1, sc.weighted_f1, details.c_str());
       if (log) log(line, units / all_units);
     };
+    // The forest first: it is the pseudo-labels' teacher.
+    ForestBaseline forest(200, 12, o.seed + r);
+    if (o.forest) forest.Train(HandcraftedRows(d, train_rows), train_all.y);
+    Dataset pseudo;
+    if (pseudo_labels) {
+      pseudo = PseudoLabelled(forest, unlabelled, o.pseudo_label_votes, k, result.pseudo_labelled[slot]);
+    }
     std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
     for (const auto& [name, network_options] : o.networks) {
       ModelOptions options = network_options;
       options.seed += r;
       std::vector<size_t> fit, val;
       SplitByObject(train_all.object_ids, options.validation_fraction, options.seed + f, fit, val);
+      Dataset fit_windows = train_all.Subset(fit);
+      if (pseudo_labels) fit_windows.Append(pseudo);
       Classifier model(options, d.windows.features, d.windows.length, d.classes);
       const auto t0 = std::chrono::steady_clock::now();
-      const auto epochs = model.Train(train_all.Subset(fit), train_all.Subset(val));
+      const auto epochs = model.Train(fit_windows, train_all.Subset(val));
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       network_probabilities.emplace_back(name, model.Predict(test));
-      char details[128];
-      std::snprintf(details, sizeof(details), " (%zu train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
-                    test.size(), epochs.size(), s);
+      char details[160];
+      const std::string extra = pseudo_labels ? " + " + std::to_string(pseudo.size()) + " pseudo-labelled" : "";
+      std::snprintf(details, sizeof(details), " (%zu%s train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
+                    extra.c_str(), test.size(), epochs.size(), s);
       report(name, record(name, network_probabilities.back().second), details, 1.0);
     }
     if (o.forest) {
-      ForestBaseline forest(200, 12, o.seed + r);
-      forest.Train(HandcraftedRows(d, train_rows), train_all.y);
       const std::vector<float> test_x = HandcraftedRows(d, test_rows);
       // The forest's own answer is its most voted class (RTrees::predict's, tie
       // included: 0 of 19,331 AIS windows differ), so the trees run once.
@@ -166,8 +199,18 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
 }  // namespace
 
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
-                                    const CrossValidationLog& log) {
+                                    const CrossValidationLog& log, const PreparedDataset& unlabelled) {
   if (o.repeats < 1) throw InputError("cross-validation needs at least 1 repeat");
+  if (o.pseudo_label_votes < 0 || o.pseudo_label_votes > 1)
+    throw InputError("pseudo-labels: the forest's share of votes must be in (0, 1], not " +
+                     std::to_string(o.pseudo_label_votes));
+  if (o.pseudo_label_votes > 0 && !o.forest)
+    throw InputError("pseudo-labels: the forest labels the unlabelled windows, so it cannot be skipped");
+  if (o.pseudo_label_votes > 0 && unlabelled.windows.size() == 0)
+    throw InputError("pseudo-labels: the dataset has no unlabelled windows (AIS: prepare with ais.unlabelled)");
+  for (int y : d.windows.y)
+    if (y < 0 || y >= static_cast<int>(d.classes.size()))
+      throw InputError("cross-validation: a window without a class among the labelled ones (SplitOffUnlabelled)");
   CrossValidationResult result;
   result.folds = o.folds;
   for (const auto& [name, options] : o.networks) result.models.push_back(name);
@@ -179,9 +222,10 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   result.per_fold.resize(slots);
   result.per_fold_objects.resize(slots);
   result.per_fold_history.resize(slots);
+  if (o.pseudo_label_votes > 0) result.pseudo_labelled.resize(slots);
   for (const auto& name : result.models)
     result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);
-  for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, log, result);
+  for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, unlabelled, log, result);
   const int k = static_cast<int>(d.classes.size());
   for (const auto& name : result.models) {
     std::vector<Scores> folds;

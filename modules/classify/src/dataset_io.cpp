@@ -111,6 +111,28 @@ PreparedDataset ReadPrepared(const std::string& dir) {
   return d;
 }
 
+namespace {
+
+PreparedDataset SubsetOf(const PreparedDataset& d, const std::vector<size_t>& rows) {
+  PreparedDataset out;
+  out.windows = d.windows.Subset(rows);
+  out.handcrafted = HandcraftedRows(d, rows);
+  for (size_t r : rows) out.labels.push_back(d.labels[r]);
+  out.classes = d.classes;
+  out.info = d.info;
+  return out;
+}
+
+}  // namespace
+
+PreparedDataset SplitOffUnlabelled(PreparedDataset& d) {
+  std::vector<size_t> labelled, unlabelled;
+  for (size_t i = 0; i < d.windows.size(); ++i) (d.windows.y[i] < 0 ? unlabelled : labelled).push_back(i);
+  PreparedDataset rest = SubsetOf(d, unlabelled);
+  if (!unlabelled.empty()) d = SubsetOf(d, labelled);
+  return rest;
+}
+
 std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<size_t>& rows) {
   const size_t width = static_cast<size_t>(HandcraftedFeatureCount());
   std::vector<float> out;

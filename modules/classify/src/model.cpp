@@ -129,6 +129,16 @@ Dataset Dataset::Subset(const std::vector<size_t>& rows) const {
   return d;
 }
 
+void Dataset::Append(const Dataset& other) {
+  if (other.features != features || other.length != length)
+    throw InputError("Dataset::Append: windows of " + std::to_string(other.features) + " × " +
+                     std::to_string(other.length) + " after windows of " + std::to_string(features) + " × " +
+                     std::to_string(length));
+  x.insert(x.end(), other.x.begin(), other.x.end());
+  y.insert(y.end(), other.y.begin(), other.y.end());
+  object_ids.insert(object_ids.end(), other.object_ids.begin(), other.object_ids.end());
+}
+
 void SplitByObject(const std::vector<std::string>& ids, double fraction, int seed, std::vector<size_t>& kept,
                    std::vector<size_t>& held_out) {
   kept.clear(), held_out.clear();

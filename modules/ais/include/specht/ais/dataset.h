@@ -37,6 +37,7 @@ struct AisOptions {
   double harbour_cap_km = 2500.0;
   int threads = 2;
   int batch_vessels = 64;
+  bool unlabelled = false;
 
   template <class V>
   void Visit(V& v) {
@@ -50,6 +51,9 @@ struct AisOptions {
             Range::Of(1.0, 20000.0));
     v.Param("threads", threads, "worker threads for preparation", Range::Of(1, 256).Fixed());
     v.Param("batch_vessels", batch_vessels, "vessels per parallel batch", Range::Of(1, 100000).Fixed());
+    v.Param("unlabelled", unlabelled,
+            "also prepare the vessels of unknown ship type (none or 0), labelled \"unlabelled\": never scored, "
+            "for `ais eval --pseudo-labels`");
   }
 };
 
@@ -92,19 +96,24 @@ class Geography {
   double coast_cap_km_, harbour_cap_km_;
 };
 
+// The label of a vessel of unknown ship type, prepared with ais.unlabelled (its
+// windows read back with class index −1).
+inline const std::string kUnlabelled = "unlabelled";
+
 // A vessel as a trajectory in its own equirectangular frame; label = its class,
 // category = its flag (FlagMid).
 classify::Trajectory ToTrajectory(const Vessel& v, double& cos_lat0);
 
 struct PrepareReport {
   std::map<std::string, std::map<std::string, long>> counts;  // step → class → count
-  std::map<std::string, long> vessels_per_class;              // labelled vessels with ≥ 1 window
-  long excluded_vessels = 0;  // unknown or other ship types
+  std::map<std::string, long> vessels_per_class;              // vessels with ≥ 1 window (and kUnlabelled)
+  long excluded_vessels = 0;  // other ship types, and unknown ones unless ais.unlabelled
   long points = 0;
   std::vector<std::pair<std::string, PositionStats>> files;
 };
 
-// Prepares the windows of every labelled vessel in `files`. `on_progress` (may be
+// Prepares the windows of every labelled vessel in `files` (and with ais.unlabelled
+// of every vessel of unknown type, as kUnlabelled). `on_progress` (may be
 // empty) gets the points read so far and the fraction of the current file.
 classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, const AisOptions& ais,
                                          const classify::PreprocessOptions& o, const Geography& geo,

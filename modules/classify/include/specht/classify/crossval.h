@@ -49,12 +49,22 @@ std::vector<float> RunningMeanByObject(const std::vector<std::string>& object_id
 std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const std::vector<int>& labels, int folds,
                                int seed);
 
+// Self-training with pseudo-labels (Lee 2013, "Pseudo-label: the simple and efficient
+// semi-supervised learning method"; the teacher here is another model, as in Xie et
+// al. 2020's noisy student): windows without a class (objects never tested, e.g.
+// AIS vessels of unknown type) are labelled in each fold by the forest trained on
+// that fold's training windows, and those it gives at least `pseudo_label_votes` of
+// its trees' votes join every network's training windows with the voted class. The
+// networks' validation windows (early stopping) stay labelled ones, and the forest
+// itself is trained on labelled windows only. More objects is what the small
+// classes lack (AIS: 58–81 labelled vessels each; 514 of unknown type).
 struct CrossValidationOptions {
   int folds = 5;
   int repeats = 1;
   int seed = 1;
   std::vector<std::pair<std::string, ModelOptions>> networks;  // name → options
   bool forest = true;
+  double pseudo_label_votes = 0;  // 0: off; else in (0, 1], needs `forest`
 };
 
 // Two models scored on the same folds, compared fold by fold: the difference
@@ -89,6 +99,8 @@ struct CrossValidationResult {
   std::vector<std::map<std::string, Scores>> per_fold_history;  // … per window, from its object's history
   std::map<std::string, Scores> pooled;  // summed confusion over all folds (a window once per repeat)
   std::vector<int> fold_of;              // per repeat and window: the fold it was tested in
+  // Per fold: the unlabelled windows pseudo-labelled with each class (empty when off).
+  std::vector<std::vector<long>> pseudo_labelled;
   // Per model, repeat and window: the class probabilities from the fold that tested
   // it (repeats × windows × classes, row-major; the forest's are its vote fractions).
   std::map<std::string, std::vector<float>> probabilities;
@@ -132,8 +144,9 @@ nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& compar
 // combinations taking seconds beside them; the forests when there is no network).
 using CrossValidationLog = std::function<void(const std::string& line, double fraction_done)>;
 
-// `log` may be empty.
+// `log` may be empty. `d` holds labelled windows only (SplitOffUnlabelled);
+// `unlabelled` the windows for pseudo-labels (used only when o.pseudo_label_votes > 0).
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
-                                    const CrossValidationLog& log = {});
+                                    const CrossValidationLog& log = {}, const PreparedDataset& unlabelled = {});
 
 }  // namespace specht::classify

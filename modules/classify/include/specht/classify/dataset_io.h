@@ -23,6 +23,10 @@ struct PreparedDataset {
   nlohmann::json info;  // dataset.json
 };
 
+// Removes the windows without a class (y = −1: AIS vessels of unknown type) from
+// `d` and returns them, each part in its original order.
+PreparedDataset SplitOffUnlabelled(PreparedDataset& d);
+
 // The handcrafted (baseline) feature rows of the windows in `rows`.
 std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<size_t>& rows);
 

@@ -88,6 +88,8 @@ struct Dataset {
   size_t size() const { return y.size(); }
   // The windows whose index is in `rows`.
   Dataset Subset(const std::vector<size_t>& rows) const;
+  // `other`'s windows after these (the same features and length, else InputError).
+  void Append(const Dataset& other);
 };
 
 struct EpochReport {
