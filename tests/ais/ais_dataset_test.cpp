@@ -170,14 +170,20 @@ TEST(AisGeoTest, CoastlineAndPortsFromTheDataDirectory) {
   EXPECT_LT(map.distance_to_poi(4.05, 51.95), 40.0);
 }
 
+// The first `lines` lines of a shipped track file (grouped by MMSI), as a CSV file
+// in the test's directory; its path.
+std::string SliceOfTracks(const std::string& file, int lines) {
+  const std::string text = specht::testing::ReadDecompressed(DataDir() + "/ais/tracks/" + file + ".csv.gz");
+  size_t cut = 0;
+  for (int i = 0; i < lines; ++i) cut = text.find('\n', cut) + 1;
+  const std::string path = TempDir() + "/" + file + "-slice.csv";
+  WriteFile(path, text.substr(0, cut));
+  return path;
+}
+
 TEST(AisDatasetTest, PreparationIsIndependentOfThreadsAndBatches) {
   if (DataDir().empty()) GTEST_SKIP() << "no data dir";
-  // A slice of the Brest file, grouped by MMSI as shipped.
-  std::string text = specht::testing::ReadDecompressed(DataDir() + "/ais/tracks/brest-dev.csv.gz");
-  size_t cut = 0;
-  for (int i = 0; i < 60000; ++i) cut = text.find('\n', cut) + 1;
-  const std::string path = TempDir() + "/slice.csv";
-  WriteFile(path, text.substr(0, cut));
+  const std::string path = SliceOfTracks("brest-dev", 60000);
   const Geography geo = Geography::Load(AisOptions(), DataDir());
   AisPreprocessOptions o;
   AisOptions one, two;
@@ -200,12 +206,7 @@ TEST(AisDatasetTest, PreparationIsIndependentOfThreadsAndBatches) {
 // windows are the same, in the same order.
 TEST(AisDatasetTest, VesselsOfUnknownTypeArePreparedOnRequest) {
   if (DataDir().empty()) GTEST_SKIP() << "no data dir";
-  // A slice of the MPA file (its first vessels report no ship type).
-  std::string text = specht::testing::ReadDecompressed(DataDir() + "/ais/tracks/mpa-dev.csv.gz");
-  size_t cut = 0;
-  for (int i = 0; i < 40000; ++i) cut = text.find('\n', cut) + 1;
-  const std::string path = TempDir() + "/mpa-slice.csv";
-  WriteFile(path, text.substr(0, cut));
+  const std::string path = SliceOfTracks("mpa-dev", 40000);  // its first vessels report no ship type
   const Geography geo = Geography::Load(AisOptions(), DataDir());
   const AisPreprocessOptions o;
   AisOptions with;
