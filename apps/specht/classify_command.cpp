@@ -53,6 +53,7 @@ struct ClassifyArgs {
   std::vector<std::string> inputs, scenarios;
   std::string model_dir, dataset;
   bool resume = false, network_only = false;
+  double pseudo_label_votes = 0;  // train --pseudo-labels
 };
 
 std::map<std::string, classify::MapFeatures> ScenarioMaps(const std::vector<std::string>& paths) {
@@ -266,14 +267,27 @@ int RunPredict(const ClassifyArgs& a) {
 }  // namespace
 
 int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
-                          const std::string& dataset, bool resume, const std::string& label) {
+                          const std::string& dataset, bool resume, double pseudo_label_votes,
+                          const std::string& label) {
   classify::PreparedDataset d = classify::ReadPrepared(dataset);
-  classify::SplitOffUnlabelled(d);  // windows without a class (AIS: ais.unlabelled) are not trained on
+  const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);
+  if (pseudo_label_votes > 0 && unlabelled.windows.size() == 0)
+    throw InputError(dataset + ": no unlabelled windows for --pseudo-labels (AIS: prepare with ais.unlabelled)");
   std::vector<size_t> train_rows, val_rows;
   classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
-  const classify::Dataset train = d.windows.Subset(train_rows), val = d.windows.Subset(val_rows);
+  classify::Dataset train = d.windows.Subset(train_rows);
+  const classify::Dataset val = d.windows.Subset(val_rows);
   PrepareOutputDir(common, params);
   const std::string& out = common.out_dir;
+
+  // The forest first: it is the pseudo-labels' teacher.
+  const int k = static_cast<int>(d.classes.size());
+  classify::ForestBaseline forest(200, 12, o.seed);
+  forest.Train(classify::HandcraftedRows(d, train_rows), train.y);
+  forest.Save(out + "/forest.yml");
+  std::vector<long> pseudo_per_class;
+  if (pseudo_label_votes > 0)
+    train.Append(classify::PseudoLabelled(forest, unlabelled, pseudo_label_votes, k, pseudo_per_class));
 
   classify::Classifier model(o, d.windows.features, d.windows.length, d.classes);
   ProgressLine progress(label, "epochs", !common.quiet, 0.0);
@@ -295,17 +309,16 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   model.Save(out + "/model", d.info);
   io::WriteTextAtomically(out + "/training.csv", log);
 
-  classify::ForestBaseline forest(200, 12, o.seed);
-  forest.Train(classify::HandcraftedRows(d, train_rows), train.y);
-  forest.Save(out + "/forest.yml");
-
-  const int k = static_cast<int>(d.classes.size());
   const auto resnet = classify::Score(val.y, model.PredictClasses(val), k);
   const auto rf = classify::Score(val.y, forest.Predict(classify::HandcraftedRows(d, val_rows)), k);
   io::RunReport report(label);
   auto& j = report.json();
   j["dataset"] = dataset;
   j["windows"] = {{"train", train.size()}, {"validation", val.size()}};
+  if (pseudo_label_votes > 0) {
+    j["pseudo_labels"] = {{"votes", pseudo_label_votes}, {"classes", d.classes}, {"per_class", pseudo_per_class},
+                          {"unlabelled_windows", unlabelled.windows.size()}};
+  }
   j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", reports.size()}};
   j["validation"] = {{"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
   j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", train.size() * reports.size() / train_s}};
@@ -336,11 +349,12 @@ void AddClassifyCommand(CLI::App& app, int& exit_code) {
   CLI::App* t = cmd->add_subcommand("train", "train the 1D ResNet and the random-forest baseline");
   t->add_option("dataset", train->dataset, "a directory written by prepare")->required();
   t->add_flag("--resume", train->resume, "continue from the output directory's checkpoint.pt");
+  AddPseudoLabelOption(*t, train->pseudo_label_votes);
   AddCommonOptions(*t, train->common, "specht-out/classify-model");
   t->callback([train, &exit_code] {
     const params::Params params = LoadParams(train->common);
     exit_code = RunClassifierTraining(train->common, params, params.Get<classify::ModelOptions>("classify_model"),
-                                      train->dataset, train->resume, "classify train");
+                                      train->dataset, train->resume, train->pseudo_label_votes, "classify train");
   });
 
   auto ev = std::make_shared<ClassifyArgs>();

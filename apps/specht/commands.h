@@ -28,9 +28,15 @@ void AddRunCommand(CLI::App& app, int& exit_code);
 void AddAisCommand(CLI::App& app, int& exit_code);
 
 // Trains the 1D ResNet and the random-forest baseline on a prepared dataset;
-// shared by `classify train` and `ais train`.
+// shared by `classify train` and `ais train`. With pseudo_label_votes > 0 the
+// network also learns from the dataset's unlabelled windows the forest gives at
+// least that share of its votes (classify::CrossValidationOptions).
 int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
-                          const std::string& dataset, bool resume, const std::string& label);
+                          const std::string& dataset, bool resume, double pseudo_label_votes,
+                          const std::string& label);
+
+// --pseudo-labels V, for `ais eval`, `classify crossval` and both train commands.
+void AddPseudoLabelOption(CLI::App& cmd, double& votes);
 
 // The classifier a train run wrote to `model_dir`: the network combined with the
 // forest beside it (forest.yml), or the network alone when `network_only` is set

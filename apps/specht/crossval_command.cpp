@@ -159,6 +159,13 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
 
 }  // namespace
 
+void AddPseudoLabelOption(CLI::App& cmd, double& votes) {
+  cmd.add_option("--pseudo-labels", votes,
+                 "self-training: the dataset's unlabelled windows that the forest (trained on the labelled ones) "
+                 "gives at least this share of its votes join the network's training windows with its class (0: off)")
+      ->check(CLI::Range(0.0, 1.0));
+}
+
 void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names) {
   cmd.add_option("dataset", args.dataset, "a directory written by " + names.prepare)->required();
   cmd.add_option("--folds", args.folds, "number of folds")->check(CLI::Range(2, 50));
@@ -167,10 +174,7 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
       ->check(CLI::Range(1, 20));
   cmd.add_option("--networks", args.networks, "comma-separated network variants (" + VariantList() + ")");
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
-  cmd.add_option("--pseudo-labels", args.pseudo_label_votes,
-                 "self-training: the dataset's unlabelled windows that the fold's forest gives at least this share "
-                 "of its votes join the networks' training windows with its class (0: off)")
-      ->check(CLI::Range(0.0, 1.0));
+  AddPseudoLabelOption(cmd, args.pseudo_label_votes);
   cmd.add_option("--compare-to", args.compare_to,
                  "an earlier run's output directory on the same dataset, folds, repeats and seed: each model "
                  "compared with its earlier self fold by fold");

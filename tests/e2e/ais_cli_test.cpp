@@ -15,6 +15,14 @@ using ::testing::HasSubstr;
 
 nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
+// The first `lines` lines of a shipped track file (grouped by MMSI) as <dir>/slice.csv.
+void WriteSliceOfTracks(const std::string& file, int lines, const std::string& dir) {
+  const std::string text = testing::ReadDecompressed(testing::DataDir() + "/ais/tracks/" + file + ".csv.gz");
+  size_t cut = 0;
+  for (int i = 0; i < lines; ++i) cut = text.find('\n', cut) + 1;
+  testing::WriteFile(dir + "/slice.csv", text.substr(0, cut));
+}
+
 TEST(AisCliTest, DecodeWritesMessagesPositionsAndRejectionReasons) {
   if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
   const std::string out = testing::TempDir("ais_decode");
@@ -33,10 +41,7 @@ TEST(AisCliTest, DecodeWritesMessagesPositionsAndRejectionReasons) {
 TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
   const std::string dir = testing::TempDir("ais_pipeline");
-  std::string text = testing::ReadDecompressed(testing::DataDir() + "/ais/tracks/brest-dev.csv.gz");
-  size_t cut = 0;
-  for (int i = 0; i < 40000; ++i) cut = text.find('\n', cut) + 1;
-  testing::WriteFile(dir + "/slice.csv", text.substr(0, cut));
+  WriteSliceOfTracks("brest-dev", 40000, dir);
   const std::string data = " --data-dir '" + testing::DataDir() + "'";
   auto r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' -q -o '" + dir + "/data'" + data);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -136,6 +141,49 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(Report(dir + "/pred1")["combination"], "network");
   EXPECT_NE(testing::ReadFile(dir + "/pred/objects.csv"), testing::ReadFile(dir + "/pred1/objects.csv"));
+}
+
+// Self-training on a slice of the Canadian tracks, whose first vessels report no
+// ship type: prepared with ais.unlabelled, their windows are pseudo-labelled by the
+// forest for the network in `eval` (per fold) and `train`, and the forest's own
+// figures are those of a run without them.
+TEST(AisCliTest, PseudoLabelsFromVesselsOfUnknownType) {
+  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  const std::string dir = testing::TempDir("ais_pseudo");
+  WriteSliceOfTracks("mpa-dev", 40000, dir);  // its first vessels report no ship type
+  auto r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' -q -o '" + dir + "/data' --set ais.unlabelled=true" +
+                              " --data-dir '" + testing::DataDir() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("unlabelled"));
+  const long unlabelled = Report(dir + "/data")["counts"]["moving"]["unlabelled"].get<long>();
+  ASSERT_GT(unlabelled, 20);
+  const std::string quick = " --set ais_model.epochs=1";
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks tiny --pseudo-labels 0.6 -q -o '" + dir +
+                         "/cv'" + quick);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto cv = Report(dir + "/cv");
+  EXPECT_EQ(cv["unlabelled_windows"].get<long>(), unlabelled);
+  ASSERT_EQ(cv["pseudo_labels"]["per_fold"].size(), 2u);
+  for (const auto& fold : cv["pseudo_labels"]["per_fold"]) {
+    long sum = 0;
+    for (long n : fold.get<std::vector<long>>()) sum += n;
+    EXPECT_GT(sum, 0);
+    EXPECT_LE(sum, unlabelled);
+  }
+  r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks '' -q -o '" + dir + "/cv0'" + quick);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(Report(dir + "/cv0")["models"]["forest"]["folds"], cv["models"]["forest"]["folds"]);
+  EXPECT_EQ(Report(dir + "/cv0")["windows"], cv["windows"]);  // the labelled windows only
+  r = testing::RunSpecht("ais train '" + dir + "/data' --pseudo-labels 0.6 -q -o '" + dir + "/model'" + quick);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto trained = Report(dir + "/model");
+  long pseudo = 0;
+  for (long n : trained["pseudo_labels"]["per_class"].get<std::vector<long>>()) pseudo += n;
+  EXPECT_GT(pseudo, 0);
+  r = testing::RunSpecht("ais train '" + dir + "/data' -q -o '" + dir + "/model0'" + quick);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(trained["windows"]["train"].get<long>(), Report(dir + "/model0")["windows"]["train"].get<long>() + pseudo);
+  EXPECT_EQ(testing::ReadFile(dir + "/model/forest.yml"), testing::ReadFile(dir + "/model0/forest.yml"));
 }
 
 TEST(AisCliTest, BadInputIsAClearError) {

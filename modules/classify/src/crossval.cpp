@@ -92,29 +92,6 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& ids, const std::v
 
 namespace {
 
-// The unlabelled windows the forest votes for with at least `votes` of its trees,
-// with that class (CrossValidationOptions::pseudo_label_votes); per class, how many.
-Dataset PseudoLabelled(const ForestBaseline& forest, const PreparedDataset& unlabelled, double votes, int k,
-                       std::vector<long>& per_class) {
-  std::vector<size_t> rows(unlabelled.windows.size());
-  for (size_t i = 0; i < rows.size(); ++i) rows[i] = i;
-  const std::vector<float> p = forest.Probabilities(HandcraftedRows(unlabelled, rows), k);
-  std::vector<size_t> kept;
-  std::vector<int> classes;
-  per_class.assign(static_cast<size_t>(k), 0);
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const auto first = p.begin() + static_cast<long>(i * k);
-    const auto best = std::max_element(first, first + k);
-    if (*best + 1e-6 < votes) continue;
-    kept.push_back(i);
-    classes.push_back(static_cast<int>(best - first));
-    ++per_class[static_cast<size_t>(classes.back())];
-  }
-  Dataset out = unlabelled.windows.Subset(kept);
-  out.y = classes;
-  return out;
-}
-
 // One k-fold run of CrossValidate: repeat r, every seed raised by r.
 void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o, int r,
                        const PreparedDataset& unlabelled, const CrossValidationLog& log,

@@ -133,6 +133,25 @@ PreparedDataset SplitOffUnlabelled(PreparedDataset& d) {
   return rest;
 }
 
+Dataset PseudoLabelled(const ForestBaseline& forest, const PreparedDataset& unlabelled, double votes, int k,
+                       std::vector<long>& per_class) {
+  const std::vector<float> p = forest.Probabilities(unlabelled.handcrafted, k);
+  std::vector<size_t> kept;
+  std::vector<int> classes;
+  per_class.assign(static_cast<size_t>(k), 0);
+  for (size_t i = 0; i < unlabelled.windows.size(); ++i) {
+    const auto first = p.begin() + static_cast<long>(i * k);
+    const auto best = std::max_element(first, first + k);
+    if (*best + 1e-6 < votes) continue;  // vote fractions are n / trees in float: 120 / 200 may fall short of 0.6
+    kept.push_back(i);
+    classes.push_back(static_cast<int>(best - first));
+    ++per_class[static_cast<size_t>(classes.back())];
+  }
+  Dataset out = unlabelled.windows.Subset(kept);
+  out.y = classes;
+  return out;
+}
+
 std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<size_t>& rows) {
   const size_t width = static_cast<size_t>(HandcraftedFeatureCount());
   std::vector<float> out;

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "specht/classify/baseline.h"
 #include "specht/classify/model.h"
 #include "specht/classify/preprocess.h"
 
@@ -26,6 +27,12 @@ struct PreparedDataset {
 // Removes the windows without a class (y = −1: AIS vessels of unknown type) from
 // `d` and returns them, each part in its original order.
 PreparedDataset SplitOffUnlabelled(PreparedDataset& d);
+
+// Self-training's pseudo-labels (CrossValidationOptions::pseudo_label_votes): the
+// windows of `unlabelled` that `forest` gives at least `votes` of its trees' votes,
+// with the voted class as y; `per_class` gets how many of each class.
+Dataset PseudoLabelled(const ForestBaseline& forest, const PreparedDataset& unlabelled, double votes, int classes,
+                       std::vector<long>& per_class);
 
 // The handcrafted (baseline) feature rows of the windows in `rows`.
 std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<size_t>& rows);
