@@ -200,6 +200,22 @@ ModelOptions Small() {
   return o;
 }
 
+TEST(DatasetTest, SubsetThenAppendRestoresTheWindowsAndRefusesOtherShapes) {
+  const Dataset d = ToyDataset(3, 1);  // 6 windows of 4 × 32
+  Dataset back = d.Subset({0, 1, 2});
+  back.Append(d.Subset({3, 4, 5}));
+  EXPECT_EQ(back.x, d.x);
+  EXPECT_EQ(back.y, d.y);
+  EXPECT_EQ(back.object_ids, d.object_ids);
+  Dataset shorter = d.Subset({0});
+  shorter.length = 16, shorter.x.resize(4 * 16);
+  EXPECT_THROW(back.Append(shorter), InputError);
+  Dataset wider = d.Subset({0});
+  wider.features = 8, wider.length = 16;  // the same floats a window, another shape
+  EXPECT_THROW(back.Append(wider), InputError);
+  EXPECT_EQ(back.size(), d.size());  // a refused append leaves the windows as they were
+}
+
 TEST(ModelTest, LearnsAToyProblemAndReloadsIdentically) {
   const Dataset train = ToyDataset(100, 1), test = ToyDataset(50, 2);
   Classifier c(Small(), 4, 32, {"straight", "weaving"});
