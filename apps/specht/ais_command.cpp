@@ -53,7 +53,7 @@ struct AisArgs {
   std::vector<std::string> inputs;
   std::string dataset, model_dir;
   bool resume = false, network_only = false;
-  double pseudo_label_votes = 0;  // train --pseudo-labels
+  classify::PseudoLabelOptions pseudo_labels;  // train --pseudo-labels, --pseudo-label-rounds
 };
 
 double Seconds(std::chrono::steady_clock::time_point t0) {
@@ -301,12 +301,12 @@ void AddAisCommand(CLI::App& app, int& exit_code) {
   CLI::App* t = cmd->add_subcommand("train", "train the 1D ResNet (section ais_model) and the random forest");
   t->add_option("dataset", train->dataset, "a directory written by ais prepare")->required();
   t->add_flag("--resume", train->resume, "continue from the output directory's checkpoint.pt");
-  AddPseudoLabelOption(*t, train->pseudo_label_votes);
+  AddPseudoLabelOption(*t, train->pseudo_labels);
   AddCommonOptions(*t, train->common, "specht-out/ais-model");
   t->callback([train, &exit_code] {
     const params::Params params = LoadParams(train->common);
     exit_code = RunClassifierTraining(train->common, params, params.Get<ais::AisModelOptions>("ais_model"),
-                                      train->dataset, train->resume, train->pseudo_label_votes, "ais train");
+                                      train->dataset, train->resume, train->pseudo_labels, "ais train");
   });
 
   auto ev = std::make_shared<CrossValidationArgs>();

@@ -53,7 +53,7 @@ struct ClassifyArgs {
   std::vector<std::string> inputs, scenarios;
   std::string model_dir, dataset;
   bool resume = false, network_only = false;
-  double pseudo_label_votes = 0;  // train --pseudo-labels
+  classify::PseudoLabelOptions pseudo_labels;  // train --pseudo-labels, --pseudo-label-rounds
 };
 
 std::map<std::string, classify::MapFeatures> ScenarioMaps(const std::vector<std::string>& paths) {
@@ -267,15 +267,16 @@ int RunPredict(const ClassifyArgs& a) {
 }  // namespace
 
 int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
-                          const std::string& dataset, bool resume, double pseudo_label_votes,
+                          const std::string& dataset, bool resume, const classify::PseudoLabelOptions& pseudo_labels,
                           const std::string& label) {
+  pseudo_labels.Check();
   classify::PreparedDataset d = classify::ReadPrepared(dataset);
   const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);
-  if (pseudo_label_votes > 0 && unlabelled.windows.size() == 0)
+  if (pseudo_labels.on() && unlabelled.windows.size() == 0)
     throw InputError(dataset + ": no unlabelled windows for --pseudo-labels (AIS: prepare with ais.unlabelled)");
   std::vector<size_t> train_rows, val_rows;
   classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
-  classify::Dataset train = d.windows.Subset(train_rows);
+  const classify::Dataset labelled = d.windows.Subset(train_rows);
   const classify::Dataset val = d.windows.Subset(val_rows);
   PrepareOutputDir(common, params);
   const std::string& out = common.out_dir;
@@ -283,29 +284,44 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   // The forest first: it is the pseudo-labels' teacher.
   const int k = static_cast<int>(d.classes.size());
   classify::ForestBaseline forest(200, 12, o.seed);
-  forest.Train(classify::HandcraftedRows(d, train_rows), train.y);
+  forest.Train(classify::HandcraftedRows(d, train_rows), labelled.y);
   forest.Save(out + "/forest.yml");
-  std::vector<long> pseudo_per_class;
-  if (pseudo_label_votes > 0)
-    train.Append(classify::PseudoLabelled(forest, unlabelled, pseudo_label_votes, k, pseudo_per_class));
 
-  classify::Classifier model(o, d.windows.features, d.windows.length, d.classes);
-  ProgressLine progress(label, "epochs", !common.quiet, 0.0);
-  std::string log = "epoch,train_loss,validation_loss,validation_macro_f1,learning_rate,seconds\n";
+  // One network trained on `windows`; with several rounds each has its own checkpoint,
+  // so --resume continues the round it stopped in (finished rounds return at once).
+  const int rounds = pseudo_labels.on() ? pseudo_labels.rounds : 1;
+  std::string log;
+  size_t epochs = 0, trained_windows = 0, last_round_windows = 0;
+  std::vector<std::string> checkpoints;
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string checkpoint = out + "/checkpoint.pt";
-  if (!resume) std::remove(checkpoint.c_str());
-  const auto reports = model.Train(train, val, [&](const classify::EpochReport& r) {
-    char line[160], note[120];
-    std::snprintf(line, sizeof(line), "%d,%.5f,%.5f,%.4f,%.2e,%.2f\n", r.epoch, r.train_loss, r.validation_loss,
-                  r.validation_macro_f1, r.learning_rate, r.seconds);
-    log += line;
-    std::snprintf(note, sizeof(note), "loss %.4f val loss %.4f val F1 %.3f", r.train_loss, r.validation_loss,
-                  r.validation_macro_f1);
-    progress.Update(r.epoch, static_cast<double>(r.epoch) / o.epochs, note);
-  }, checkpoint);
+  const classify::TrainNetwork train = [&](const classify::Dataset& windows, int round) {
+    classify::Classifier model(o, d.windows.features, d.windows.length, d.classes);
+    const std::string name = rounds > 1 ? label + " round " + std::to_string(round) : label;
+    ProgressLine progress(name, "epochs", !common.quiet, 0.0);
+    log = "epoch,train_loss,validation_loss,validation_macro_f1,learning_rate,seconds\n";  // the last round's
+    checkpoints.push_back(rounds > 1 ? "checkpoint-round" + std::to_string(round) + ".pt" : "checkpoint.pt");
+    const std::string checkpoint = out + "/" + checkpoints.back();
+    if (!resume) std::remove(checkpoint.c_str());
+    const auto reports = model.Train(windows, val, [&](const classify::EpochReport& r) {
+      char line[160], note[120];
+      std::snprintf(line, sizeof(line), "%d,%.5f,%.5f,%.4f,%.2e,%.2f\n", r.epoch, r.train_loss, r.validation_loss,
+                    r.validation_macro_f1, r.learning_rate, r.seconds);
+      log += line;
+      std::snprintf(note, sizeof(note), "loss %.4f val loss %.4f val F1 %.3f", r.train_loss, r.validation_loss,
+                    r.validation_macro_f1);
+      progress.Update(r.epoch, static_cast<double>(r.epoch) / o.epochs, note);
+    }, checkpoint);
+    progress.Finish();
+    epochs += reports.size(), trained_windows += windows.size() * reports.size();
+    last_round_windows = windows.size();
+    return model;
+  };
+  std::vector<std::vector<long>> pseudo_per_round;
+  const classify::Classifier model =
+      pseudo_labels.on() ? classify::SelfTrain(train, labelled, unlabelled, forest.Probabilities(unlabelled.handcrafted, k),
+                                               pseudo_labels, k, pseudo_per_round)
+                         : train(labelled, 1);
   const double train_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  progress.Finish();
   model.Save(out + "/model", d.info);
   io::WriteTextAtomically(out + "/training.csv", log);
 
@@ -314,18 +330,20 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   io::RunReport report(label);
   auto& j = report.json();
   j["dataset"] = dataset;
-  j["windows"] = {{"train", train.size()}, {"validation", val.size()}};
-  if (pseudo_label_votes > 0) {
-    j["pseudo_labels"] = {{"votes", pseudo_label_votes}, {"classes", d.classes}, {"per_class", pseudo_per_class},
-                          {"unlabelled_windows", unlabelled.windows.size()}};
+  j["windows"] = {{"train", last_round_windows}, {"validation", val.size()}};  // pseudo-labelled ones included
+  if (pseudo_labels.on()) {
+    j["pseudo_labels"] = {{"votes", pseudo_labels.votes},   {"rounds", pseudo_labels.rounds},
+                          {"classes", d.classes},           {"per_class", pseudo_per_round.back()},
+                          {"per_round", pseudo_per_round}, {"unlabelled_windows", unlabelled.windows.size()}};
   }
-  j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", reports.size()}};
+  j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", epochs}};
   j["validation"] = {{"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
-  j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", train.size() * reports.size() / train_s}};
-  for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv", "checkpoint.pt"}) report.AddOutput(f);
+  j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", trained_windows / train_s}};
+  for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv"}) report.AddOutput(f);
+  for (const auto& c : checkpoints) report.AddOutput(c);
   report.Write(out);
   std::printf("%s: %zu epochs, %.1f s (%.0f windows/s); validation macro F1: ResNet %.3f, forest %.3f\n", label.c_str(),
-              reports.size(), train_s, train.size() * reports.size() / train_s, resnet.macro_f1, rf.macro_f1);
+              epochs, train_s, trained_windows / train_s, resnet.macro_f1, rf.macro_f1);
   return 0;
 }
 
@@ -349,12 +367,12 @@ void AddClassifyCommand(CLI::App& app, int& exit_code) {
   CLI::App* t = cmd->add_subcommand("train", "train the 1D ResNet and the random-forest baseline");
   t->add_option("dataset", train->dataset, "a directory written by prepare")->required();
   t->add_flag("--resume", train->resume, "continue from the output directory's checkpoint.pt");
-  AddPseudoLabelOption(*t, train->pseudo_label_votes);
+  AddPseudoLabelOption(*t, train->pseudo_labels);
   AddCommonOptions(*t, train->common, "specht-out/classify-model");
   t->callback([train, &exit_code] {
     const params::Params params = LoadParams(train->common);
     exit_code = RunClassifierTraining(train->common, params, params.Get<classify::ModelOptions>("classify_model"),
-                                      train->dataset, train->resume, train->pseudo_label_votes, "classify train");
+                                      train->dataset, train->resume, train->pseudo_labels, "classify train");
   });
 
   auto ev = std::make_shared<ClassifyArgs>();

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "run_setup.h"
+#include "specht/classify/crossval.h"
 #include "specht/classify/model.h"
 #include "specht/classify/trajectory_classifier.h"
 
@@ -28,15 +29,16 @@ void AddRunCommand(CLI::App& app, int& exit_code);
 void AddAisCommand(CLI::App& app, int& exit_code);
 
 // Trains the 1D ResNet and the random-forest baseline on a prepared dataset;
-// shared by `classify train` and `ais train`. With pseudo_label_votes > 0 the
-// network also learns from the dataset's unlabelled windows the forest gives at
-// least that share of its votes (classify::CrossValidationOptions).
+// shared by `classify train` and `ais train`. With pseudo-labels on, the network
+// also learns from the dataset's unlabelled windows its teacher is sure of
+// (classify::PseudoLabelOptions, SelfTrain).
 int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
-                          const std::string& dataset, bool resume, double pseudo_label_votes,
+                          const std::string& dataset, bool resume, const classify::PseudoLabelOptions& pseudo_labels,
                           const std::string& label);
 
-// --pseudo-labels V, for `ais eval`, `classify crossval` and both train commands.
-void AddPseudoLabelOption(CLI::App& cmd, double& votes);
+// --pseudo-labels V and --pseudo-label-rounds R, for `ais eval`, `classify crossval`
+// and both train commands.
+void AddPseudoLabelOption(CLI::App& cmd, classify::PseudoLabelOptions& o);
 
 // The classifier a train run wrote to `model_dir`: the network combined with the
 // forest beside it (forest.yml), or the network alone when `network_only` is set
@@ -52,7 +54,7 @@ struct CrossValidationArgs {
   std::string compare_to;  // an earlier run's output directory, or empty
   int folds = 5, repeats = 1;
   bool no_forest = false;
-  double pseudo_label_votes = 0;  // classify::CrossValidationOptions; 0: off
+  classify::PseudoLabelOptions pseudo_labels;  // off unless --pseudo-labels
 };
 // How a command names things: "ais eval", "ais prepare", "MMSI" (what the folds are
 // disjoint by), "vessels" (the objects), "specht-out/ais-eval".

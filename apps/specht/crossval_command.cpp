@@ -67,7 +67,7 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
   cv.repeats = a.repeats;
   cv.seed = base.seed;
   cv.forest = !a.no_forest;
-  cv.pseudo_label_votes = a.pseudo_label_votes;
+  cv.pseudo_labels = a.pseudo_labels;
   for (const auto& variant : SplitList(a.networks)) {
     classify::ModelOptions m = base;
     m.variant = variant;
@@ -159,11 +159,15 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
 
 }  // namespace
 
-void AddPseudoLabelOption(CLI::App& cmd, double& votes) {
-  cmd.add_option("--pseudo-labels", votes,
+void AddPseudoLabelOption(CLI::App& cmd, classify::PseudoLabelOptions& o) {
+  cmd.add_option("--pseudo-labels", o.votes,
                  "self-training: the dataset's unlabelled windows that the forest (trained on the labelled ones) "
                  "gives at least this share of its votes join the network's training windows with its class (0: off)")
       ->check(CLI::Range(0.0, 1.0));
+  cmd.add_option("--pseudo-label-rounds", o.rounds,
+                 "with --pseudo-labels: from round 2 on a fresh network learns from the pseudo-labels of the "
+                 "previous round's network combined with the forest (noisy student); each round costs a training")
+      ->check(CLI::Range(1, 5));
 }
 
 void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names) {
@@ -174,7 +178,7 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
       ->check(CLI::Range(1, 20));
   cmd.add_option("--networks", args.networks, "comma-separated network variants (" + VariantList() + ")");
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
-  AddPseudoLabelOption(cmd, args.pseudo_label_votes);
+  AddPseudoLabelOption(cmd, args.pseudo_labels);
   cmd.add_option("--compare-to", args.compare_to,
                  "an earlier run's output directory on the same dataset, folds, repeats and seed: each model "
                  "compared with its earlier self fold by fold");
@@ -206,9 +210,10 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   j.update(deal);
   j["fold_windows"] = result.FoldSizes();
   j["unlabelled_windows"] = unlabelled.windows.size();
-  if (cv.pseudo_label_votes > 0) {
-    j["pseudo_labels"] = {{"votes", cv.pseudo_label_votes}, {"classes", d.classes},
-                          {"per_fold", result.pseudo_labelled}};
+  if (cv.pseudo_labels.on()) {
+    j["pseudo_labels"] = {{"votes", cv.pseudo_labels.votes}, {"rounds", cv.pseudo_labels.rounds},
+                          {"classes", d.classes}, {"per_fold", result.pseudo_labelled}};
+    if (cv.pseudo_labels.rounds > 1) j["pseudo_labels"]["per_fold_network_round"] = result.pseudo_labelled_by_round;
   }
   j["models"] = result.ToJson(d.classes);
   const std::vector<classify::PairedComparison> paired = result.PairedComparisons();

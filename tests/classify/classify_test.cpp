@@ -796,7 +796,7 @@ TEST(CrossValidationTest, PseudoLabelsComeFromTheFoldsForestAndAreNeverScored) {
   o.folds = 3, o.seed = 4;
   const CrossValidationResult plain = CrossValidate(mixed, o);
   EXPECT_TRUE(plain.pseudo_labelled.empty());
-  o.pseudo_label_votes = 0.9;
+  o.pseudo_labels.votes = 0.9;
   ModelOptions m;
   m.variant = "mlp", m.epochs = 1, m.threads = 1;
   o.networks = {{"mlp", m}};
@@ -810,17 +810,89 @@ TEST(CrossValidationTest, PseudoLabelsComeFromTheFoldsForestAndAreNeverScored) {
   EXPECT_EQ(self.fold_of, plain.fold_of);
   EXPECT_EQ(self.probabilities.at("forest"), plain.probabilities.at("forest"));
   EXPECT_EQ(self.probabilities.at("mlp").size(), labelled.windows.size() * 2);
+  EXPECT_TRUE(self.pseudo_labelled_by_round[0].empty());  // one round: the forest's counts say it all
+
+  // Two rounds: each fold's network and round counted, the forest still untouched.
+  o.pseudo_labels.rounds = 2;
+  lines.clear();
+  const CrossValidationResult twice =
+      CrossValidate(mixed, o, [&](const std::string& l, double) { lines.push_back(l); }, unlabelled);
+  ASSERT_EQ(twice.pseudo_labelled_by_round.size(), 3u);
+  for (size_t f = 0; f < 3; ++f) {
+    const auto& rounds = twice.pseudo_labelled_by_round[f].at("mlp");
+    ASSERT_EQ(rounds.size(), 2u);
+    EXPECT_EQ(rounds[0], self.pseudo_labelled[f]);
+  }
+  EXPECT_NE(lines[0].find("in round 2"), std::string::npos) << lines[0];
+  EXPECT_EQ(twice.probabilities.at("forest"), plain.probabilities.at("forest"));
+  o.pseudo_labels.rounds = 1;
 
   o.forest = false;  // the teacher
   EXPECT_THROW(CrossValidate(mixed, o, {}, unlabelled), InputError);
   o.forest = true;
   EXPECT_THROW(CrossValidate(mixed, o), InputError);  // nothing to label
-  o.pseudo_label_votes = 1.5;
+  o.pseudo_labels.votes = 1.5;
   EXPECT_THROW(CrossValidate(mixed, o, {}, unlabelled), InputError);
-  o.pseudo_label_votes = 0;
+  o.pseudo_labels.votes = 0;
   PreparedDataset unsplit = mixed;
   unsplit.windows.Append(unlabelled.windows);
   EXPECT_THROW(CrossValidate(unsplit, o), InputError);  // unlabelled windows left among the scored ones
+}
+
+// Noisy student's rounds: round 1 learns the forest's sure windows; round 2 a fresh
+// network learns those that round 1's network combined with the forest is sure of.
+TEST(CrossValidationTest, SelfTrainingRoundsAreTaughtByTheLastNetworkWithTheForest) {
+  const Dataset labelled = ToyDataset(30, 1);
+  PreparedDataset unlabelled;
+  unlabelled.windows = ToyDataset(10, 7);
+  unlabelled.windows.y.assign(unlabelled.windows.size(), -1);
+  // The forest: sure of class 0 for the first 8 windows, undecided on the other 12.
+  std::vector<float> forest;
+  for (size_t i = 0; i < unlabelled.windows.size(); ++i) {
+    forest.push_back(i < 8 ? 0.9f : 0.5f);
+    forest.push_back(i < 8 ? 0.1f : 0.5f);
+  }
+  PseudoLabelOptions o;
+  o.votes = 0.6, o.rounds = 2;
+  auto m = Small();
+  m.epochs = 3;
+  std::vector<int> rounds_seen;
+  std::vector<size_t> sizes;
+  Dataset expected_round_2;
+  const TrainNetwork train = [&](const Dataset& windows, int round) {
+    rounds_seen.push_back(round), sizes.push_back(windows.size());
+    Classifier c(m, 4, 32, {"straight", "weaving"});
+    c.Train(windows, {});
+    std::vector<long> counts;
+    if (round == 1)
+      expected_round_2 = PseudoLabelled(CombinedProbabilities(c.Predict(unlabelled.windows), forest), unlabelled,
+                                        o.votes, 2, counts);
+    else
+      EXPECT_EQ(std::vector<int>(windows.y.begin() + static_cast<long>(labelled.size()), windows.y.end()),
+                expected_round_2.y);
+    return c;
+  };
+  std::vector<std::vector<long>> per_round;
+  SelfTrain(train, labelled, unlabelled, forest, o, 2, per_round);
+  EXPECT_EQ(rounds_seen, (std::vector<int>{1, 2}));
+  ASSERT_EQ(per_round.size(), 2u);
+  EXPECT_EQ(per_round[0], (std::vector<long>{8, 0}));
+  EXPECT_EQ(sizes[0], labelled.size() + 8);
+  EXPECT_EQ(sizes[1], labelled.size() + expected_round_2.size());
+  EXPECT_EQ(per_round[1][0] + per_round[1][1], static_cast<long>(expected_round_2.size()));
+  // The 12 windows the forest cannot decide are learnable: a trained network is
+  // sure enough of some of them to tip the combination.
+  EXPECT_GT(expected_round_2.size(), 8u);
+
+  for (int bad : {0, 6}) {
+    o.rounds = bad;
+    EXPECT_THROW(SelfTrain(train, labelled, unlabelled, forest, o, 2, per_round), InputError) << bad;
+  }
+  o.rounds = 1, o.votes = 0;
+  EXPECT_THROW(SelfTrain(train, labelled, unlabelled, forest, o, 2, per_round), InputError);
+  o.votes = 0.6;
+  forest.pop_back();  // not one row per window
+  EXPECT_THROW(SelfTrain(train, labelled, unlabelled, forest, o, 2, per_round), InputError);
 }
 
 }  // namespace

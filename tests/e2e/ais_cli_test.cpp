@@ -184,6 +184,21 @@ TEST(AisCliTest, PseudoLabelsFromVesselsOfUnknownType) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(trained["windows"]["train"].get<long>(), Report(dir + "/model0")["windows"]["train"].get<long>() + pseudo);
   EXPECT_EQ(testing::ReadFile(dir + "/model/forest.yml"), testing::ReadFile(dir + "/model0/forest.yml"));
+
+  // Two rounds (noisy student): a checkpoint each; resuming a finished run gives the
+  // same model.
+  const std::string twice = "ais train '" + dir + "/data' --pseudo-labels 0.6 --pseudo-label-rounds 2 -q -o '" + dir +
+                            "/model2'" + quick;
+  r = testing::RunSpecht(twice);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto second = Report(dir + "/model2");
+  ASSERT_EQ(second["pseudo_labels"]["per_round"].size(), 2u);
+  EXPECT_EQ(second["pseudo_labels"]["per_round"][0], trained["pseudo_labels"]["per_class"]);
+  EXPECT_EQ(second["model"]["epochs"].get<int>(), 2);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/model2/checkpoint-round1.pt"));
+  r = testing::RunSpecht(twice + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(Report(dir + "/model2")["validation"], second["validation"]);
 }
 
 TEST(AisCliTest, BadInputIsAClearError) {

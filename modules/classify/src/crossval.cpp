@@ -100,7 +100,7 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
   const size_t kc = d.classes.size(), n = d.windows.size();
   const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed + r);
   result.fold_of.insert(result.fold_of.end(), fold.begin(), fold.end());
-  const bool pseudo_labels = o.pseudo_label_votes > 0;
+  const bool pseudo_labels = o.pseudo_labels.on();
   char line[256];
   for (int f = 0; f < o.folds; ++f) {
     const size_t slot = static_cast<size_t>(r) * o.folds + f;
@@ -137,27 +137,39 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     // The forest first: it is the pseudo-labels' teacher.
     ForestBaseline forest(200, 12, o.seed + r);
     if (o.forest) forest.Train(HandcraftedRows(d, train_rows), train_all.y);
-    Dataset pseudo;
-    if (pseudo_labels) {
-      pseudo = PseudoLabelled(forest, unlabelled, o.pseudo_label_votes, k, result.pseudo_labelled[slot]);
-    }
+    const std::vector<float> forest_unlabelled =
+        pseudo_labels ? forest.Probabilities(unlabelled.handcrafted, k) : std::vector<float>();
     std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
     for (const auto& [name, network_options] : o.networks) {
       ModelOptions options = network_options;
       options.seed += r;
       std::vector<size_t> fit, val;
       SplitByObject(train_all.object_ids, options.validation_fraction, options.seed + f, fit, val);
-      Dataset fit_windows = train_all.Subset(fit);
-      if (pseudo_labels) fit_windows.Append(pseudo);
-      Classifier model(options, d.windows.features, d.windows.length, d.classes);
+      const Dataset fit_windows = train_all.Subset(fit), val_windows = train_all.Subset(val);
+      size_t epochs = 0, pseudo = 0;
+      const TrainNetwork train = [&](const Dataset& windows, int) {
+        Classifier model(options, d.windows.features, d.windows.length, d.classes);
+        epochs += model.Train(windows, val_windows).size();
+        pseudo = windows.size() - fit_windows.size();
+        return model;
+      };
       const auto t0 = std::chrono::steady_clock::now();
-      const auto epochs = model.Train(fit_windows, train_all.Subset(val));
+      std::vector<std::vector<long>> per_round;
+      const Classifier model =
+          pseudo_labels ? SelfTrain(train, fit_windows, unlabelled, forest_unlabelled, o.pseudo_labels, k, per_round)
+                        : train(fit_windows, 1);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (pseudo_labels) {
+        result.pseudo_labelled[slot] = per_round.front();  // the forest's: the same for every network
+        if (o.pseudo_labels.rounds > 1) result.pseudo_labelled_by_round[slot][name] = per_round;
+      }
       network_probabilities.emplace_back(name, model.Predict(test));
-      char details[160];
-      const std::string extra = pseudo_labels ? " + " + std::to_string(pseudo.size()) + " pseudo-labelled" : "";
+      char details[192];
+      std::string extra;
+      if (pseudo_labels) extra = " + " + std::to_string(pseudo) + " pseudo-labelled";
+      if (o.pseudo_labels.rounds > 1) extra += " in round " + std::to_string(o.pseudo_labels.rounds);
       std::snprintf(details, sizeof(details), " (%zu%s train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
-                    extra.c_str(), test.size(), epochs.size(), s);
+                    extra.c_str(), test.size(), epochs, s);
       report(name, record(name, network_probabilities.back().second), details, 1.0);
     }
     if (o.forest) {
@@ -175,15 +187,39 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
 
 }  // namespace
 
+void PseudoLabelOptions::Check() const {
+  if (votes < 0 || votes > 1)
+    throw InputError("pseudo-labels: the teacher's share of votes must be in (0, 1], not " + std::to_string(votes));
+  if (rounds < 1 || rounds > 5)
+    throw InputError("pseudo-labels: rounds must be 1 to 5, not " + std::to_string(rounds));
+}
+
+Classifier SelfTrain(const TrainNetwork& train, const Dataset& labelled, const PreparedDataset& unlabelled,
+                     const std::vector<float>& forest_probabilities, const PseudoLabelOptions& o, int classes,
+                     std::vector<std::vector<long>>& per_round) {
+  o.Check();
+  if (!o.on()) throw InputError("pseudo-labels: self-training needs a share of votes in (0, 1]");
+  per_round.assign(1, {});
+  Dataset windows = labelled;
+  windows.Append(PseudoLabelled(forest_probabilities, unlabelled, o.votes, classes, per_round.back()));
+  Classifier network = train(windows, 1);
+  for (int round = 2; round <= o.rounds; ++round) {
+    const auto teacher = CombinedProbabilities(network.Predict(unlabelled.windows), forest_probabilities);
+    per_round.emplace_back();
+    windows = labelled;
+    windows.Append(PseudoLabelled(teacher, unlabelled, o.votes, classes, per_round.back()));
+    network = train(windows, round);
+  }
+  return network;
+}
+
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
                                     const CrossValidationLog& log, const PreparedDataset& unlabelled) {
   if (o.repeats < 1) throw InputError("cross-validation needs at least 1 repeat");
-  if (o.pseudo_label_votes < 0 || o.pseudo_label_votes > 1)
-    throw InputError("pseudo-labels: the forest's share of votes must be in (0, 1], not " +
-                     std::to_string(o.pseudo_label_votes));
-  if (o.pseudo_label_votes > 0 && !o.forest)
+  o.pseudo_labels.Check();
+  if (o.pseudo_labels.on() && !o.forest)
     throw InputError("pseudo-labels: the forest labels the unlabelled windows, so it cannot be skipped");
-  if (o.pseudo_label_votes > 0 && unlabelled.windows.size() == 0)
+  if (o.pseudo_labels.on() && unlabelled.windows.size() == 0)
     throw InputError("pseudo-labels: the dataset has no unlabelled windows (AIS: prepare with ais.unlabelled)");
   for (int y : d.windows.y)
     if (y < 0 || y >= static_cast<int>(d.classes.size()))
@@ -199,7 +235,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   result.per_fold.resize(slots);
   result.per_fold_objects.resize(slots);
   result.per_fold_history.resize(slots);
-  if (o.pseudo_label_votes > 0) result.pseudo_labelled.resize(slots);
+  if (o.pseudo_labels.on()) result.pseudo_labelled.resize(slots), result.pseudo_labelled_by_round.resize(slots);
   for (const auto& name : result.models)
     result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);
   for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, unlabelled, log, result);

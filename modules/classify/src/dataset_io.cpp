@@ -133,9 +133,11 @@ PreparedDataset SplitOffUnlabelled(PreparedDataset& d) {
   return rest;
 }
 
-Dataset PseudoLabelled(const ForestBaseline& forest, const PreparedDataset& unlabelled, double votes, int k,
+Dataset PseudoLabelled(const std::vector<float>& p, const PreparedDataset& unlabelled, double votes, int k,
                        std::vector<long>& per_class) {
-  const std::vector<float> p = forest.Probabilities(unlabelled.handcrafted, k);
+  if (p.size() != unlabelled.windows.size() * static_cast<size_t>(k))
+    throw InputError("pseudo-labels: the teacher's probabilities are not one row of " + std::to_string(k) +
+                     " classes per unlabelled window");
   std::vector<size_t> kept;
   std::vector<int> classes;
   per_class.assign(static_cast<size_t>(k), 0);

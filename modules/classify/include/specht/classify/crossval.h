@@ -53,19 +53,41 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const
 // semi-supervised learning method"; the teacher here is another model, as in Xie et
 // al. 2020's noisy student): windows without a class (objects never tested, e.g.
 // AIS vessels of unknown type) are labelled in each fold by the forest trained on
-// that fold's training windows, and those it gives at least `pseudo_label_votes` of
-// its trees' votes join every network's training windows with the voted class. The
-// networks' validation windows (early stopping) stay labelled ones, and the forest
-// itself is trained on labelled windows only. More objects is what the small
-// classes lack (AIS: 58–81 labelled vessels each; 514 of unknown type).
+// that fold's training windows, and those it gives at least `votes` of its trees'
+// votes join every network's training windows with the voted class. With
+// `rounds` R > 1 the student teaches in turn (noisy student's iteration): round r
+// trains a fresh network of the same options on the labelled windows and the
+// unlabelled ones that round r − 1's network combined with the forest
+// (CombinedProbabilities) gives at least `votes`; the last round's network is the
+// one scored. The networks' validation windows (early stopping) stay labelled
+// ones, and the forest itself is trained on labelled windows only. More objects is
+// what the small classes lack (AIS: 58–81 labelled vessels each; 514 of unknown type).
+struct PseudoLabelOptions {
+  double votes = 0;  // 0: off; else in (0, 1], needs the forest
+  int rounds = 1;    // 1 …  5
+  bool on() const { return votes > 0; }
+  void Check() const;  // InputError when out of range
+};
+
 struct CrossValidationOptions {
   int folds = 5;
   int repeats = 1;
   int seed = 1;
   std::vector<std::pair<std::string, ModelOptions>> networks;  // name → options
   bool forest = true;
-  double pseudo_label_votes = 0;  // 0: off; else in (0, 1], needs `forest`
+  PseudoLabelOptions pseudo_labels;
 };
+
+// Trains one network on `labelled` and pseudo-labelled windows of `unlabelled`,
+// round by round as PseudoLabelOptions says (`o` must be on), and returns the last
+// round's. `train` trains and returns a fresh network on the windows it is given
+// (round 1, 2, …); `forest_probabilities` are the forest's (trained on labelled
+// windows) for the unlabelled windows, size × classes: round 1's teacher, and half
+// of every later one's. `per_round` gets each round's pseudo-labels per class.
+using TrainNetwork = std::function<Classifier(const Dataset& windows, int round)>;
+Classifier SelfTrain(const TrainNetwork& train, const Dataset& labelled, const PreparedDataset& unlabelled,
+                     const std::vector<float>& forest_probabilities, const PseudoLabelOptions& o, int classes,
+                     std::vector<std::vector<long>>& per_round);
 
 // Two models scored on the same folds, compared fold by fold: the difference
 // d_i = F1_a,i − F1_b,i of each fold's macro F1, its mean and standard deviation
@@ -99,8 +121,10 @@ struct CrossValidationResult {
   std::vector<std::map<std::string, Scores>> per_fold_history;  // … per window, from its object's history
   std::map<std::string, Scores> pooled;  // summed confusion over all folds (a window once per repeat)
   std::vector<int> fold_of;              // per repeat and window: the fold it was tested in
-  // Per fold: the unlabelled windows pseudo-labelled with each class (empty when off).
+  // Per fold: the unlabelled windows pseudo-labelled with each class (empty when
+  // off), by the forest (round 1) and, with more rounds, per network and round.
   std::vector<std::vector<long>> pseudo_labelled;
+  std::vector<std::map<std::string, std::vector<std::vector<long>>>> pseudo_labelled_by_round;
   // Per model, repeat and window: the class probabilities from the fold that tested
   // it (repeats × windows × classes, row-major; the forest's are its vote fractions).
   std::map<std::string, std::vector<float>> probabilities;
@@ -145,7 +169,7 @@ nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& compar
 using CrossValidationLog = std::function<void(const std::string& line, double fraction_done)>;
 
 // `log` may be empty. `d` holds labelled windows only (SplitOffUnlabelled);
-// `unlabelled` the windows for pseudo-labels (used only when o.pseudo_label_votes > 0).
+// `unlabelled` the windows for pseudo-labels (used only when o.pseudo_labels is on).
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
                                     const CrossValidationLog& log = {}, const PreparedDataset& unlabelled = {});
 

@@ -28,11 +28,12 @@ struct PreparedDataset {
 // `d` and returns them, each part in its original order.
 PreparedDataset SplitOffUnlabelled(PreparedDataset& d);
 
-// Self-training's pseudo-labels (CrossValidationOptions::pseudo_label_votes): the
-// windows of `unlabelled` that `forest` gives at least `votes` of its trees' votes,
-// with the voted class as y; `per_class` gets how many of each class.
-Dataset PseudoLabelled(const ForestBaseline& forest, const PreparedDataset& unlabelled, double votes, int classes,
-                       std::vector<long>& per_class);
+// Self-training's pseudo-labels (PseudoLabelOptions): the windows of `unlabelled`
+// that a teacher gives at least `votes` of its class probabilities (size × classes;
+// the forest's are its trees' vote fractions), with the most probable class as y;
+// `per_class` gets how many of each class.
+Dataset PseudoLabelled(const std::vector<float>& probabilities, const PreparedDataset& unlabelled, double votes,
+                       int classes, std::vector<long>& per_class);
 
 // The handcrafted (baseline) feature rows of the windows in `rows`.
 std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<size_t>& rows);
