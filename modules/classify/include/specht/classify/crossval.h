@@ -64,7 +64,7 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const
 // what the small classes lack (AIS: 58–81 labelled vessels each; 514 of unknown type).
 struct PseudoLabelOptions {
   double votes = 0;  // 0: off; else in (0, 1], needs the forest
-  int rounds = 1;    // 1 …  5
+  int rounds = 1;    // 1 … 5
   bool on() const { return votes > 0; }
   void Check() const;  // InputError when out of range
 };

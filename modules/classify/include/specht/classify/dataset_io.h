@@ -10,7 +10,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "specht/classify/baseline.h"
 #include "specht/classify/model.h"
 #include "specht/classify/preprocess.h"
 
