@@ -47,8 +47,18 @@ TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
 // bay-a on the course: a parallel slot 1.5 car lengths long between two parked cars
 // and the fence. The default search finds no path; the fine search does, and the
 // tracker, driving its full-lock arcs on their curvature, parks within tolerance.
-TEST(RunCliTest, ParksInTheTightParallelBayOfTheCourse) {
-  RunParked("course-loop.yaml", "1", testing::TempDir("run_cli_bay") + "/out");
+// The searches stop at their expansion budgets, not the clock: with 1 ms time
+// budgets the run is the same (a sanitizer build is 3–5× slower and once ran out
+// of the fine search's 2 s); with closed_loop.planning_budget time they apply.
+TEST(RunCliTest, ParksInTheTightParallelBayOfTheCourseWhateverTheClock) {
+  const std::string dir = testing::TempDir("run_cli_bay");
+  const std::string no_time = "--set hybrid_astar.time_budget_ms=1 --set hybrid_astar_fine.time_budget_ms=1";
+  const auto report = RunParked("course-loop.yaml", "1", dir + "/out", no_time);
+  const auto clocked = testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/course-loop.yaml' " +
+                                          "--seeds 1 -q -o '" + dir + "/clocked' " + no_time +
+                                          " --set closed_loop.planning_budget=time");
+  EXPECT_EQ(clocked.exit_code, 1) << clocked.out << clocked.err;
+  EXPECT_THAT(clocked.out + clocked.err, HasSubstr("no path within the time budget of 1.000000 ms"));
 }
 
 // map_source lidar: the car plans on the map its LiDAR builds as it drives (unknown

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -120,6 +121,12 @@ class LidarMap {
   bool changed_ = true;  // the first map: all unknown
 };
 
+// The search options with the wall clock taken out unless planning_budget is time.
+plan::HybridAStarOptions Budgeted(plan::HybridAStarOptions o, const ClosedLoopOptions& loop) {
+  if (loop.planning_budget == "expansions") o.time_budget_ms = std::numeric_limits<double>::infinity();
+  return o;
+}
+
 class Machine {
  public:
   Machine(const sim::Scenario& s, const ClosedLoopConfig& c, const std::vector<Goal>& mission, ClosedLoopResult& r)
@@ -131,7 +138,8 @@ class Machine {
     // by a cell as the car comes closer must not send it back to plan at every update.
     plan_car_ = c.car;
     if (c.loop.map_source == "lidar") plan_car_.safety_margin_m += c.loop.map_margin_m;
-    search_ = std::make_unique<plan::SearchWithFallback>(c.search, c.fine_search, plan_car_, static_map_);
+    search_options_ = Budgeted(c.search, c.loop), fine_options_ = Budgeted(c.fine_search, c.loop);
+    search_ = std::make_unique<plan::SearchWithFallback>(search_options_, fine_options_, plan_car_, static_map_);
   }
 
   MissionState state() const { return machine_.state(); }
@@ -144,7 +152,7 @@ class Machine {
   // it, and a path ahead it blocks is given up (map_changed → plan).
   void UpdateMap(std::shared_ptr<plan::DistanceMap> map, double t) {
     static_map_ = std::move(map);
-    search_ = std::make_unique<plan::SearchWithFallback>(c_.search, c_.fine_search, plan_car_, static_map_);
+    search_ = std::make_unique<plan::SearchWithFallback>(search_options_, fine_options_, plan_car_, static_map_);
     const MissionState state = machine_.state();
     if (!tracker_ || (state != MissionState::kDrive && state != MissionState::kWait)) return;
     const auto& points = tracker_->path().points;
@@ -376,6 +384,7 @@ class Machine {
   ClosedLoopResult& r_;
   std::shared_ptr<plan::DistanceMap> truth_map_, static_map_;  // scored against, planned on
   plan::CarOptions plan_car_;  // the car the planner sees (the LiDAR map's extra margin)
+  plan::HybridAStarOptions search_options_, fine_options_;
   std::unique_ptr<plan::SearchWithFallback> search_;
   std::optional<plan::PathTracker> tracker_;
   MissionStateMachine machine_;

@@ -19,7 +19,7 @@ std::vector<std::string> HybridAStarOptions::Relations() const {
 
 HybridAStarOptions FineSearchDefaults() {
   HybridAStarOptions o;
-  o.steer_fraction = 1.0, o.xy_cell_m = 0.25, o.step_m = 0.4, o.time_budget_ms = 2000;
+  o.steer_fraction = 1.0, o.xy_cell_m = 0.25, o.step_m = 0.4, o.max_expansions = 100000, o.time_budget_ms = 2000;
   return o;
 }
 

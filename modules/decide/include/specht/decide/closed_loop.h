@@ -26,6 +26,12 @@
 // margins: the car's box stretched along its motion by the braking distance +
 // emergency_buffer_m against the agents' boxes now.
 //
+// Planning budget: a search on the car must end in time, but a replay whose paths
+// depend on how fast the machine is would not be one (a sanitizer build or a busy
+// CI runner would find other paths, or none). By default (planning_budget
+// expansions) the searches here stop at their max_expansions only; the time each
+// call took is still reported.
+//
 // Localisation is ground truth here; the static map is the scenario's true grid at
 // 0.1 m, or (map_source lidar) the occupancy grid the car's simulated LiDAR builds
 // as it drives (agents' returns removed, unknown cells free), rebuilt at
@@ -72,6 +78,7 @@ struct ClosedLoopOptions {
   std::string map_source = "truth";
   double map_update_hz = 2.0;
   double map_margin_m = 0.2;
+  std::string planning_budget = "expansions";
 
   template <class V>
   void Visit(V& v) {
@@ -110,6 +117,9 @@ struct ClosedLoopOptions {
             "ahead checked against it", Range::Of(0.1, 20.0));
     v.Param("map_margin_m", map_margin_m, "map_source lidar: clearance planned beyond the car's safety margin "
             "(the path is given up only when the map leaves less than the safety margin)", Range::Of(0.0, 2.0));
+    v.Choice("planning_budget", planning_budget, {"expansions", "time"},
+             "searches stop at max_expansions alone, so a run's outcome does not depend on the machine's speed, "
+             "or also at time_budget_ms, as on the car");
   }
 };
 

@@ -58,7 +58,7 @@ struct HybridAStarOptions {
   double min_stretch_m = 0.3;
   double collision_step_m = 0.15;
   double output_spacing_m = 0.1;
-  int max_expansions = 200000;
+  int max_expansions = 40000;
   double time_budget_ms = 500;
 
   template <class V>
@@ -93,14 +93,19 @@ struct HybridAStarOptions {
             Range::Of(0.0, 10.0));
     v.Param("collision_step_m", collision_step_m, "spacing of collision checks along arcs", Range::Of(0.01, 1.0).Log());
     v.Param("output_spacing_m", output_spacing_m, "spacing of the returned path's points", Range::Of(0.01, 1.0).Fixed());
-    v.Param("max_expansions", max_expansions, "give up after this many expansions", Range::Of(100, 100000000).Fixed());
-    v.Param("time_budget_ms", time_budget_ms, "give up after this long", Range::Of(1.0, 600000.0).Fixed());
+    v.Param("max_expansions", max_expansions,
+            "give up after this many expansions (the budget that makes a search reproducible)",
+            Range::Of(100, 100000000).Fixed());
+    v.Param("time_budget_ms", time_budget_ms,
+            "also give up after this long (specht run: only with closed_loop.planning_budget time)",
+            Range::Of(1.0, 600000.0).Fixed());
   }
   std::vector<std::string> Relations() const;
 };
 
 // The fallback search for goals the default cannot reach (a parallel slot of 1.5
-// car lengths): the full steering lock, 0.25 m cells, 0.4 m arcs and a 2 s budget —
+// car lengths): the full steering lock, 0.25 m cells, 0.4 m arcs and a budget of
+// 100,000 expansions or 2 s —
 // slower, and its paths leave a tracker no steering in reserve. Section
 // "hybrid_astar_fine".
 HybridAStarOptions FineSearchDefaults();
