@@ -53,7 +53,7 @@ TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
 TEST(RunCliTest, ParksInTheTightParallelBayOfTheCourseWhateverTheClock) {
   const std::string dir = testing::TempDir("run_cli_bay");
   const std::string no_time = "--set hybrid_astar.time_budget_ms=1 --set hybrid_astar_fine.time_budget_ms=1";
-  const auto report = RunParked("course-loop.yaml", "1", dir + "/out", no_time);
+  RunParked("course-loop.yaml", "1", dir + "/out", no_time);
   const auto clocked = testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/course-loop.yaml' " +
                                           "--seeds 1 -q -o '" + dir + "/clocked' " + no_time +
                                           " --set closed_loop.planning_budget=time");

@@ -3,7 +3,6 @@
 // checked against the obstacle raster with the exact rectangular footprint (not
 // the planner's disc cover), and every arc against the steering limit.
 #include <cmath>
-#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -26,8 +25,7 @@ struct Planner {
   std::unique_ptr<HybridAStar> search;
   // The expansion budget alone, as in the closed loop: an answer that hung on the
   // machine's speed would differ in a sanitizer build.
-  explicit Planner(cv::Mat m, HybridAStarOptions o = {}) : options(o), obstacles(std::move(m)) {
-    options.time_budget_ms = std::numeric_limits<double>::infinity();
+  explicit Planner(cv::Mat m, HybridAStarOptions o = {}) : options(WithoutTimeBudget(o)), obstacles(std::move(m)) {
     map = std::make_shared<DistanceMap>(obstacles, 0.0, 0.0, kRes);
     search = std::make_unique<HybridAStar>(options, car, map);
   }

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <optional>
 
@@ -122,9 +121,8 @@ class LidarMap {
 };
 
 // The search options with the wall clock taken out unless planning_budget is time.
-plan::HybridAStarOptions Budgeted(plan::HybridAStarOptions o, const ClosedLoopOptions& loop) {
-  if (loop.planning_budget == "expansions") o.time_budget_ms = std::numeric_limits<double>::infinity();
-  return o;
+plan::HybridAStarOptions Budgeted(const plan::HybridAStarOptions& o, const ClosedLoopOptions& loop) {
+  return loop.planning_budget == "expansions" ? plan::WithoutTimeBudget(o) : o;
 }
 
 class Machine {

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <queue>
 
 #include <ompl/base/ScopedState.h>
@@ -20,6 +21,11 @@ std::vector<std::string> HybridAStarOptions::Relations() const {
 HybridAStarOptions FineSearchDefaults() {
   HybridAStarOptions o;
   o.steer_fraction = 1.0, o.xy_cell_m = 0.25, o.step_m = 0.4, o.max_expansions = 100000, o.time_budget_ms = 2000;
+  return o;
+}
+
+HybridAStarOptions WithoutTimeBudget(HybridAStarOptions o) {
+  o.time_budget_ms = std::numeric_limits<double>::infinity();
   return o;
 }
 

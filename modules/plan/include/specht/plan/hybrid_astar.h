@@ -110,6 +110,10 @@ struct HybridAStarOptions {
 // "hybrid_astar_fine".
 HybridAStarOptions FineSearchDefaults();
 
+// `o` with time_budget_ms taken out: the search stops at max_expansions alone, so
+// its answer does not depend on the machine's speed (replays, tests).
+HybridAStarOptions WithoutTimeBudget(HybridAStarOptions o);
+
 struct PlanResult {
   bool found = false;
   Path path;
