@@ -53,6 +53,7 @@ struct CrossValidationArgs {
   std::string dataset, networks = "tiny,mlp";
   std::string compare_to;  // an earlier run's output directory, or empty
   int folds = 5, repeats = 1;
+  double train_fraction = 1;  // of each class's training objects per fold
   bool no_forest = false;
   classify::PseudoLabelOptions pseudo_labels;  // off unless --pseudo-labels
 };
@@ -61,8 +62,8 @@ struct CrossValidationArgs {
 struct CrossValidationNames {
   std::string command, prepare, key, objects, default_out;
 };
-// Registers the dataset argument, --folds, --repeats, --networks, --no-forest,
-// --pseudo-labels, --compare-to and the common options.
+// Registers the dataset argument, --folds, --repeats, --train-fraction, --networks,
+// --no-forest, --pseudo-labels, --compare-to and the common options.
 void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names);
 // Runs it with `base` for every network (variant replaced); writes report.json,
 // report.md, a pooled confusion PNG per model and predictions.csv; prints the summary.

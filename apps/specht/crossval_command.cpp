@@ -65,6 +65,7 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
   classify::CrossValidationOptions cv;
   cv.folds = a.folds;
   cv.repeats = a.repeats;
+  cv.train_fraction = a.train_fraction;
   cv.seed = base.seed;
   cv.forest = !a.no_forest;
   cv.pseudo_labels = a.pseudo_labels;
@@ -176,6 +177,10 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
   cmd.add_option("--repeats", args.repeats,
                  "deal the " + names.objects + " to the folds this many times (seeds seed, seed + 1, …)")
       ->check(CLI::Range(1, 20));
+  cmd.add_option("--train-fraction", args.train_fraction,
+                 "train every model of a fold on this share of each class's training " + names.objects +
+                     " (a learning curve; the same test folds, so --compare-to a run at 1 works)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd.add_option("--networks", args.networks, "comma-separated network variants (" + VariantList() + ")");
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
   AddPseudoLabelOption(cmd, args.pseudo_labels);
@@ -208,6 +213,7 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   auto& j = report.json();
   j["dataset"] = a.dataset;
   j.update(deal);
+  j["train_fraction"] = a.train_fraction;
   j["fold_windows"] = result.FoldSizes();
   j["unlabelled_windows"] = unlabelled.windows.size();
   if (cv.pseudo_labels.on()) {
@@ -232,8 +238,14 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
     }
   }
   j["timing"] = {{"seconds", seconds()}};
-  const std::string scheme = std::to_string(a.folds) + "-fold CV" +
-                             (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by " + names.key;
+  std::string scheme = std::to_string(a.folds) + "-fold CV" +
+                       (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by " + names.key;
+  if (a.train_fraction < 1) {
+    char share[96];
+    std::snprintf(share, sizeof(share), ", trained on %.0f %% of each class's %s", 100 * a.train_fraction,
+                  names.objects.c_str());
+    scheme += share;
+  }
   for (const auto& name : result.models) {
     classify::WriteConfusionPng(result.pooled.at(name), d.classes, name + ": " + scheme + ", pooled",
                                 out + "/confusion_" + name + ".png");

@@ -625,6 +625,71 @@ TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
   EXPECT_THROW(CrossValidate(d, o), InputError);
 }
 
+// A learning curve's subsample: each class keeps ⌈fraction · n⌉ of its objects (at
+// least one) with all their windows, smaller fractions keep subsets, and the seed
+// decides which.
+TEST(CrossValidationTest, SubsampleKeepsAShareOfEachClassNested) {
+  std::vector<std::string> ids;
+  std::vector<int> labels;
+  std::vector<size_t> rows;
+  for (int object = 0; object < 43; ++object)  // class 0: 40 objects, class 1: 3
+    for (int w = 0; w < 3; ++w) {
+      rows.push_back(ids.size());
+      ids.push_back("o" + std::to_string(object));
+      labels.push_back(object < 40 ? 0 : 1);
+    }
+  auto objects_per_class = [&](const std::vector<size_t>& kept) {
+    std::set<std::string> per_class[2];
+    for (size_t i : kept) per_class[labels[i]].insert(ids[i]);
+    EXPECT_EQ(kept.size(), 3 * (per_class[0].size() + per_class[1].size()));  // whole objects
+    return std::vector<std::set<std::string>>{per_class[0], per_class[1]};
+  };
+  const auto quarter = objects_per_class(SubsampleObjects(ids, labels, rows, 0.25, 1));
+  const auto half = objects_per_class(SubsampleObjects(ids, labels, rows, 0.5, 1));
+  EXPECT_EQ(quarter[0].size(), 10u);
+  EXPECT_EQ(quarter[1].size(), 1u);  // ⌈0.75⌉
+  EXPECT_EQ(half[0].size(), 20u);
+  EXPECT_EQ(half[1].size(), 2u);  // ⌈1.5⌉
+  for (int c = 0; c < 2; ++c)
+    for (const auto& id : quarter[c]) EXPECT_EQ(half[c].count(id), 1u) << id;  // nested
+  EXPECT_EQ(SubsampleObjects(ids, labels, rows, 1.0, 1), rows);
+  EXPECT_EQ(objects_per_class(SubsampleObjects(ids, labels, rows, 0.01, 1))[1].size(), 1u);  // never empty
+  EXPECT_NE(objects_per_class(SubsampleObjects(ids, labels, rows, 0.5, 2))[0], half[0]);
+  EXPECT_THROW(SubsampleObjects(ids, labels, rows, 0.0, 1), InputError);
+  EXPECT_THROW(SubsampleObjects(ids, labels, rows, 1.5, 1), InputError);
+}
+
+// A run on half of each fold's training objects tests the same windows as the run
+// on all of them, records the smaller training sets (the t-test's ρ), and compares
+// with the full run fold by fold.
+TEST(CrossValidationTest, TrainFractionKeepsTheTestFolds) {
+  const PreparedDataset d = TwoClassDataset();
+  CrossValidationOptions o;
+  o.folds = 4;
+  const CrossValidationResult all = CrossValidate(d, o);
+  o.train_fraction = 0.5;
+  const CrossValidationResult half = CrossValidate(d, o);
+  EXPECT_EQ(half.fold_of, all.fold_of);
+  const auto sizes = half.FoldSizes(), full = all.FoldSizes();
+  ASSERT_EQ(sizes.size(), 4u);
+  for (size_t f = 0; f < sizes.size(); ++f) {
+    EXPECT_EQ(sizes[f].first, full[f].first);
+    // 30 training objects of 3 windows, 15 of each class: 8 of each kept.
+    EXPECT_EQ(full[f].second, 90);
+    EXPECT_EQ(sizes[f].second, 48);
+  }
+  EXPECT_GT(half.per_fold[0].at("forest").macro_f1, 0.8);  // the label is in every feature
+  const nlohmann::json earlier = {{"fold_windows", full}, {"models", all.ToJson(d.classes)}};
+  const auto compared = CompareWithEarlier(half, earlier, "full/report.json");
+  ASSERT_EQ(compared.size(), 1u);
+  EXPECT_EQ(compared[0].b, "forest (earlier)");
+  EXPECT_EQ(compared[0].folds, 4);
+  o.folds = 5;  // other folds test other windows: refused
+  EXPECT_THROW(CompareWithEarlier(CrossValidate(d, o), earlier, "full/report.json"), InputError);
+  o.train_fraction = 0;
+  EXPECT_THROW(CrossValidate(d, o), InputError);
+}
+
 // Two models "a" and "b" scored on three folds (macro F1 0.8 / 0.6 / 0.7 and
 // 0.7 / 0.7 / 0.5) of 25 windows: 10, 10 and 5 tested, so 15, 15 and 20 trained on.
 CrossValidationResult ThreeFoldResult() {

@@ -90,7 +90,30 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& ids, const std::v
   return out;
 }
 
+std::vector<size_t> SubsampleObjects(const std::vector<std::string>& ids, const std::vector<int>& labels,
+                                     const std::vector<size_t>& rows, double fraction, int seed) {
+  if (!(fraction > 0 && fraction <= 1))
+    throw InputError("train fraction must be in (0, 1], not " + std::to_string(fraction));
+  std::map<int, std::vector<std::pair<uint64_t, std::string>>> by_class;  // class → (hash, id)
+  std::set<std::string> seen;
+  for (size_t i : rows)
+    if (seen.insert(ids[i]).second) by_class[labels[i]].push_back({internal::MixedObjectHash(ids[i], seed), ids[i]});
+  std::set<std::string> kept;
+  for (auto& [cls, objects] : by_class) {
+    std::sort(objects.begin(), objects.end());
+    const auto keep = std::max<size_t>(1, static_cast<size_t>(std::ceil(fraction * objects.size() - 1e-9)));
+    for (size_t j = 0; j < keep; ++j) kept.insert(objects[j].second);
+  }
+  std::vector<size_t> out;
+  for (size_t i : rows)
+    if (kept.count(ids[i])) out.push_back(i);
+  return out;
+}
+
 namespace {
+
+// Salt of the subsample's hash order, so that it is not the order of the deal to folds.
+constexpr int kSubsampleSeedSalt = 7919;
 
 // One k-fold run of CrossValidate: repeat r, every seed raised by r.
 void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o, int r,
@@ -106,6 +129,10 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     const size_t slot = static_cast<size_t>(r) * o.folds + f;
     std::vector<size_t> train_rows, test_rows;
     for (size_t i = 0; i < fold.size(); ++i) (fold[i] == f ? test_rows : train_rows).push_back(i);
+    if (o.train_fraction < 1)
+      train_rows = SubsampleObjects(d.windows.object_ids, d.windows.y, train_rows, o.train_fraction,
+                                    o.seed + r + kSubsampleSeedSalt);
+    result.trained_windows[slot] = static_cast<long>(train_rows.size());
     const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
     // Scores a model's test probabilities three ways and keeps them.
     auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
@@ -216,6 +243,8 @@ Classifier SelfTrain(const TrainNetwork& train, const Dataset& labelled, const P
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
                                     const CrossValidationLog& log, const PreparedDataset& unlabelled) {
   if (o.repeats < 1) throw InputError("cross-validation needs at least 1 repeat");
+  if (!(o.train_fraction > 0 && o.train_fraction <= 1))
+    throw InputError("cross-validation: the train fraction must be in (0, 1], not " + std::to_string(o.train_fraction));
   o.pseudo_labels.Check();
   if (o.pseudo_labels.on() && !o.forest)
     throw InputError("pseudo-labels: the forest labels the unlabelled windows, so it cannot be skipped");
@@ -235,6 +264,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   result.per_fold.resize(slots);
   result.per_fold_objects.resize(slots);
   result.per_fold_history.resize(slots);
+  result.trained_windows.assign(slots, 0);
   if (o.pseudo_labels.on()) result.pseudo_labelled.resize(slots), result.pseudo_labelled_by_round.resize(slots);
   for (const auto& name : result.models)
     result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);
@@ -334,6 +364,8 @@ std::vector<std::pair<long, long>> CrossValidationResult::FoldSizes() const {
     auto& [test, train] = sizes[(i / windows) * static_cast<size_t>(folds) + static_cast<size_t>(fold_of[i])];
     ++test, --train;
   }
+  if (trained_windows.size() == sizes.size())
+    for (size_t slot = 0; slot < sizes.size(); ++slot) sizes[slot].second = trained_windows[slot];
   return sizes;
 }
 
@@ -370,8 +402,14 @@ std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& re
   } catch (const nlohmann::json::exception& e) {
     throw InputError(where + ": field \"fold_windows\" missing or not pairs of counts (" + e.what() + ")");
   }
-  if (sizes != result.FoldSizes())
-    throw InputError(where + ": its folds hold other windows than this run's (\"fold_windows\" differs): "
+  const std::vector<std::pair<long, long>> here = result.FoldSizes();
+  bool same_tests = sizes.size() == here.size();
+  for (size_t i = 0; same_tests && i < sizes.size(); ++i) {
+    same_tests = sizes[i].first == here[i].first;
+    sizes[i].second = std::min(sizes[i].second, here[i].second);  // the larger ρ
+  }
+  if (!same_tests)
+    throw InputError(where + ": its folds test other windows than this run's (\"fold_windows\" differs): "
                      "not the same dataset, folds, repeats and seed");
   const auto models = earlier.find("models");
   std::vector<PairedComparison> out;

@@ -49,6 +49,15 @@ std::vector<float> RunningMeanByObject(const std::vector<std::string>& object_id
 std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const std::vector<int>& labels, int folds,
                                int seed);
 
+// The rows of `rows` whose objects are among the first ⌈fraction · n_c⌉ (at least
+// one) of each class's n_c objects there, in a seeded hash order of their ids; the
+// rest in their order. Stratified, so a small class keeps its share, and nested: for
+// one seed and `rows`, a smaller fraction keeps a subset of a larger one's objects
+// (a learning curve adds objects rather than drawing new ones). InputError unless
+// fraction is in (0, 1].
+std::vector<size_t> SubsampleObjects(const std::vector<std::string>& object_ids, const std::vector<int>& labels,
+                                     const std::vector<size_t>& rows, double fraction, int seed);
+
 // Self-training with pseudo-labels (Lee 2013, "Pseudo-label: the simple and efficient
 // semi-supervised learning method"; the teacher here is another model, as in Xie et
 // al. 2020's noisy student): windows without a class (objects never tested, e.g.
@@ -69,10 +78,14 @@ struct PseudoLabelOptions {
   void Check() const;  // InputError when out of range
 };
 
+// A learning curve's point: every model of a fold trains on a share of each class's
+// training objects (SubsampleObjects), tested on the same fold as with all of them,
+// so a run at 0.5 compares with a run at 1 fold by fold (--compare-to).
 struct CrossValidationOptions {
   int folds = 5;
   int repeats = 1;
   int seed = 1;
+  double train_fraction = 1;  // (0, 1]
   std::vector<std::pair<std::string, ModelOptions>> networks;  // name → options
   bool forest = true;
   PseudoLabelOptions pseudo_labels;
@@ -121,6 +134,9 @@ struct CrossValidationResult {
   std::vector<std::map<std::string, Scores>> per_fold_history;  // … per window, from its object's history
   std::map<std::string, Scores> pooled;  // summed confusion over all folds (a window once per repeat)
   std::vector<int> fold_of;              // per repeat and window: the fold it was tested in
+  // Per fold: the labelled windows its models trained on (the networks' validation
+  // windows included); fewer than the other folds' windows with a train_fraction < 1.
+  std::vector<long> trained_windows;
   // Per fold: the unlabelled windows pseudo-labelled with each class (empty when
   // off), by the forest (round 1) and, with more rounds, per network and round.
   std::vector<std::vector<long>> pseudo_labelled;
@@ -133,8 +149,9 @@ struct CrossValidationResult {
   // ("repeats"); the same per object under "per_object" and from each object's
   // history under "with_history".
   nlohmann::json ToJson(const std::vector<std::string>& classes) const;
-  // Per fold, in fold order: windows tested and windows trained on (the networks'
-  // validation windows included), from fold_of; the corrected t-test's ratio ρ.
+  // Per fold, in fold order: windows tested (from fold_of) and windows trained on
+  // (trained_windows; the other folds' windows when it is empty); the corrected
+  // t-test's ratio ρ.
   std::vector<std::pair<long, long>> FoldSizes() const;
   // A model's per-window macro F1 in every fold, in fold order.
   std::vector<double> MacroF1PerFold(const std::string& model) const;
@@ -156,7 +173,10 @@ PairedComparison CompareFolds(const std::string& a, const std::string& b, const 
 // from the earlier run's report (its "fold_windows" and each model's per-fold
 // "macro_f1" under "models"): pairs "<model>" vs "<model> (earlier)", so a change
 // is judged on the folds both runs saw rather than against the folds' spread.
-// Throws InputError naming `where` when the folds differ or no model is in both.
+// The runs may train on different shares of the folds' objects (train_fraction);
+// each fold's ρ is then the larger of the two runs' (the smaller training set: the
+// wider interval). Throws InputError naming `where` when the folds test other
+// windows or no model is in both.
 std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& result, const nlohmann::json& earlier,
                                                  const std::string& where);
 
