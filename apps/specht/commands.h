@@ -53,7 +53,9 @@ struct CrossValidationArgs {
   std::string dataset, networks = "tiny,mlp";
   std::string compare_to;  // an earlier run's output directory, or empty
   int folds = 5, repeats = 1;
-  double train_fraction = 1;  // of each class's training objects per fold
+  // Shares of each class's training objects per fold: one run each; with more than
+  // one, each run goes into <out>/share-<f>/ and the learning curve into <out>.
+  std::vector<double> train_fractions = {1.0};
   bool no_forest = false;
   classify::PseudoLabelOptions pseudo_labels;  // off unless --pseudo-labels
 };
@@ -67,6 +69,8 @@ struct CrossValidationNames {
 void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names);
 // Runs it with `base` for every network (variant replaced); writes report.json,
 // report.md, a pooled confusion PNG per model and predictions.csv; prints the summary.
+// With several train fractions, that per fraction, then learning_curve.json and
+// learning_curve.png (each model's macro F1 against the share of training objects).
 int RunCrossValidation(const CrossValidationArgs& a, const params::Params& params, const classify::ModelOptions& base,
                        const CrossValidationNames& names);
 

@@ -65,7 +65,6 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
   classify::CrossValidationOptions cv;
   cv.folds = a.folds;
   cv.repeats = a.repeats;
-  cv.train_fraction = a.train_fraction;
   cv.seed = base.seed;
   cv.forest = !a.no_forest;
   cv.pseudo_labels = a.pseudo_labels;
@@ -177,9 +176,11 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
   cmd.add_option("--repeats", args.repeats,
                  "deal the " + names.objects + " to the folds this many times (seeds seed, seed + 1, …)")
       ->check(CLI::Range(1, 20));
-  cmd.add_option("--train-fraction", args.train_fraction,
+  cmd.add_option("--train-fraction", args.train_fractions,
                  "train every model of a fold on this share of each class's training " + names.objects +
-                     " (a learning curve; the same test folds, so --compare-to a run at 1 works)")
+                     " (the same test folds, so --compare-to a run at 1 works); several, comma-separated, give a "
+                     "learning curve: one run per share in <out>/share-<f>/, learning_curve.png")
+      ->delimiter(',')
       ->check(CLI::Range(0.0, 1.0));
   cmd.add_option("--networks", args.networks, "comma-separated network variants (" + VariantList() + ")");
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
@@ -190,17 +191,24 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
   AddCommonOptions(cmd, args.common, names.default_out);
 }
 
-int RunCrossValidation(const CrossValidationArgs& a, const params::Params& params, const classify::ModelOptions& base,
-                       const CrossValidationNames& names) {
-  const classify::CrossValidationOptions cv = OptionsOf(a, base);
-  classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
-  const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);  // never scored
+namespace {
+
+// One cross-validation run at one share of the training objects, written to `out`.
+// Returns its report; a failed --compare-to goes to `comparison_error` (the run's
+// results are written all the same).
+nlohmann::json RunAtShare(const CrossValidationArgs& a, double train_fraction, const std::string& out,
+                          const classify::PreparedDataset& d, const classify::PreparedDataset& unlabelled,
+                          const params::Params& params, const classify::ModelOptions& base,
+                          const CrossValidationNames& names, std::string& comparison_error) {
+  classify::CrossValidationOptions cv = OptionsOf(a, base);
+  cv.train_fraction = train_fraction;
   // What decides the folds: the same in an earlier run means the same folds.
   const nlohmann::json deal = {{"windows", d.windows.size()}, {"folds", a.folds}, {"repeats", a.repeats},
                                {"seed", cv.seed}};
   const nlohmann::json earlier_report = a.compare_to.empty() ? nlohmann::json() : ReadEarlierReport(a.compare_to, deal);
-  PrepareOutputDir(a.common, params);
-  const std::string& out = a.common.out_dir;
+  CommonArgs common = a.common;
+  common.out_dir = out;
+  PrepareOutputDir(common, params);
   const auto t0 = std::chrono::steady_clock::now();
   const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   const auto result = classify::CrossValidate(d, cv, [&](const std::string& line, double fraction) {
@@ -213,7 +221,7 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   auto& j = report.json();
   j["dataset"] = a.dataset;
   j.update(deal);
-  j["train_fraction"] = a.train_fraction;
+  j["train_fraction"] = train_fraction;
   j["fold_windows"] = result.FoldSizes();
   j["unlabelled_windows"] = unlabelled.windows.size();
   if (cv.pseudo_labels.on()) {
@@ -227,7 +235,6 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   // A comparison that fails (the earlier folds held other windows) must not cost
   // this run's results: they are written first, the error raised after.
   std::vector<classify::PairedComparison> earlier;
-  std::string comparison_error;
   if (!a.compare_to.empty()) {
     try {
       earlier = classify::CompareWithEarlier(result, earlier_report, a.compare_to + "/report.json");
@@ -240,9 +247,9 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   j["timing"] = {{"seconds", seconds()}};
   std::string scheme = std::to_string(a.folds) + "-fold CV" +
                        (a.repeats > 1 ? " × " + std::to_string(a.repeats) : std::string()) + " by " + names.key;
-  if (a.train_fraction < 1) {
+  if (train_fraction < 1) {
     char share[96];
-    std::snprintf(share, sizeof(share), ", trained on %.0f %% of each class's %s", 100 * a.train_fraction,
+    std::snprintf(share, sizeof(share), ", trained on %.0f %% of each class's %s", 100 * train_fraction,
                   names.objects.c_str());
     scheme += share;
   }
@@ -255,6 +262,85 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   report.AddOutput("predictions.csv");
   report.Write(out);
   PrintSummary(result, d, j["models"], paired, earlier, a.compare_to, names, scheme, a.repeats);
+  return j;
+}
+
+// "0.25" for a share's directory and the curve's labels.
+std::string ShareName(double fraction) {
+  char s[32];
+  std::snprintf(s, sizeof(s), "%g", fraction);
+  return s;
+}
+
+// The learning curve from each share's report: per share its mean training windows
+// a fold and per model the macro and weighted F1 (mean ± std over folds).
+nlohmann::json LearningCurve(const std::vector<std::pair<double, nlohmann::json>>& runs) {
+  nlohmann::json curve = nlohmann::json::array();
+  for (const auto& [fraction, j] : runs) {
+    double trained = 0;
+    for (const auto& fold : j["fold_windows"]) trained += fold[1].get<double>();
+    nlohmann::json point = {{"train_fraction", fraction},
+                            {"trained_windows_per_fold", trained / std::max<size_t>(1, j["fold_windows"].size())}};
+    for (const auto& [name, m] : j["models"].items())
+      point["models"][name] = {{"macro_f1", m["macro_f1"]}, {"weighted_f1", m["weighted_f1"]}};
+    curve.push_back(point);
+  }
+  return curve;
+}
+
+}  // namespace
+
+int RunCrossValidation(const CrossValidationArgs& a, const params::Params& params, const classify::ModelOptions& base,
+                       const CrossValidationNames& names) {
+  std::vector<double> fractions = a.train_fractions;
+  std::sort(fractions.begin(), fractions.end());
+  fractions.erase(std::unique(fractions.begin(), fractions.end()), fractions.end());
+  for (double f : fractions)
+    if (!(f > 0 && f <= 1)) throw InputError("--train-fraction: " + ShareName(f) + " is not in (0, 1]");
+  if (fractions.empty()) throw InputError("--train-fraction: no share given");
+  classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
+  const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);  // never scored
+  const std::string& out = a.common.out_dir;
+  std::string comparison_error;
+  if (fractions.size() == 1) {
+    RunAtShare(a, fractions[0], out, d, unlabelled, params, base, names, comparison_error);
+  } else {
+    PrepareOutputDir(a.common, params);
+    std::vector<std::pair<double, nlohmann::json>> runs;
+    for (double f : fractions) {
+      if (!a.common.quiet) std::fprintf(stderr, "%s: learning curve, share %s\n", names.command.c_str(), ShareName(f).c_str());
+      std::string error;
+      runs.emplace_back(f, RunAtShare(a, f, out + "/share-" + ShareName(f), d, unlabelled, params, base, names, error));
+      if (comparison_error.empty()) comparison_error = error;
+    }
+    io::RunReport report(names.command);
+    auto& j = report.json();
+    j["dataset"] = a.dataset;
+    j["learning_curve"] = LearningCurve(runs);
+    for (double f : fractions) report.AddOutput("share-" + ShareName(f) + "/report.json");
+    const std::string title = names.command + ": macro F1 against the share of each class's training " +
+                              names.objects + " (" + std::to_string(a.folds) + "-fold CV" +
+                              (a.repeats > 1 ? " x " + std::to_string(a.repeats) : std::string()) + ")";
+    std::map<std::string, std::vector<classify::CurvePoint>> curves;
+    for (const auto& point : j["learning_curve"])
+      for (const auto& [name, m] : point["models"].items())
+        curves[name].push_back({point["train_fraction"].get<double>(), m["macro_f1"]["mean"].get<double>(),
+                                m["macro_f1"]["std"].get<double>()});
+    classify::WriteLearningCurvePng(curves, title, "macro F1 per window, mean and std over folds",
+                                    out + "/learning_curve.png");
+    report.AddOutput("learning_curve.png");
+    report.Write(out);
+    std::printf("learning curve: macro F1 (mean ± std over folds) at each share of the training %s\n",
+                names.objects.c_str());
+    for (const auto& point : j["learning_curve"]) {
+      std::printf("  share %-5s %7.0f windows a fold", ShareName(point["train_fraction"].get<double>()).c_str(),
+                  point["trained_windows_per_fold"].get<double>());
+      for (const auto& [name, m] : point["models"].items())
+        std::printf("  %s %.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
+                    m["macro_f1"]["std"].get<double>());
+      std::printf("\n");
+    }
+  }
   if (!comparison_error.empty())
     throw InputError(comparison_error + " (this run's results are written to " + out + ")");
   return 0;

@@ -9,6 +9,19 @@
 #include "specht/io/map_io.h"
 
 namespace specht::classify {
+namespace {
+
+// Colours of classes or models in the pictures (BGR; matplotlib's tab10).
+const cv::Scalar kPalette[] = {{180, 119, 31}, {14, 127, 255}, {44, 160, 44}, {40, 39, 214}, {189, 103, 148},
+                               {75, 86, 140},  {194, 119, 227}, {127, 127, 127}};
+constexpr int kPaletteSize = sizeof(kPalette) / sizeof(kPalette[0]);
+
+void PutLabel(cv::Mat& img, const std::string& text, cv::Point at, double scale = 0.45,
+              cv::Scalar colour = cv::Scalar(0, 0, 0)) {
+  cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
+}
+
+}  // namespace
 
 std::vector<int> MostProbable(const std::vector<float>& p, int k) {
   std::vector<int> out(k > 0 ? p.size() / k : 0);
@@ -132,15 +145,13 @@ void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>
     cv::putText(img, "1e" + std::to_string(d), {15, y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(60, 60, 60), 1,
                 cv::LINE_AA);
   }
-  const cv::Scalar palette[] = {{180, 119, 31}, {14, 127, 255}, {44, 160, 44}, {40, 39, 214}, {189, 103, 148},
-                                {75, 86, 140},  {194, 119, 227}, {127, 127, 127}};
   for (int s = 0; s < n; ++s) {
     const auto it = counts.find(steps[s]);
     for (int c = 0; c < k; ++c) {
       long v = 0;
       if (it != counts.end() && it->second.count(classes[c])) v = it->second.at(classes[c]);
       const int x = left + s * group + c * bar;
-      cv::rectangle(img, cv::Point(x, y_of(static_cast<double>(v))), cv::Point(x + bar - 2, top + height), palette[c % 8],
+      cv::rectangle(img, cv::Point(x, y_of(static_cast<double>(v))), cv::Point(x + bar - 2, top + height), kPalette[c % kPaletteSize],
                     cv::FILLED);
     }
     cv::putText(img, steps[s], {left + s * group, top + height + 20}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
@@ -148,11 +159,64 @@ void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>
   }
   for (int c = 0; c < k; ++c) {
     const int y = top + 10 + c * 22, x = left + n * group + 15;
-    cv::rectangle(img, cv::Point(x, y), cv::Point(x + 14, y + 14), palette[c % 8], cv::FILLED);
+    cv::rectangle(img, cv::Point(x, y), cv::Point(x + 14, y + 14), kPalette[c % kPaletteSize], cv::FILLED);
     cv::putText(img, classes[c], {x + 20, y + 12}, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   }
   cv::putText(img, "count per class after each step (log scale)", {left, top + height + 50}, cv::FONT_HERSHEY_SIMPLEX,
               0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+  io::WritePng(img, path);
+}
+
+// Shares on a log₂ axis from the smallest to 1; scores on a linear axis over the
+// bars' range, padded and rounded to 0.05.
+void WriteLearningCurvePng(const std::map<std::string, std::vector<CurvePoint>>& curves, const std::string& title,
+                           const std::string& y_label, const std::string& path) {
+  const int w = 900, h = 520, left = 70, right = 170, top = 50, bottom = 60;
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
+  PutLabel(img, title, {10, 25}, 0.55);
+  double smallest = 1, lo = 1, hi = 0;
+  std::vector<double> shares;
+  for (const auto& [model, points] : curves)
+    for (const auto& p : points) {
+      smallest = std::min(smallest, p.share);
+      lo = std::min(lo, p.mean - p.std), hi = std::max(hi, p.mean + p.std);
+      if (std::find(shares.begin(), shares.end(), p.share) == shares.end()) shares.push_back(p.share);
+    }
+  lo = std::max(0.0, std::floor(lo * 20 - 0.5) / 20), hi = std::min(1.0, std::ceil(hi * 20 + 0.5) / 20);
+  if (hi <= lo) lo = 0, hi = 1;
+  const double span = std::max(1e-9, -std::log2(smallest));
+  const auto X = [&](double share) {
+    return left + 20 + static_cast<int>((w - left - right - 40) * (span + std::log2(share)) / span);
+  };
+  const auto Y = [&](double v) { return top + static_cast<int>((h - top - bottom) * (hi - v) / (hi - lo)); };
+  cv::rectangle(img, {left, top}, {w - right, h - bottom}, cv::Scalar(0, 0, 0));
+  char buf[32];
+  for (double v = lo; v <= hi + 1e-9; v += 0.05) {
+    cv::line(img, {left, Y(v)}, {w - right, Y(v)}, cv::Scalar(230, 230, 230));
+    std::snprintf(buf, sizeof(buf), "%.2f", v);
+    PutLabel(img, buf, {left - 45, Y(v) + 4}, 0.4);
+  }
+  for (double s : shares) {
+    std::snprintf(buf, sizeof(buf), "%g", s);
+    PutLabel(img, buf, {X(s) - 12, h - bottom + 20}, 0.4);
+  }
+  PutLabel(img, "share of each class's training objects (log scale)", {left, h - 15});
+  PutLabel(img, y_label, {left, top - 8}, 0.45, cv::Scalar(60, 60, 60));
+  int index = 0;
+  for (const auto& [model, points] : curves) {
+    const cv::Scalar colour = kPalette[index % kPaletteSize];
+    const int dx = 4 * (index - static_cast<int>(curves.size()) / 2);  // bars side by side, not on top of each other
+    for (size_t i = 0; i < points.size(); ++i) {
+      const cv::Point at(X(points[i].share) + dx, Y(points[i].mean));
+      cv::line(img, {at.x, Y(points[i].mean - points[i].std)}, {at.x, Y(points[i].mean + points[i].std)}, colour);
+      cv::circle(img, at, 4, colour, cv::FILLED, cv::LINE_AA);
+      if (i > 0) cv::line(img, {X(points[i - 1].share) + dx, Y(points[i - 1].mean)}, at, colour, 2, cv::LINE_AA);
+    }
+    const int y = top + 10 + index * 22, x = w - right + 15;
+    cv::rectangle(img, cv::Point(x, y), cv::Point(x + 14, y + 14), colour, cv::FILLED);
+    PutLabel(img, model, {x + 20, y + 12});
+    ++index;
+  }
   io::WritePng(img, path);
 }
 

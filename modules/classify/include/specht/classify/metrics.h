@@ -40,4 +40,15 @@ void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>
                         const std::vector<std::string>& steps, const std::vector<std::string>& classes,
                         const std::string& title, const std::string& path);
 
+// One point of a learning curve: a score (mean ± std over folds) at a share of the
+// training objects.
+struct CurvePoint {
+  double share = 0, mean = 0, std = 0;
+};
+
+// Learning curves, one line per model (model → points in share order) with ± std
+// bars, shares on a log₂ axis (¼, ½, 1 evenly spaced).
+void WriteLearningCurvePng(const std::map<std::string, std::vector<CurvePoint>>& curves, const std::string& title,
+                           const std::string& y_label, const std::string& path);
+
 }  // namespace specht::classify
