@@ -45,6 +45,25 @@ void ExpectCrossValidationDisjointByTrack(const std::string& dir) {
   EXPECT_EQ(rows, cv["windows"].get<size_t>());
   EXPECT_GT(fold_of_track.size(), 20u);
 
+  // A learning curve: one run per share on the same folds; the run on every track
+  // is the run above, the run on half of them trains on fewer windows.
+  const auto curve = testing::RunSpecht("classify crossval '" + dir +
+                                        "/data' --folds 3 --networks '' --train-fraction 1,0.5 -q -o '" + dir + "/lc'");
+  ASSERT_EQ(curve.exit_code, 0) << curve.err;
+  EXPECT_THAT(curve.out, HasSubstr("learning curve"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/lc/learning_curve.png"));
+  const auto points = Report(dir + "/lc")["learning_curve"];
+  ASSERT_EQ(points.size(), 2u);
+  EXPECT_EQ(points[0]["train_fraction"].get<double>(), 0.5);  // in share order
+  EXPECT_LT(points[0]["trained_windows_per_fold"].get<double>(), 0.7 * points[1]["trained_windows_per_fold"].get<double>());
+  EXPECT_EQ(points[1]["models"]["forest"]["macro_f1"], cv["models"]["forest"]["macro_f1"]);
+  EXPECT_EQ(Report(dir + "/lc/share-1")["models"]["forest"]["folds"], cv["models"]["forest"]["folds"]);
+  const auto half = Report(dir + "/lc/share-0.5");
+  EXPECT_EQ(half["train_fraction"].get<double>(), 0.5);
+  const auto zero = testing::RunSpecht("classify crossval '" + dir + "/data' --train-fraction 0,1 -q -o '" + dir + "/lc0'");
+  EXPECT_NE(zero.exit_code, 0);
+  EXPECT_THAT(zero.err, HasSubstr("--train-fraction: 0 is not in (0, 1]"));
+
   const auto bad =
       testing::RunSpecht("classify crossval '" + dir + "/data' --networks resnet50 -q -o '" + dir + "/cv2'");
   EXPECT_EQ(bad.exit_code, 2);
