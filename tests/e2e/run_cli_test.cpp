@@ -34,8 +34,9 @@ TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
   const std::string out = testing::TempDir("run_cli") + "/out";
   const auto report = RunParked("parking-lot.yaml", "1-3", out);
   const auto& m = report["metrics"];
-  if (!m["min_pedestrian_distance_m"].is_null())
+  if (!m["min_pedestrian_distance_m"].is_null()) {  // braces: EXPECT_GE is an if/else inside
     EXPECT_GE(m["min_pedestrian_distance_m"].get<double>(), m["pedestrian_margin_m"].get<double>());
+  }
   for (const auto& run : report["runs"]) {
     EXPECT_EQ(run["states_visited"].back(), "done");
     EXPECT_GT(run["planning_ms"]["count"].get<int>(), 0);
