@@ -283,6 +283,7 @@ nlohmann::json LearningCurve(const std::vector<std::pair<double, nlohmann::json>
                             {"trained_windows_per_fold", trained / std::max<size_t>(1, j["fold_windows"].size())}};
     for (const auto& [name, m] : j["models"].items())
       point["models"][name] = {{"macro_f1", m["macro_f1"]}, {"weighted_f1", m["weighted_f1"]}};
+    point["paired"] = j["paired"];
     curve.push_back(point);
   }
   return curve;
@@ -338,6 +339,22 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
       for (const auto& [name, m] : point["models"].items())
         std::printf("  %s %.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
                     m["macro_f1"]["std"].get<double>());
+      std::printf("\n");
+    }
+    // Whether a gap closes as the training set grows: the fold-by-fold differences
+    // of the models on their own (no combinations), share by share.
+    const auto& pairs = j["learning_curve"].back()["paired"];
+    bool header = false;
+    for (const auto& [pair, unused] : pairs.items()) {
+      if (pair.find('+') != std::string::npos) continue;
+      if (!header) std::printf("  macro F1 fold by fold, first minus second, at each share (corrected t-test's p)\n");
+      header = true;
+      std::printf("  %-16s", pair.c_str());
+      for (const auto& point : j["learning_curve"]) {
+        const auto& c = point["paired"][pair];
+        std::printf("  %+.3f (%d/%d ahead, p %.2f)", c["macro_f1_difference"]["mean"].get<double>(),
+                    c["folds_ahead"].get<int>(), c["folds"].get<int>(), c["corrected_t_test"]["p_value"].get<double>());
+      }
       std::printf("\n");
     }
   }
