@@ -223,6 +223,7 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, double train_fraction, c
   j.update(deal);
   j["train_fraction"] = train_fraction;
   j["fold_windows"] = result.FoldSizes();
+  j["fold_objects_trained"] = result.trained_objects;  // per fold and class
   j["unlabelled_windows"] = unlabelled.windows.size();
   if (cv.pseudo_labels.on()) {
     j["pseudo_labels"] = {{"votes", cv.pseudo_labels.votes}, {"rounds", cv.pseudo_labels.rounds},
@@ -279,8 +280,14 @@ nlohmann::json LearningCurve(const std::vector<std::pair<double, nlohmann::json>
   for (const auto& [fraction, j] : runs) {
     double trained = 0;
     for (const auto& fold : j["fold_windows"]) trained += fold[1].get<double>();
-    nlohmann::json point = {{"train_fraction", fraction},
-                            {"trained_windows_per_fold", trained / std::max<size_t>(1, j["fold_windows"].size())}};
+    const double folds = static_cast<double>(std::max<size_t>(1, j["fold_windows"].size()));
+    nlohmann::json point = {{"train_fraction", fraction}, {"trained_windows_per_fold", trained / folds}};
+    // Per class, the objects trained on in a fold (mean over folds): what a share means.
+    for (size_t c = 0; c < j["fold_objects_trained"][0].size(); ++c) {
+      double objects = 0;
+      for (const auto& fold : j["fold_objects_trained"]) objects += fold[c].get<double>();
+      point["trained_objects_per_fold"].push_back(objects / folds);
+    }
     for (const auto& [name, m] : j["models"].items())
       point["models"][name] = {{"macro_f1", m["macro_f1"]}, {"weighted_f1", m["weighted_f1"]}};
     point["paired"] = j["paired"];
@@ -334,8 +341,12 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
     std::printf("learning curve: macro F1 (mean ± std over folds) at each share of the training %s\n",
                 names.objects.c_str());
     for (const auto& point : j["learning_curve"]) {
-      std::printf("  share %-5s %7.0f windows a fold", ShareName(point["train_fraction"].get<double>()).c_str(),
-                  point["trained_windows_per_fold"].get<double>());
+      const auto& objects = point["trained_objects_per_fold"];
+      std::printf("  share %-5s %7.0f windows, %3.0f–%.0f %s a class a fold",
+                  ShareName(point["train_fraction"].get<double>()).c_str(),
+                  point["trained_windows_per_fold"].get<double>(),
+                  std::min_element(objects.begin(), objects.end())->get<double>(),
+                  std::max_element(objects.begin(), objects.end())->get<double>(), names.objects.c_str());
       for (const auto& [name, m] : point["models"].items())
         std::printf("  %s %.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
                     m["macro_f1"]["std"].get<double>());

@@ -677,6 +677,8 @@ TEST(CrossValidationTest, TrainFractionKeepsTheTestFolds) {
     // 30 training objects of 3 windows, 15 of each class: 8 of each kept.
     EXPECT_EQ(full[f].second, 90);
     EXPECT_EQ(sizes[f].second, 48);
+    EXPECT_EQ(half.trained_objects[f], (std::vector<long>{8, 8}));
+    EXPECT_EQ(all.trained_objects[f], (std::vector<long>{15, 15}));
   }
   EXPECT_GT(half.per_fold[0].at("forest").macro_f1, 0.8);  // the label is in every feature
   const nlohmann::json earlier = {{"fold_windows", full}, {"models", all.ToJson(d.classes)}};

@@ -57,6 +57,12 @@ void ExpectCrossValidationDisjointByTrack(const std::string& dir) {
   EXPECT_EQ(points[0]["train_fraction"].get<double>(), 0.5);  // in share order
   EXPECT_LT(points[0]["trained_windows_per_fold"].get<double>(), 0.7 * points[1]["trained_windows_per_fold"].get<double>());
   EXPECT_EQ(points[1]["models"]["forest"]["macro_f1"], cv["models"]["forest"]["macro_f1"]);
+  const auto& objects_half = points[0]["trained_objects_per_fold"], objects_all = points[1]["trained_objects_per_fold"];
+  ASSERT_EQ(objects_half.size(), objects_all.size());
+  for (size_t c = 0; c < objects_half.size(); ++c) {  // ⌈n / 2⌉ of each class's n tracks
+    EXPECT_GE(objects_half[c].get<double>(), objects_all[c].get<double>() / 2) << c;
+    EXPECT_LE(objects_half[c].get<double>(), objects_all[c].get<double>() / 2 + 1) << c;
+  }
   EXPECT_EQ(Report(dir + "/lc/share-1")["models"]["forest"]["folds"], cv["models"]["forest"]["folds"]);
   const auto half = Report(dir + "/lc/share-0.5");
   EXPECT_EQ(half["train_fraction"].get<double>(), 0.5);

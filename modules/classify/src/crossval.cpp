@@ -133,6 +133,10 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
       train_rows = SubsampleObjects(d.windows.object_ids, d.windows.y, train_rows, o.train_fraction,
                                     o.seed + r + kSubsampleSeedSalt);
     result.trained_windows[slot] = static_cast<long>(train_rows.size());
+    std::set<std::string> trained;
+    result.trained_objects[slot].assign(kc, 0);
+    for (size_t i : train_rows)
+      if (trained.insert(d.windows.object_ids[i]).second) ++result.trained_objects[slot][d.windows.y[i]];
     const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
     // Scores a model's test probabilities three ways and keeps them.
     auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
@@ -265,6 +269,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   result.per_fold_objects.resize(slots);
   result.per_fold_history.resize(slots);
   result.trained_windows.assign(slots, 0);
+  result.trained_objects.resize(slots);
   if (o.pseudo_labels.on()) result.pseudo_labelled.resize(slots), result.pseudo_labelled_by_round.resize(slots);
   for (const auto& name : result.models)
     result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);

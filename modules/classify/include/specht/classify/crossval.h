@@ -137,6 +137,7 @@ struct CrossValidationResult {
   // Per fold: the labelled windows its models trained on (the networks' validation
   // windows included); fewer than the other folds' windows with a train_fraction < 1.
   std::vector<long> trained_windows;
+  std::vector<std::vector<long>> trained_objects;  // per fold and class: the objects trained on
   // Per fold: the unlabelled windows pseudo-labelled with each class (empty when
   // off), by the forest (round 1) and, with more rounds, per network and round.
   std::vector<std::vector<long>> pseudo_labelled;
