@@ -50,8 +50,8 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const
                                int seed);
 
 // The rows of `rows` whose objects are among the first ⌈fraction · n_c⌉ (at least
-// one) of each class's n_c objects there, in a seeded hash order of their ids; the
-// rest in their order. Stratified, so a small class keeps its share, and nested: for
+// one) of each class's n_c objects there, in a seeded hash order of their ids,
+// returned in their order in `rows`. Stratified, so a small class keeps its share, and nested: for
 // one seed and `rows`, a smaller fraction keeps a subset of a larger one's objects
 // (a learning curve adds objects rather than drawing new ones). InputError unless
 // fraction is in (0, 1].
