@@ -196,11 +196,10 @@ namespace {
 // One cross-validation run at one share of the training objects, written to `out`.
 // Returns its report; a failed --compare-to goes to `comparison_error` (the run's
 // results are written all the same).
-nlohmann::json RunAtShare(const CrossValidationArgs& a, double train_fraction, const std::string& out,
-                          const classify::PreparedDataset& d, const classify::PreparedDataset& unlabelled,
-                          const params::Params& params, const classify::ModelOptions& base,
+nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidationOptions cv, double train_fraction,
+                          const std::string& out, const classify::PreparedDataset& d,
+                          const classify::PreparedDataset& unlabelled, const params::Params& params,
                           const CrossValidationNames& names, std::string& comparison_error) {
-  classify::CrossValidationOptions cv = OptionsOf(a, base);
   cv.train_fraction = train_fraction;
   // What decides the folds: the same in an earlier run means the same folds.
   const nlohmann::json deal = {{"windows", d.windows.size()}, {"folds", a.folds}, {"repeats", a.repeats},
@@ -306,19 +305,20 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   for (double f : fractions)
     if (!(f > 0 && f <= 1)) throw InputError("--train-fraction: " + ShareName(f) + " is not in (0, 1]");
   if (fractions.empty()) throw InputError("--train-fraction: no share given");
+  const classify::CrossValidationOptions cv = OptionsOf(a, base);  // bad options fail before the data is read
   classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
   const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);  // never scored
   const std::string& out = a.common.out_dir;
   std::string comparison_error;
   if (fractions.size() == 1) {
-    RunAtShare(a, fractions[0], out, d, unlabelled, params, base, names, comparison_error);
+    RunAtShare(a, cv, fractions[0], out, d, unlabelled, params, names, comparison_error);
   } else {
     PrepareOutputDir(a.common, params);
     std::vector<std::pair<double, nlohmann::json>> runs;
     for (double f : fractions) {
       if (!a.common.quiet) std::fprintf(stderr, "%s: learning curve, share %s\n", names.command.c_str(), ShareName(f).c_str());
       std::string error;
-      runs.emplace_back(f, RunAtShare(a, f, out + "/share-" + ShareName(f), d, unlabelled, params, base, names, error));
+      runs.emplace_back(f, RunAtShare(a, cv, f, out + "/share-" + ShareName(f), d, unlabelled, params, names, error));
       if (comparison_error.empty()) comparison_error = error;
     }
     io::RunReport report(names.command);
