@@ -500,6 +500,40 @@ TEST(PreprocessTest, CategoryIsCarriedToEveryWindowAndScaled) {
   }
 }
 
+// "heading" is the course as ½ + ½ sin and ½ + ½ cos (two rows). Steps at 350°,
+// 350°, 10° (course from +x, counter-clockwise) cross the 0/360 seam: "course"
+// jumps from 0.97 to 0.03 there, heading moves by 0.17 (the reason a network gets
+// heading).
+TEST(PreprocessTest, HeadingIsTheCourseOnTheCircle) {
+  PreprocessOptions o;
+  o.length = 4;
+  o.features = {"course", "heading"};
+  o.stationary_threshold = 0;
+  ASSERT_EQ(FeatureRows(o), 3);
+  const double course_deg[] = {350, 350, 10};
+  Trajectory t;
+  t.object_id = "seam";
+  t.points.push_back({0, 0, 0});
+  for (int i = 0; i < 3; ++i) {
+    const double a = course_deg[i] * M_PI / 180;
+    const auto& last = t.points.back();
+    t.points.push_back({i + 1.0, last.x + std::cos(a), last.y + std::sin(a)});
+  }
+  const std::vector<Window> windows = MakeWindows({t}, o);
+  ASSERT_EQ(windows.size(), 1u);
+  const std::vector<float> f = Features(windows[0], o, {});
+  ASSERT_EQ(f.size(), 3u * o.length);
+  for (int i = 1; i < 4; ++i) {
+    const double a = course_deg[i - 1] * M_PI / 180;
+    EXPECT_NEAR(f[i], a / (2 * M_PI), 1e-5) << i;
+    EXPECT_NEAR(f[o.length + i], 0.5 + 0.5 * std::sin(a), 1e-5) << i;
+    EXPECT_NEAR(f[2 * o.length + i], 0.5 + 0.5 * std::cos(a), 1e-5) << i;
+  }
+  EXPECT_GT(f[2] - f[3], 0.9);                        // course jumps across the seam
+  EXPECT_LT(std::abs(f[6] - f[7]), 0.2);              // sin moves a little
+  EXPECT_NEAR(f[10], f[11], 1e-5);                    // cos(350°) = cos(10°)
+}
+
 // A prepared dataset reads back as written; a truncated or corrupted file, a
 // handcrafted.npy of another width (an older version's 19 features) or row count,
 // and a windows.csv with a row missing are refused with the file named.

@@ -25,14 +25,14 @@ void CheckPoints(const Trajectory& t) {
 
 const std::vector<std::string>& FeatureNames() {
   static const std::vector<std::string> names = {"x",     "y",         "dt",          "speed",   "course",
-                                                 "accel", "turn_rate", "dist_static", "dist_poi",
+                                                 "heading", "accel", "turn_rate", "dist_static", "dist_poi",
                                                  "region_x", "region_y", "category"};
   return names;
 }
 
 int FeatureRows(const PreprocessOptions& o) {
   int rows = 0;
-  for (const auto& f : o.features) rows += f == "category" ? 1 + 2 * o.category_frequencies : 1;
+  for (const auto& f : o.features) rows += f == "category" ? 1 + 2 * o.category_frequencies : f == "heading" ? 2 : 1;
   return rows;
 }
 
@@ -223,6 +223,10 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
     else if (name == "dt") fill([&](int i) { return log ? log_scale(dt[i], o.max_gap_s) : scale(dt[i], 0, o.max_gap_s); });
     else if (name == "speed") fill([&](int i) { return scale(speed[i], 0, o.max_speed); });
     else if (name == "course") fill([&](int i) { return scale(course[i], 0, 2 * M_PI); });
+    else if (name == "heading") {
+      fill([&](int i) { return 0.5 + 0.5 * std::sin(course[i]); });
+      fill([&](int i) { return 0.5 + 0.5 * std::cos(course[i]); });
+    }
     else if (name == "accel") fill([&](int i) { return scale(accel[i], -o.max_accel, o.max_accel); });
     else if (name == "turn_rate") fill([&](int i) { return scale(turn[i], -o.max_turn_rate, o.max_turn_rate); });
     else if (name == "dist_static") fill_map(map.distance_to_static, o.static_cap);

@@ -16,7 +16,8 @@
 //      "global" (bounds fitted on the training set and stored with the model) or
 //      "fixed" (±position_extent around the first point, keeping the size); the
 //      other features with fixed bounds: Δt by max_gap_s, speed by max_speed, course
-//      by 2π, acceleration and turn rate symmetric around 0.5 by their caps, map
+//      by 2π (feature "course"; "heading" takes two rows, ½ + ½ sin and ½ + ½ cos of
+//      the course, which do not jump from 1 to 0 at north), acceleration and turn rate symmetric around 0.5 by their caps, map
 //      distances by their query caps. The object's category c (the same at every
 //      point) takes 1 + 2K rows: u = c / category_cap, then for k = 0 … K−1
 //      (K = category_frequencies) ½ + ½ sin(2π 2^k u) and ½ + ½ cos(2π 2^k u), so
@@ -90,7 +91,7 @@ struct PreprocessOptions {
     v.Param("position_extent", position_extent, "half-width of the fixed normalisation (position units)",
             Range::Of(1e-9, 1e9).Log());
     v.Param("features", features,
-            "per-point features, from: x y dt speed course accel turn_rate dist_static dist_poi region_x region_y "
+            "per-point features, from: x y dt speed course heading accel turn_rate dist_static dist_poi region_x region_y "
             "category");
     v.Param("log_scaled", log_scaled, "features scaled by log(1 + v) / log(1 + cap): any of dt dist_static dist_poi");
     v.Param("max_speed", max_speed, "speed normalisation bound (position units per s)", Range::Of(1e-9, 1e9).Log());
@@ -110,8 +111,8 @@ struct PreprocessOptions {
 
 // The features a window can carry, in their canonical names.
 const std::vector<std::string>& FeatureNames();
-// Rows of a window's feature matrix: one per feature, 1 + 2·category_frequencies
-// for "category".
+// Rows of a window's feature matrix: one per feature, 2 for "heading",
+// 1 + 2·category_frequencies for "category".
 int FeatureRows(const PreprocessOptions& o);
 
 // Map features at a position: distance to the nearest occupied static cell (the
