@@ -232,6 +232,26 @@ TEST(ModelTest, LearnsAToyProblemAndReloadsIdentically) {
   EXPECT_EQ(back.Predict(test), c.Predict(test));  // bit-identical
 }
 
+// With input_bins the rows are encoded piecewise-linearly over quantile bins fitted
+// on the training data: the first convolution sees rows × bins channels, the bins
+// travel with the weights (a reloaded model predicts bit-identically) and the model
+// still learns the toy problem.
+TEST(ModelTest, InputBinsAreFittedAndTravelWithTheModel) {
+  const Dataset train = ToyDataset(100, 1), test = ToyDataset(50, 2);
+  auto o = Small();
+  o.input_bins = 4;
+  Classifier plain(Small(), 4, 32, {"straight", "weaving"}), binned(o, 4, 32, {"straight", "weaving"});
+  // Only the first block's two input convolutions widen: kernel 8 + the 1×1 shortcut.
+  EXPECT_EQ(binned.parameter_count() - plain.parameter_count(), 32 * (4 * 4 - 4) * (8 + 1));
+  binned.Train(train, test);
+  EXPECT_GT(Score(test.y, binned.PredictClasses(test), 2).macro_f1, 0.95);
+  const std::string dir = testing::TempDir("model_bins");
+  binned.Save(dir + "/m");
+  const Classifier back = Classifier::Load(dir + "/m");
+  EXPECT_EQ(back.options().input_bins, 4);
+  EXPECT_EQ(back.Predict(test), binned.Predict(test));  // bins left at their initial 0, 1 would differ
+}
+
 TEST(ModelTest, SameSeedSameModel) {
   const Dataset train = ToyDataset(40, 3);
   auto o = Small();

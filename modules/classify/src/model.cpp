@@ -76,7 +76,14 @@ struct Classifier::Net : nn::Module {
   std::vector<Path> paths;
   nn::Linear head{nullptr}, h1{nullptr}, h2{nullptr};
   int widest = 0;  // channels of the widest activation
-  Net(const ModelOptions& o, int features, int length, int classes) {
+  int rows = 0, bins = 0;
+  torch::Tensor bin_lower, bin_width;  // rows × bins: the piecewise-linear encoding's bins
+  Net(const ModelOptions& o, int input_rows, int length, int classes) : rows(input_rows), bins(o.input_bins) {
+    if (bins > 0) {
+      bin_lower = register_buffer("bin_lower", torch::zeros({rows, bins}));
+      bin_width = register_buffer("bin_width", torch::ones({rows, bins}));
+    }
+    const int features = bins > 0 ? rows * bins : rows;
     const bool split = o.variant == "split";
     const std::vector<int> filters = Filters(o.variant);
     int pooled = 0;
@@ -101,7 +108,34 @@ struct Classifier::Net : nn::Module {
     }
     head = register_module("head", nn::Linear(pooled, classes));
   }
+  // Piecewise-linear encoding: row value v → for each bin [l, l + w):
+  // clamp((v − l) / w, 0, 1), i.e. 0 below the bin, 1 above, linear inside.
+  torch::Tensor Encode(const torch::Tensor& x) const {
+    if (bins == 0) return x;
+    const auto e = ((x.unsqueeze(2) - bin_lower.view({1, rows, bins, 1})) / bin_width.view({1, rows, bins, 1}))
+                       .clamp(0, 1);
+    return e.reshape({x.size(0), rows * bins, x.size(2)});
+  }
+  // Bins at the quantiles 0, 1/B, … of each row's values in `x` (windows × rows × length).
+  void FitBins(const std::vector<float>& x, size_t windows, int length) {
+    if (bins == 0) return;
+    torch::NoGradGuard no_grad;
+    const size_t step = std::max<size_t>(1, windows / 4000);
+    for (int r = 0; r < rows; ++r) {
+      std::vector<float> v;
+      for (size_t n = 0; n < windows; n += step)
+        v.insert(v.end(), x.begin() + (n * rows + r) * length, x.begin() + (n * rows + r + 1) * length);
+      std::sort(v.begin(), v.end());
+      for (int b = 0; b < bins; ++b) {
+        const float lo = v[static_cast<size_t>(b * (v.size() - 1.0) / bins)];
+        const float hi = v[static_cast<size_t>((b + 1) * (v.size() - 1.0) / bins)];
+        bin_lower[r][b] = lo;
+        bin_width[r][b] = std::max(hi - lo, 1e-6f);
+      }
+    }
+  }
   torch::Tensor forward(torch::Tensor x) {
+    x = Encode(x);
     if (paths.empty()) {
       x = torch::relu(h1(x.flatten(1)));
       return head(torch::relu(h2(x)));
@@ -315,10 +349,11 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
                               {"classes", classes_},         {"train", train.size()},
                               {"validation", validation.size()}, {"batch_size", options_.batch_size},
                               {"seed", options_.seed},       {"input_noise", options_.input_noise},
-                              {"class_weights", options_.class_weights}};
+                              {"class_weights", options_.class_weights}, {"input_bins", options_.input_bins}};
   TrainingState state;
   state.learning_rate = options_.learning_rate;
   if (checkpoint.empty() || !ReadCheckpoint(checkpoint, run, state, *net_, optimiser)) {
+    net_->FitBins(train.x, train.size(), length_);
     std::stringstream initial;
     torch::save(net_, initial);
     state.best_weights = initial.str();
@@ -421,6 +456,7 @@ void Classifier::Save(const std::string& path, const nlohmann::json& extra) cons
   nlohmann::json meta = {{"format", "specht-classifier-1"},
                          {"variant", options_.variant},
                          {"batch_norm", options_.batch_norm},
+                         {"input_bins", options_.input_bins},
                          {"features", features_},
                          {"length", length_},
                          {"classes", classes_},
@@ -443,6 +479,7 @@ Classifier Classifier::Load(const std::string& path, nlohmann::json* extra) {
   try {
     o.variant = meta.at("variant").get<std::string>();
     o.batch_norm = meta.at("batch_norm").get<bool>();
+    o.input_bins = meta.value("input_bins", 0);
     if (Filters(o.variant).empty() && o.variant != "mlp") throw InputError(path + ".json: unknown variant " + o.variant);
     Classifier c(o, meta.at("features").get<int>(), meta.at("length").get<int>(),
                  meta.at("classes").get<std::vector<std::string>>());

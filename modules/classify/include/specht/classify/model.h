@@ -18,6 +18,15 @@
 //   mlp      the paper's baseline: two hidden layers of 64 on the flattened window
 // then global average pooling over time and a linear layer to the classes.
 //
+// Optional input encoding (input_bins = B > 0; Gorishniy et al. 2022, "On
+// embeddings for numerical features"): each input row r is replaced by B rows, one
+// per bin [l_rb, l_rb + w_rb) between the row's quantiles b/B and (b+1)/B over the
+// training windows (fitted once, at the start of training, and saved with the
+// weights):
+//   e_rb(v) = clamp((v − l_rb) / w_rb, 0, 1)
+// so a convolution can respond to a range of a value (a flag's codes, a region's
+// band) as a tree's split does, instead of only to its linear trend.
+//
 // Training: Adam; the learning rate halves after plateau_patience epochs without a
 // lower validation loss; training stops after early_stop_patience such epochs and
 // the best epoch's weights are kept. Optional Gaussian input noise and inverse-
@@ -56,6 +65,7 @@ struct ModelOptions {
   int seed = 1;
   int threads = 2;
   double validation_fraction = 0.2;
+  int input_bins = 0;
 
   template <class V>
   void Visit(V& v) {
@@ -76,6 +86,10 @@ struct ModelOptions {
     v.Param("threads", threads, "CPU threads for libtorch", Range::Of(1, 256).Fixed());
     v.Param("validation_fraction", validation_fraction, "objects held out for validation (by object id)",
             Range::Of(0.0, 0.9));
+    v.Param("input_bins", input_bins,
+            "piecewise-linear encoding of each input row over this many quantile bins of the training data "
+            "(Gorishniy et al. 2022); 0 = the rows as they are",
+            Range::Of(0, 64));
   }
 };
 
