@@ -16,9 +16,10 @@
 //      "global" (bounds fitted on the training set and stored with the model) or
 //      "fixed" (±position_extent around the first point, keeping the size); the
 //      other features with fixed bounds: Δt by max_gap_s, speed by max_speed, course
-//      by 2π (feature "course"; "heading" takes two rows, ½ + ½ sin and ½ + ½ cos of
-//      the course, which do not jump from 1 to 0 at north), acceleration and turn rate symmetric around 0.5 by their caps, map
-//      distances by their query caps. The object's category c (the same at every
+//      by 2π (feature "course", measured from +x; "heading" takes two rows, ½ + ½ sin
+//      and ½ + ½ cos of the course, which do not jump from 1 to 0 where the course
+//      crosses +x), acceleration and turn rate symmetric around 0.5 by their caps,
+//      map distances by their query caps. The object's category c (the same at every
 //      point) takes 1 + 2K rows: u = c / category_cap, then for k = 0 … K−1
 //      (K = category_frequencies) ½ + ½ sin(2π 2^k u) and ½ + ½ cos(2π 2^k u), so
 //      that a network can tell apart codes a few units apart (a convolution on u
