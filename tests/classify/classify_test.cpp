@@ -303,13 +303,28 @@ TEST(ModelTest, RefusesMismatchedModelsAndInputs) {
   Dataset five = wrong;
   five.features = 5;
   EXPECT_THROW(c.Predict(five), InputError);
-  // The weights of a tiny model under a json that says shallow.
-  std::string meta = testing::ReadFile(dir + "/m.json");
-  meta.replace(meta.find("\"tiny\""), 6, "\"shallow\"");
-  testing::WriteFile(dir + "/m.json", meta);
-  EXPECT_THROW(Classifier::Load(dir + "/m"), InputError);
-  testing::WriteFile(dir + "/m.json", "{not json");
-  EXPECT_THROW(Classifier::Load(dir + "/m"), InputError);
+  const std::string good = testing::ReadFile(dir + "/m.json");
+  auto refused = [&](const std::string& from, const std::string& to, const std::string& says) {
+    std::string meta = good;
+    meta.replace(meta.find(from), from.size(), to);
+    testing::WriteFile(dir + "/m.json", meta);
+    try {
+      Classifier::Load(dir + "/m");
+      ADD_FAILURE() << to << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), ::testing::HasSubstr("m.json")) << e.what();
+      EXPECT_THAT(e.what(), ::testing::HasSubstr(says)) << e.what();
+    }
+  };
+  // The weights of a tiny model under a json that says shallow; options outside
+  // their declaration are named by key, not reported as weights that do not fit.
+  refused("\"tiny\"", "\"shallow\"", "weights do not fit");
+  refused("\"tiny\"", "\"huge\"", "variant");
+  refused("\"input_bins\": 0", "\"input_bins\": 65", "input_bins");
+  refused("\"input_bins\": 0", "\"input_bins\": \"eight\"", "input_bins");
+  refused("\"batch_norm\": true", "\"batch_norm\": 3", "batch_norm");
+  refused("\"variant\"", "\"kind\"", "variant");
+  refused("{", "{not json", "not JSON");
   EXPECT_THROW(Classifier::Load(dir + "/missing"), InputError);
   EXPECT_THROW(Classifier(Small(), 4, 32, {"only"}), InputError);
 }

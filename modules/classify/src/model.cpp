@@ -475,12 +475,12 @@ Classifier Classifier::Load(const std::string& path, nlohmann::json* extra) {
     throw InputError(path + ".json: not JSON: " + e.what());
   }
   if (meta.value("format", "") != "specht-classifier-1") throw InputError(path + ".json: not a specht classifier");
-  ModelOptions o;
   try {
-    o.variant = meta.at("variant").get<std::string>();
-    o.batch_norm = meta.at("batch_norm").get<bool>();
-    o.input_bins = meta.value("input_bins", 0);
-    if (Filters(o.variant).empty() && o.variant != "mlp") throw InputError(path + ".json: unknown variant " + o.variant);
+    // The architecture's options go through their declaration (JSON is YAML), so a
+    // wrong type, an unknown variant or a value out of range is named by its key.
+    nlohmann::json architecture = {{"variant", meta.at("variant")}, {"batch_norm", meta.at("batch_norm")}};
+    if (meta.contains("input_bins")) architecture["input_bins"] = meta["input_bins"];  // absent before the option
+    const auto o = params::FromYaml<ModelOptions>(architecture.dump(), path + ".json");
     Classifier c(o, meta.at("features").get<int>(), meta.at("length").get<int>(),
                  meta.at("classes").get<std::vector<std::string>>());
     std::ifstream w(path + ".pt", std::ios::binary);
