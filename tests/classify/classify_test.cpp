@@ -243,6 +243,13 @@ TEST(ModelTest, InputBinsAreFittedAndTravelWithTheModel) {
   Classifier plain(Small(), 4, 32, {"straight", "weaving"}), binned(o, 4, 32, {"straight", "weaving"});
   // Only the first block's two input convolutions widen: kernel 8 + the 1×1 shortcut.
   EXPECT_EQ(binned.parameter_count() - plain.parameter_count(), 32 * (4 * 4 - 4) * (8 + 1));
+  // "split" keeps one path per input row, over the row's 4 bins.
+  o.variant = "split";
+  auto split = Small();
+  split.variant = "split";
+  EXPECT_EQ(Classifier(o, 4, 32, {"s", "w"}).parameter_count() - Classifier(split, 4, 32, {"s", "w"}).parameter_count(),
+            4 * 32 * (4 - 1) * (8 + 1));
+  o.variant = "tiny";
   binned.Train(train, test);
   EXPECT_GT(Score(test.y, binned.PredictClasses(test), 2).macro_f1, 0.95);
   const std::string dir = testing::TempDir("model_bins");

@@ -66,8 +66,8 @@ std::vector<int> Filters(const std::string& variant) {
 }  // namespace
 
 // The convolutional variants are one or more paths of residual blocks, each over a
-// slice of the input channels (all of them, or one feature each for "split"),
-// concatenated and pooled over time.
+// slice of the input channels (all of them, or one input row each for "split": the
+// row's bins when encoded), concatenated and pooled over time.
 struct Classifier::Net : nn::Module {
   struct Path {
     int first_channel = 0, channels = 0;
@@ -83,12 +83,13 @@ struct Classifier::Net : nn::Module {
       bin_lower = register_buffer("bin_lower", torch::zeros({rows, bins}));
       bin_width = register_buffer("bin_width", torch::ones({rows, bins}));
     }
-    const int features = bins > 0 ? rows * bins : rows;
+    const int per_row = std::max(bins, 1);  // channels of one input row after encoding
+    const int features = rows * per_row;
     const bool split = o.variant == "split";
     const std::vector<int> filters = Filters(o.variant);
     int pooled = 0;
-    for (int f = 0; f < (split ? features : 1) && !filters.empty(); ++f) {
-      Path path{split ? f : 0, split ? 1 : features, {}};
+    for (int f = 0; f < (split ? rows : 1) && !filters.empty(); ++f) {
+      Path path{split ? f * per_row : 0, split ? per_row : features, {}};
       int width = path.channels;
       for (int out : filters) {
         const std::string name = (split ? "path" + std::to_string(f) + "_" : "") + "block" +
