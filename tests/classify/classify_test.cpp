@@ -249,7 +249,6 @@ TEST(ModelTest, InputBinsAreFittedAndTravelWithTheModel) {
   split.variant = "split";
   EXPECT_EQ(Classifier(o, 4, 32, {"s", "w"}).parameter_count() - Classifier(split, 4, 32, {"s", "w"}).parameter_count(),
             4 * 32 * (4 - 1) * (8 + 1));
-  o.variant = "tiny";
   binned.Train(train, test);
   EXPECT_GT(Score(test.y, binned.PredictClasses(test), 2).macro_f1, 0.95);
   const std::string dir = testing::TempDir("model_bins");
