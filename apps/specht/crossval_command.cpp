@@ -112,28 +112,44 @@ nlohmann::json ReadEarlierReport(const std::string& dir, const nlohmann::json& e
     if (!j.contains(field) || j[field] != value)
       throw InputError(path + ": \"" + field + "\" is " + (j.contains(field) ? j[field].dump() : "missing") +
                        " there and " + value.dump() + " here: not the same folds");
-  if (!j.contains("fold_windows"))
-    throw InputError(path + ": no \"fold_windows\" (the fold sizes; reports before 2026-11-27 lack them): run it again");
+  // The fold sizes of the corrected t-test, per window and per object (older reports lack them).
+  for (const char* field : {"fold_windows", "fold_objects_trained"})
+    if (!j.contains(field))
+      throw InputError(path + ": no \"" + field + "\" (the fold sizes; older reports lack them): run it again");
   return j;
 }
 
 // The console summary: one table per scoring level, each pair of models fold by
 // fold, this run against an earlier one, then each repeat's mean.
+// A scoring level's label in the console: per window (the paper's), per object
+// (majority of its windows), per window from the object's windows so far.
+std::string LevelLabel(classify::ScoreLevel level, const CrossValidationNames& names) {
+  switch (level) {
+    case classify::ScoreLevel::kObject:
+      return names.objects;
+    case classify::ScoreLevel::kHistory:
+      return "so far";
+    case classify::ScoreLevel::kWindow:
+      break;
+  }
+  return "windows";
+}
+
+// Pairs of models (or of this run and an earlier one) compared at each scoring level.
+using PairedByLevel = std::vector<std::pair<classify::ScoreLevel, std::vector<classify::PairedComparison>>>;
+
 void PrintSummary(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
-                  const nlohmann::json& models, const std::vector<classify::PairedComparison>& paired,
-                  const std::vector<classify::PairedComparison>& earlier, const std::string& compare_to,
-                  const CrossValidationNames& names, const std::string& scheme, int repeats) {
+                  const nlohmann::json& models, const PairedByLevel& paired, const PairedByLevel& earlier,
+                  const std::string& compare_to, const CrossValidationNames& names, const std::string& scheme,
+                  int repeats) {
   std::printf("%s: %zu windows, %s\n", names.command.c_str(), d.windows.size(), scheme.c_str());
-  // Per window (the paper's), per object (majority of its windows), and per window
-  // from the object's windows so far (mean probabilities): label, report key.
-  const std::pair<std::string, const char*> levels[] = {
-      {"windows", nullptr}, {names.objects, "per_object"}, {"so far", "with_history"}};
-  for (const auto& [level, key] : levels) {
-    std::printf("  %-14s %17s %17s", level.c_str(), "macro F1", "weighted F1");
+  for (classify::ScoreLevel level : classify::kScoreLevels) {
+    const std::string key = classify::ReportKey(level);
+    std::printf("  %-14s %17s %17s", LevelLabel(level, names).c_str(), "macro F1", "weighted F1");
     for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
     std::printf("\n");
     for (const auto& name : result.models) {
-      const auto& m = key ? models[name][key] : models[name];
+      const auto& m = key.empty() ? models[name] : models[name][key];
       std::printf("  %-14s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
                   m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
                   m["weighted_f1"]["std"].get<double>());
@@ -144,8 +160,9 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
   // The same folds for every model: their fold-by-fold difference is free of the
   // folds' own spread, which dominates each model's ±; the corrected t-test allows
   // for the folds' overlapping training sets (classify::PairedComparison).
-  PrintPaired("paired", paired);
-  PrintPaired("against " + compare_to, earlier);
+  for (const auto& [level, comparisons] : paired) PrintPaired("paired, " + LevelLabel(level, names), comparisons);
+  for (const auto& [level, comparisons] : earlier)
+    PrintPaired("against " + compare_to + ", " + LevelLabel(level, names), comparisons);
   if (repeats > 1) {  // how far the deal of objects to folds alone moves the figures
     std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");
     for (const auto& name : result.models) {
@@ -230,18 +247,24 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
     if (cv.pseudo_labels.rounds > 1) j["pseudo_labels"]["per_fold_network_round"] = result.pseudo_labelled_by_round;
   }
   j["models"] = result.ToJson(d.classes);
-  const std::vector<classify::PairedComparison> paired = result.PairedComparisons();
-  j["paired"] = classify::PairedComparisonsJson(paired);
+  PairedByLevel paired, earlier;
+  for (classify::ScoreLevel level : classify::kScoreLevels) {
+    paired.emplace_back(level, result.PairedComparisons(level));
+    j[classify::PairedKey(level)] = classify::PairedComparisonsJson(paired.back().second);
+  }
   // A comparison that fails (the earlier folds held other windows) must not cost
   // this run's results: they are written first, the error raised after.
-  std::vector<classify::PairedComparison> earlier;
   if (!a.compare_to.empty()) {
+    j["compared_to"] = {{"run", a.compare_to}};
     try {
-      earlier = classify::CompareWithEarlier(result, earlier_report, a.compare_to + "/report.json");
-      j["compared_to"] = {{"run", a.compare_to}, {"paired", classify::PairedComparisonsJson(earlier)}};
+      for (classify::ScoreLevel level : classify::kScoreLevels) {
+        earlier.emplace_back(level,
+                             classify::CompareWithEarlier(result, earlier_report, a.compare_to + "/report.json", level));
+        j["compared_to"][classify::PairedKey(level)] = classify::PairedComparisonsJson(earlier.back().second);
+      }
     } catch (const InputError& e) {
       comparison_error = e.what();
-      j["compared_to"] = {{"run", a.compare_to}, {"error", comparison_error}};
+      j["compared_to"]["error"] = comparison_error;
     }
   }
   j["timing"] = {{"seconds", seconds()}};

@@ -887,6 +887,53 @@ TEST(CrossValidationTest, ComparedWithAnEarlierRunOnTheSameFolds) {
   refused(other, "none of this run's models");
 }
 
+// Per object the same folds are compared by the objects' macro F1, and the t-test's
+// ρ counts objects: 4, 4 and 2 tested against 8 trained on each, ρ = (1/2 + 1/2 +
+// 1/4) / 3 = 5/12 (the windows' ρ above is 19/36).
+TEST(CrossValidationTest, ObjectLevelComparisonCountsObjects) {
+  CrossValidationResult r = ThreeFoldResult();
+  const double a[] = {0.9, 0.5, 0.6}, b[] = {0.6, 0.6, 0.6};
+  const std::vector<long> support[] = {{2, 2}, {2, 2}, {1, 1}};
+  for (int f = 0; f < 3; ++f) {
+    r.per_fold_objects.emplace_back();
+    r.per_fold_objects.back()["a"].macro_f1 = a[f];
+    r.per_fold_objects.back()["a"].support = support[f];
+    r.per_fold_objects.back()["b"].macro_f1 = b[f];
+    r.trained_objects.push_back({4, 4});
+  }
+  const std::vector<std::pair<long, long>> objects = {{4, 8}, {4, 8}, {2, 8}};
+  EXPECT_EQ(r.FoldSizes(ScoreLevel::kObject), objects);
+  EXPECT_EQ(r.MacroF1PerFold("a", ScoreLevel::kObject), (std::vector<double>{0.9, 0.5, 0.6}));
+  const PairedComparison c = r.Compare("a", "b", ScoreLevel::kObject);
+  EXPECT_NEAR(c.mean_difference, 0.2 / 3, 1e-12);
+  EXPECT_EQ(c.ahead, 1);
+  EXPECT_EQ(c.behind, 1);
+  const double sigma = std::sqrt((1.0 / 3 + 5.0 / 12) * c.std_difference * c.std_difference);
+  EXPECT_NEAR(c.corrected_t, c.mean_difference / sigma, 1e-9);
+  // The window level is untouched by the object scores.
+  EXPECT_NEAR(r.Compare("a", "b").mean_difference, 1.0 / 15, 1e-12);
+  EXPECT_EQ(PairedKey(ScoreLevel::kObject), "paired_per_object");
+  EXPECT_EQ(PairedKey(ScoreLevel::kWindow), "paired");
+
+  // Against an earlier run that trained on fewer objects in fold 1: that fold's
+  // smaller training set counts (the larger ρ).
+  nlohmann::json earlier = {{"fold_windows", {{10, 15}, {10, 15}, {5, 20}}},
+                            {"fold_objects_trained", {{2, 2}, {4, 4}, {4, 4}}}};
+  for (double f1 : b) earlier["models"]["a"]["per_object"]["folds"].push_back({{"macro_f1", f1}});
+  const auto against = CompareWithEarlier(r, earlier, "old/report.json", ScoreLevel::kObject);
+  ASSERT_EQ(against.size(), 1u);
+  const PairedComparison expected =
+      CompareFolds("a", "a (earlier)", {0.9, 0.5, 0.6}, {0.6, 0.6, 0.6}, {{4, 4}, {4, 8}, {2, 8}});
+  EXPECT_NEAR(against[0].mean_difference, expected.mean_difference, 1e-12);
+  EXPECT_NEAR(against[0].p_value, expected.p_value, 1e-12);
+  EXPECT_GT(against[0].p_value, c.p_value);  // the wider interval
+  earlier.erase("fold_objects_trained");
+  EXPECT_THROW(CompareWithEarlier(r, earlier, "old/report.json", ScoreLevel::kObject), InputError);
+  // Without the objects trained on per fold there is no object-level ρ.
+  r.trained_objects.clear();
+  EXPECT_THROW(r.Compare("a", "b", ScoreLevel::kObject), InputError);
+}
+
 TEST(CrossValidationTest, HistoryIsTheMeanOfTheObjectsWindowsSoFar) {
   // Two objects interleaved, two classes: each row is the mean of its object's rows up to it.
   const std::vector<std::string> ids = {"a", "b", "a", "a", "b"};

@@ -74,6 +74,13 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   EXPECT_GE(test["p_value"].get<double>(), 0.0);
   EXPECT_LE(test["p_value"].get<double>(), 1.0);
   EXPECT_THAT(r.out, HasSubstr("tiny vs tiny+forest"));
+  // The same pairs per vessel (majority vote) and from each vessel's windows so far.
+  const double per_vessel = cv["models"]["tiny"]["per_object"]["macro_f1"]["mean"].get<double>() -
+                            cv["models"]["forest"]["per_object"]["macro_f1"]["mean"].get<double>();
+  EXPECT_NEAR(cv["paired_per_object"]["tiny vs forest"]["macro_f1_difference"]["mean"].get<double>(), per_vessel,
+              1e-9);
+  EXPECT_EQ(cv["paired_with_history"].size(), 3u);
+  EXPECT_THAT(r.out, HasSubstr("paired, vessels"));
   // One row per window and model (tiny, forest, tiny+forest), with the header.
   const std::string predictions = testing::ReadFile(dir + "/cv/predictions.csv");
   EXPECT_THAT(predictions, ::testing::StartsWith("index,object_id,repeat,fold,model,truth,predicted,p_"));
@@ -90,9 +97,11 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
                          "/cv2b' --compare-to '" + dir + "/cv2'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("forest vs forest (earlier)"));
-  const auto against = Report(dir + "/cv2b")["compared_to"]["paired"]["forest vs forest (earlier)"];
-  EXPECT_EQ(against["macro_f1_difference"]["mean"].get<double>(), 0.0);
-  EXPECT_EQ(against["corrected_t_test"]["p_value"].get<double>(), 1.0);
+  for (const char* level : {"paired", "paired_per_object", "paired_with_history"}) {
+    const auto against = Report(dir + "/cv2b")["compared_to"][level]["forest vs forest (earlier)"];
+    EXPECT_EQ(against["macro_f1_difference"]["mean"].get<double>(), 0.0) << level;
+    EXPECT_EQ(against["corrected_t_test"]["p_value"].get<double>(), 1.0) << level;
+  }
   // Other folds (one deal, not two) are refused before any training, naming the report.
   r = testing::RunSpecht("ais eval '" + dir + "/data' --folds 2 --networks '' -q -o '" + dir + "/cv2c' --compare-to '" +
                          dir + "/cv2'");

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <set>
 #include <tuple>
 
@@ -349,15 +350,58 @@ void CorrectedResampledTTest(PairedComparison& c, double rho) {
   c.interval_low = c.mean_difference - half, c.interval_high = c.mean_difference + half;
 }
 
+// Per fold: objects tested (the per-object scores' support) and trained on.
+std::vector<std::pair<long, long>> ObjectFoldSizes(const CrossValidationResult& r) {
+  if (r.models.empty() || r.per_fold_objects.empty() || r.trained_objects.size() != r.per_fold_objects.size())
+    throw InputError("cross-validation result: objects tested and trained on per fold not recorded");
+  std::vector<std::pair<long, long>> sizes;
+  for (size_t slot = 0; slot < r.per_fold_objects.size(); ++slot) {
+    const std::vector<long>& support = r.per_fold_objects[slot].at(r.models.front()).support;
+    sizes.emplace_back(std::accumulate(support.begin(), support.end(), 0L),
+                       std::accumulate(r.trained_objects[slot].begin(), r.trained_objects[slot].end(), 0L));
+  }
+  return sizes;
+}
+
 }  // namespace
 
-std::vector<double> CrossValidationResult::MacroF1PerFold(const std::string& model) const {
+std::string ReportKey(ScoreLevel level) {
+  switch (level) {
+    case ScoreLevel::kObject:
+      return "per_object";
+    case ScoreLevel::kHistory:
+      return "with_history";
+    case ScoreLevel::kWindow:
+      break;
+  }
+  return "";
+}
+
+std::string PairedKey(ScoreLevel level) {
+  const std::string key = ReportKey(level);
+  return key.empty() ? "paired" : "paired_" + key;
+}
+
+const std::vector<std::map<std::string, Scores>>& CrossValidationResult::PerFold(ScoreLevel level) const {
+  switch (level) {
+    case ScoreLevel::kObject:
+      return per_fold_objects;
+    case ScoreLevel::kHistory:
+      return per_fold_history;
+    case ScoreLevel::kWindow:
+      break;
+  }
+  return per_fold;
+}
+
+std::vector<double> CrossValidationResult::MacroF1PerFold(const std::string& model, ScoreLevel level) const {
   std::vector<double> f1;
-  for (const auto& per : per_fold) f1.push_back(per.at(model).macro_f1);
+  for (const auto& per : PerFold(level)) f1.push_back(per.at(model).macro_f1);
   return f1;
 }
 
-std::vector<std::pair<long, long>> CrossValidationResult::FoldSizes() const {
+std::vector<std::pair<long, long>> CrossValidationResult::FoldSizes(ScoreLevel level) const {
+  if (level == ScoreLevel::kObject) return ObjectFoldSizes(*this);
   const size_t repeats = folds > 0 ? per_fold.size() / static_cast<size_t>(folds) : 0;
   if (repeats == 0 || fold_of.size() % repeats != 0) return {};
   const size_t windows = fold_of.size() / repeats;
@@ -374,8 +418,8 @@ std::vector<std::pair<long, long>> CrossValidationResult::FoldSizes() const {
   return sizes;
 }
 
-PairedComparison CrossValidationResult::Compare(const std::string& a, const std::string& b) const {
-  return CompareFolds(a, b, MacroF1PerFold(a), MacroF1PerFold(b), FoldSizes());
+PairedComparison CrossValidationResult::Compare(const std::string& a, const std::string& b, ScoreLevel level) const {
+  return CompareFolds(a, b, MacroF1PerFold(a, level), MacroF1PerFold(b, level), FoldSizes(level));
 }
 
 PairedComparison CompareFolds(const std::string& a, const std::string& b, const std::vector<double>& macro_a,
@@ -399,36 +443,66 @@ PairedComparison CompareFolds(const std::string& a, const std::string& b, const 
   return c;
 }
 
-std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& result, const nlohmann::json& earlier,
-                                                 const std::string& where) {
-  std::vector<std::pair<long, long>> sizes;
+namespace {
+
+// The earlier run's fold sizes at `level` for CompareWithEarlier, after checking that
+// its folds tested the windows this run's did: this run's tested counts, and per
+// fold the smaller of the two runs' training sets (the larger ρ).
+std::vector<std::pair<long, long>> EarlierFoldSizes(const CrossValidationResult& result, const nlohmann::json& earlier,
+                                                    const std::string& where, ScoreLevel level) {
+  std::vector<std::pair<long, long>> windows;
   try {
-    sizes = earlier.at("fold_windows").get<std::vector<std::pair<long, long>>>();
+    windows = earlier.at("fold_windows").get<std::vector<std::pair<long, long>>>();
   } catch (const nlohmann::json::exception& e) {
     throw InputError(where + ": field \"fold_windows\" missing or not pairs of counts (" + e.what() + ")");
   }
   const std::vector<std::pair<long, long>> here = result.FoldSizes();
-  bool same_tests = sizes.size() == here.size();
-  for (size_t i = 0; same_tests && i < sizes.size(); ++i) {
-    same_tests = sizes[i].first == here[i].first;
-    sizes[i].second = std::min(sizes[i].second, here[i].second);  // the larger ρ
-  }
+  bool same_tests = windows.size() == here.size();
+  for (size_t i = 0; same_tests && i < windows.size(); ++i) same_tests = windows[i].first == here[i].first;
   if (!same_tests)
     throw InputError(where + ": its folds test other windows than this run's (\"fold_windows\" differs): "
                      "not the same dataset, folds, repeats and seed");
+  if (level != ScoreLevel::kObject) {
+    for (size_t i = 0; i < windows.size(); ++i) windows[i].second = std::min(windows[i].second, here[i].second);
+    return windows;
+  }
+  std::vector<std::pair<long, long>> objects = result.FoldSizes(ScoreLevel::kObject);
+  const auto trained = earlier.find("fold_objects_trained");
+  if (trained == earlier.end() || !trained->is_array() || trained->size() != objects.size())
+    throw InputError(where + ": field \"fold_objects_trained\" missing or not one entry per fold");
+  for (size_t i = 0; i < objects.size(); ++i) {
+    long before = 0;
+    try {
+      for (long n : (*trained)[i].get<std::vector<long>>()) before += n;
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(where + ": fold_objects_trained[" + std::to_string(i) + "]: " + e.what());
+    }
+    objects[i].second = std::min(objects[i].second, before);
+  }
+  return objects;
+}
+
+}  // namespace
+
+std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& result, const nlohmann::json& earlier,
+                                                 const std::string& where, ScoreLevel level) {
+  const std::vector<std::pair<long, long>> sizes = EarlierFoldSizes(result, earlier, where, level);
   const auto models = earlier.find("models");
+  const std::string key = ReportKey(level);
   std::vector<PairedComparison> out;
   for (const auto& name : result.models) {
     if (models == earlier.end() || !models->contains(name)) continue;
+    const std::string field = "models." + name + (key.empty() ? "" : "." + key) + ".folds";
     std::vector<double> before;
     try {
-      for (const auto& fold : models->at(name).at("folds")) before.push_back(fold.at("macro_f1").get<double>());
+      const nlohmann::json& m = key.empty() ? models->at(name) : models->at(name).at(key);
+      for (const auto& fold : m.at("folds")) before.push_back(fold.at("macro_f1").get<double>());
     } catch (const nlohmann::json::exception& e) {
-      throw InputError(where + ": models." + name + ".folds: " + e.what());
+      throw InputError(where + ": " + field + ": " + e.what());
     }
-    const std::vector<double> now = result.MacroF1PerFold(name);
+    const std::vector<double> now = result.MacroF1PerFold(name, level);
     if (before.size() != now.size())
-      throw InputError(where + ": models." + name + ".folds has " + std::to_string(before.size()) +
+      throw InputError(where + ": " + field + " has " + std::to_string(before.size()) +
                        " folds, this run " + std::to_string(now.size()));
     out.push_back(CompareFolds(name, name + " (earlier)", now, before, sizes));
   }
@@ -436,10 +510,10 @@ std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& re
   return out;
 }
 
-std::vector<PairedComparison> CrossValidationResult::PairedComparisons() const {
+std::vector<PairedComparison> CrossValidationResult::PairedComparisons(ScoreLevel level) const {
   std::vector<PairedComparison> all;
   for (size_t i = 0; i < models.size(); ++i)
-    for (size_t k = i + 1; k < models.size(); ++k) all.push_back(Compare(models[i], models[k]));
+    for (size_t k = i + 1; k < models.size(); ++k) all.push_back(Compare(models[i], models[k], level));
   return all;
 }
 
@@ -462,8 +536,8 @@ nlohmann::json CrossValidationResult::ToJson(const std::vector<std::string>& cla
   for (const auto& name : models) {
     j[name] = Summary(per_fold, name, classes, folds);
     j[name]["pooled"] = pooled.at(name).ToJson(classes);
-    j[name]["per_object"] = Summary(per_fold_objects, name, classes, folds);
-    j[name]["with_history"] = Summary(per_fold_history, name, classes, folds);
+    for (ScoreLevel level : {ScoreLevel::kObject, ScoreLevel::kHistory})
+      j[name][ReportKey(level)] = Summary(PerFold(level), name, classes, folds);
   }
   return j;
 }

@@ -124,6 +124,19 @@ struct PairedComparison {
   double corrected_t = 0, p_value = 1, interval_low = 0, interval_high = 0;  // see above
 };
 
+// The three ways a run scores its models (see the top of this file): per window
+// (the paper's), per object by majority vote, per window from its object's history.
+// Models are compared fold by fold at each. An object-level comparison's fold
+// sizes (the t-test's ρ) count objects: tested in the fold, trained on.
+enum class ScoreLevel { kWindow, kObject, kHistory };
+inline constexpr ScoreLevel kScoreLevels[] = {ScoreLevel::kWindow, ScoreLevel::kObject, ScoreLevel::kHistory};
+
+// The level's key in a report: under each model its figures ("" for per window:
+// the model's own fields), and its comparisons under "paired" + suffix
+// ("paired", "paired_per_object", "paired_with_history").
+std::string ReportKey(ScoreLevel level);
+std::string PairedKey(ScoreLevel level);
+
 // Per fold entries are indexed repeat · folds + fold; per window entries
 // repeat · windows + window.
 struct CrossValidationResult {
@@ -150,17 +163,21 @@ struct CrossValidationResult {
   // ("repeats"); the same per object under "per_object" and from each object's
   // history under "with_history".
   nlohmann::json ToJson(const std::vector<std::string>& classes) const;
+  // The per fold scores of a level.
+  const std::vector<std::map<std::string, Scores>>& PerFold(ScoreLevel level) const;
   // Per fold, in fold order: windows tested (from fold_of) and windows trained on
   // (trained_windows; the other folds' windows when it is empty); the corrected
-  // t-test's ratio ρ.
-  std::vector<std::pair<long, long>> FoldSizes() const;
-  // A model's per-window macro F1 in every fold, in fold order.
-  std::vector<double> MacroF1PerFold(const std::string& model) const;
-  // Model `a` against model `b` fold by fold (per window macro F1); see
+  // t-test's ratio ρ. At the object level: objects tested (the per-object scores'
+  // support) and objects trained on (trained_objects); InputError when those are
+  // not recorded.
+  std::vector<std::pair<long, long>> FoldSizes(ScoreLevel level = ScoreLevel::kWindow) const;
+  // A model's macro F1 at a level in every fold, in fold order.
+  std::vector<double> MacroF1PerFold(const std::string& model, ScoreLevel level = ScoreLevel::kWindow) const;
+  // Model `a` against model `b` fold by fold (macro F1 at the level); see
   // PairedComparison.
-  PairedComparison Compare(const std::string& a, const std::string& b) const;
+  PairedComparison Compare(const std::string& a, const std::string& b, ScoreLevel level = ScoreLevel::kWindow) const;
   // Every pair of models (a before b in report order).
-  std::vector<PairedComparison> PairedComparisons() const;
+  std::vector<PairedComparison> PairedComparisons(ScoreLevel level = ScoreLevel::kWindow) const;
 };
 
 // Per-fold macro F1 of two models on the same folds (fold i: macro_a[i],
@@ -172,14 +189,16 @@ PairedComparison CompareFolds(const std::string& a, const std::string& b, const 
 
 // This run's models against the same models of an earlier run on the same folds,
 // from the earlier run's report (its "fold_windows" and each model's per-fold
-// "macro_f1" under "models"): pairs "<model>" vs "<model> (earlier)", so a change
-// is judged on the folds both runs saw rather than against the folds' spread.
-// The runs may train on different shares of the folds' objects (train_fraction);
-// each fold's ρ is then the larger of the two runs' (the smaller training set: the
-// wider interval). Throws InputError naming `where` when the folds test other
-// windows or no model is in both.
+// "macro_f1" under "models", or under "models.<model>.<ReportKey(level)>"): pairs
+// "<model>" vs "<model> (earlier)", so a change is judged on the folds both runs
+// saw rather than against the folds' spread. The runs may train on different
+// shares of the folds' objects (train_fraction); each fold's ρ is then the larger
+// of the two runs' (the smaller training set: the wider interval; at the object
+// level from the earlier "fold_objects_trained", per fold and class). Throws
+// InputError naming `where` when the folds test other windows or no model is in
+// both.
 std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& result, const nlohmann::json& earlier,
-                                                 const std::string& where);
+                                                 const std::string& where, ScoreLevel level = ScoreLevel::kWindow);
 
 // The comparisons keyed "a vs b".
 nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& comparisons);
