@@ -119,8 +119,6 @@ nlohmann::json ReadEarlierReport(const std::string& dir, const nlohmann::json& e
   return j;
 }
 
-// The console summary: one table per scoring level, each pair of models fold by
-// fold, this run against an earlier one, then each repeat's mean.
 // A scoring level's label in the console: per window (the paper's), per object
 // (majority of its windows), per window from the object's windows so far.
 std::string LevelLabel(classify::ScoreLevel level, const CrossValidationNames& names) {
@@ -138,6 +136,8 @@ std::string LevelLabel(classify::ScoreLevel level, const CrossValidationNames& n
 // Pairs of models (or of this run and an earlier one) compared at each scoring level.
 using PairedByLevel = std::vector<std::pair<classify::ScoreLevel, std::vector<classify::PairedComparison>>>;
 
+// The console summary: one table per scoring level, each pair of models fold by
+// fold, this run against an earlier one, then each repeat's mean.
 void PrintSummary(const classify::CrossValidationResult& result, const classify::PreparedDataset& d,
                   const nlohmann::json& models, const PairedByLevel& paired, const PairedByLevel& earlier,
                   const std::string& compare_to, const CrossValidationNames& names, const std::string& scheme,
