@@ -927,6 +927,10 @@ TEST(CrossValidationTest, ObjectLevelComparisonCountsObjects) {
   EXPECT_NEAR(against[0].mean_difference, expected.mean_difference, 1e-12);
   EXPECT_NEAR(against[0].p_value, expected.p_value, 1e-12);
   EXPECT_GT(against[0].p_value, c.p_value);  // the wider interval
+  earlier["fold_objects_trained"][1] = "eight";  // corrupted: not counts per class
+  EXPECT_THROW(CompareWithEarlier(r, earlier, "old/report.json", ScoreLevel::kObject), InputError);
+  earlier["fold_objects_trained"].erase(1);  // truncated: two folds of three
+  EXPECT_THROW(CompareWithEarlier(r, earlier, "old/report.json", ScoreLevel::kObject), InputError);
   earlier.erase("fold_objects_trained");
   EXPECT_THROW(CompareWithEarlier(r, earlier, "old/report.json", ScoreLevel::kObject), InputError);
   // Without the objects trained on per fold there is no object-level ρ.
