@@ -69,8 +69,11 @@ struct CrossValidationNames {
 void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names);
 // Runs it with `base` for every network (variant replaced); writes report.json,
 // report.md, a pooled confusion PNG per model and predictions.csv; prints the summary.
-// With several train fractions, that per fraction, then learning_curve.json and
-// learning_curve.png (each model's macro F1 against the share of training objects).
+// With several train fractions, that per fraction, then a report with the curve
+// ("learning_curve": each model's figures and pairs per share, at every scoring
+// level) and a picture per level (learning_curve.png per window,
+// learning_curve_per_object.png, learning_curve_with_history.png: each model's
+// macro F1 against the share of training objects).
 int RunCrossValidation(const CrossValidationArgs& a, const params::Params& params, const classify::ModelOptions& base,
                        const CrossValidationNames& names);
 

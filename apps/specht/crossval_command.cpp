@@ -119,18 +119,29 @@ nlohmann::json ReadEarlierReport(const std::string& dir, const nlohmann::json& e
   return j;
 }
 
-// A scoring level's label in the console: per window (the paper's), per object
-// (majority of its windows), per window from the object's windows so far.
-std::string LevelLabel(classify::ScoreLevel level, const CrossValidationNames& names) {
+// A model's figures at a scoring level in a report: per window its own fields, else
+// those under ReportKey(level).
+const nlohmann::json& AtLevel(const nlohmann::json& model, classify::ScoreLevel level) {
+  const std::string key = classify::ReportKey(level);
+  return key.empty() ? model : model.at(key);
+}
+
+// A scoring level in words: per window (the paper's), per object (majority of its
+// windows), per window from the object's windows so far. `label` heads its console
+// tables, `axis` says on a figure what one macro F1 scores.
+struct LevelWords {
+  std::string label, axis;
+};
+LevelWords WordsOf(classify::ScoreLevel level, const CrossValidationNames& names) {
   switch (level) {
     case classify::ScoreLevel::kObject:
-      return names.objects;
+      return {names.objects, "macro F1 over " + names.objects + " (majority of their windows)"};
     case classify::ScoreLevel::kHistory:
-      return "so far";
+      return {"so far", "macro F1 per window, from the windows so far"};
     case classify::ScoreLevel::kWindow:
       break;
   }
-  return "windows";
+  return {"windows", "macro F1 per window"};
 }
 
 // Pairs of models (or of this run and an earlier one) compared at each scoring level.
@@ -144,12 +155,11 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
                   int repeats) {
   std::printf("%s: %zu windows, %s\n", names.command.c_str(), d.windows.size(), scheme.c_str());
   for (classify::ScoreLevel level : classify::kScoreLevels) {
-    const std::string key = classify::ReportKey(level);
-    std::printf("  %-14s %17s %17s", LevelLabel(level, names).c_str(), "macro F1", "weighted F1");
+    std::printf("  %-14s %17s %17s", WordsOf(level, names).label.c_str(), "macro F1", "weighted F1");
     for (const auto& c : d.classes) std::printf(" %14s", c.substr(0, 14).c_str());
     std::printf("\n");
     for (const auto& name : result.models) {
-      const auto& m = key.empty() ? models[name] : models[name][key];
+      const auto& m = AtLevel(models.at(name), level);
       std::printf("  %-14s %8.3f ± %.3f %8.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
                   m["macro_f1"]["std"].get<double>(), m["weighted_f1"]["mean"].get<double>(),
                   m["weighted_f1"]["std"].get<double>());
@@ -160,9 +170,9 @@ void PrintSummary(const classify::CrossValidationResult& result, const classify:
   // The same folds for every model: their fold-by-fold difference is free of the
   // folds' own spread, which dominates each model's ±; the corrected t-test allows
   // for the folds' overlapping training sets (classify::PairedComparison).
-  for (const auto& [level, comparisons] : paired) PrintPaired("paired, " + LevelLabel(level, names), comparisons);
+  for (const auto& [level, comparisons] : paired) PrintPaired("paired, " + WordsOf(level, names).label, comparisons);
   for (const auto& [level, comparisons] : earlier)
-    PrintPaired("against " + compare_to + ", " + LevelLabel(level, names), comparisons);
+    PrintPaired("against " + compare_to + ", " + WordsOf(level, names).label, comparisons);
   if (repeats > 1) {  // how far the deal of objects to folds alone moves the figures
     std::printf("  %-14s macro F1 (weighted) of each repeat's folds, per window\n", "repeats");
     for (const auto& name : result.models) {
@@ -296,7 +306,9 @@ std::string ShareName(double fraction) {
 }
 
 // The learning curve from each share's report: per share its mean training windows
-// a fold and per model the macro and weighted F1 (mean ± std over folds).
+// and objects a fold, per model and scoring level the macro and weighted F1 (mean ±
+// std over folds; per window the model's own fields, else under ReportKey(level)),
+// and the pairs of models at each level (under PairedKey(level)).
 nlohmann::json LearningCurve(const std::vector<std::pair<double, nlohmann::json>>& runs) {
   nlohmann::json curve = nlohmann::json::array();
   for (const auto& [fraction, j] : runs) {
@@ -310,12 +322,66 @@ nlohmann::json LearningCurve(const std::vector<std::pair<double, nlohmann::json>
       for (const auto& fold : j["fold_objects_trained"]) objects += fold[c].get<double>();
       point["trained_objects_per_fold"].push_back(objects / folds);
     }
-    for (const auto& [name, m] : j["models"].items())
-      point["models"][name] = {{"macro_f1", m["macro_f1"]}, {"weighted_f1", m["weighted_f1"]}};
-    point["paired"] = j["paired"];
+    for (classify::ScoreLevel level : classify::kScoreLevels) {
+      const std::string key = classify::ReportKey(level);
+      for (const auto& [name, m] : j["models"].items()) {
+        const nlohmann::json figures = {{"macro_f1", AtLevel(m, level)["macro_f1"]},
+                                        {"weighted_f1", AtLevel(m, level)["weighted_f1"]}};
+        if (key.empty())
+          point["models"][name].update(figures);
+        else
+          point["models"][name][key] = figures;
+      }
+      point[classify::PairedKey(level)] = j[classify::PairedKey(level)];
+    }
     curve.push_back(point);
   }
   return curve;
+}
+
+// One scoring level of the learning curve: its picture (learning_curve[_<level>].png)
+// and its console table, each model's macro F1 at each share, then whether a gap
+// closes as the training set grows: the models on their own (no combinations)
+// compared fold by fold, share by share.
+void WriteLearningCurveLevel(const nlohmann::json& curve, classify::ScoreLevel level, const std::string& title,
+                             const std::string& out, const CrossValidationNames& names, io::RunReport& report) {
+  const std::string key = classify::ReportKey(level);
+  const std::string png = "learning_curve" + (key.empty() ? std::string() : "_" + key) + ".png";
+  const LevelWords words = WordsOf(level, names);
+  std::map<std::string, std::vector<classify::CurvePoint>> curves;
+  for (const auto& point : curve)
+    for (const auto& [name, m] : point["models"].items())
+      curves[name].push_back({point["train_fraction"].get<double>(), AtLevel(m, level)["macro_f1"]["mean"].get<double>(),
+                              AtLevel(m, level)["macro_f1"]["std"].get<double>()});
+  classify::WriteLearningCurvePng(curves, title, words.axis + ", mean and std over folds", out + "/" + png);
+  report.AddOutput(png);
+  std::printf("learning curve, %s: macro F1 (mean ± std over folds) at each share of the training %s\n",
+              words.label.c_str(), names.objects.c_str());
+  for (const auto& point : curve) {
+    const auto& objects = point["trained_objects_per_fold"];
+    std::printf("  share %-5s %7.0f windows, %3.0f–%.0f %s a class a fold",
+                ShareName(point["train_fraction"].get<double>()).c_str(), point["trained_windows_per_fold"].get<double>(),
+                std::min_element(objects.begin(), objects.end())->get<double>(),
+                std::max_element(objects.begin(), objects.end())->get<double>(), names.objects.c_str());
+    for (const auto& [name, m] : point["models"].items())
+      std::printf("  %s %.3f ± %.3f", name.c_str(), AtLevel(m, level)["macro_f1"]["mean"].get<double>(),
+                  AtLevel(m, level)["macro_f1"]["std"].get<double>());
+    std::printf("\n");
+  }
+  const std::string paired = classify::PairedKey(level);
+  bool header = false;
+  for (const auto& [pair, unused] : curve.back()[paired].items()) {
+    if (pair.find('+') != std::string::npos) continue;
+    if (!header) std::printf("  macro F1 fold by fold, first minus second, at each share (corrected t-test's p)\n");
+    header = true;
+    std::printf("  %-16s", pair.c_str());
+    for (const auto& point : curve) {
+      const auto& c = point[paired][pair];
+      std::printf("  %+.3f (%d/%d ahead, p %.2f)", c["macro_f1_difference"]["mean"].get<double>(),
+                  c["folds_ahead"].get<int>(), c["folds"].get<int>(), c["corrected_t_test"]["p_value"].get<double>());
+    }
+    std::printf("\n");
+  }
 }
 
 }  // namespace
@@ -352,45 +418,9 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
     const std::string title = names.command + ": macro F1 against the share of each class's training " +
                               names.objects + " (" + std::to_string(a.folds) + "-fold CV" +
                               (a.repeats > 1 ? " x " + std::to_string(a.repeats) : std::string()) + ")";
-    std::map<std::string, std::vector<classify::CurvePoint>> curves;
-    for (const auto& point : j["learning_curve"])
-      for (const auto& [name, m] : point["models"].items())
-        curves[name].push_back({point["train_fraction"].get<double>(), m["macro_f1"]["mean"].get<double>(),
-                                m["macro_f1"]["std"].get<double>()});
-    classify::WriteLearningCurvePng(curves, title, "macro F1 per window, mean and std over folds",
-                                    out + "/learning_curve.png");
-    report.AddOutput("learning_curve.png");
+    for (classify::ScoreLevel level : classify::kScoreLevels)
+      WriteLearningCurveLevel(j["learning_curve"], level, title, out, names, report);
     report.Write(out);
-    std::printf("learning curve: macro F1 (mean ± std over folds) at each share of the training %s\n",
-                names.objects.c_str());
-    for (const auto& point : j["learning_curve"]) {
-      const auto& objects = point["trained_objects_per_fold"];
-      std::printf("  share %-5s %7.0f windows, %3.0f–%.0f %s a class a fold",
-                  ShareName(point["train_fraction"].get<double>()).c_str(),
-                  point["trained_windows_per_fold"].get<double>(),
-                  std::min_element(objects.begin(), objects.end())->get<double>(),
-                  std::max_element(objects.begin(), objects.end())->get<double>(), names.objects.c_str());
-      for (const auto& [name, m] : point["models"].items())
-        std::printf("  %s %.3f ± %.3f", name.c_str(), m["macro_f1"]["mean"].get<double>(),
-                    m["macro_f1"]["std"].get<double>());
-      std::printf("\n");
-    }
-    // Whether a gap closes as the training set grows: the fold-by-fold differences
-    // of the models on their own (no combinations), share by share.
-    const auto& pairs = j["learning_curve"].back()["paired"];
-    bool header = false;
-    for (const auto& [pair, unused] : pairs.items()) {
-      if (pair.find('+') != std::string::npos) continue;
-      if (!header) std::printf("  macro F1 fold by fold, first minus second, at each share (corrected t-test's p)\n");
-      header = true;
-      std::printf("  %-16s", pair.c_str());
-      for (const auto& point : j["learning_curve"]) {
-        const auto& c = point["paired"][pair];
-        std::printf("  %+.3f (%d/%d ahead, p %.2f)", c["macro_f1_difference"]["mean"].get<double>(),
-                    c["folds_ahead"].get<int>(), c["folds"].get<int>(), c["corrected_t_test"]["p_value"].get<double>());
-      }
-      std::printf("\n");
-    }
   }
   if (!comparison_error.empty())
     throw InputError(comparison_error + " (this run's results are written to " + out + ")");

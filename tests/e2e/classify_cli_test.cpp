@@ -57,6 +57,15 @@ void ExpectCrossValidationDisjointByTrack(const std::string& dir) {
   EXPECT_EQ(points[0]["train_fraction"].get<double>(), 0.5);  // in share order
   EXPECT_LT(points[0]["trained_windows_per_fold"].get<double>(), 0.7 * points[1]["trained_windows_per_fold"].get<double>());
   EXPECT_EQ(points[1]["models"]["forest"]["macro_f1"], cv["models"]["forest"]["macro_f1"]);
+  // Every scoring level: its figures, its pairs and its picture, each the share's own.
+  for (const char* level : {"per_object", "with_history"}) {
+    EXPECT_EQ(points[1]["models"]["forest"].at(level).at("macro_f1"), cv["models"]["forest"][level]["macro_f1"]) << level;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/lc/learning_curve_" + std::string(level) + ".png")) << level;
+  }
+  for (const char* paired : {"paired", "paired_per_object", "paired_with_history"})
+    EXPECT_EQ(points[0].at(paired), Report(dir + "/lc/share-0.5").at(paired)) << paired;
+  EXPECT_THAT(curve.out, HasSubstr("learning curve, tracks"));
+  EXPECT_THAT(curve.out, HasSubstr("learning curve, so far"));
   const auto& objects_half = points[0]["trained_objects_per_fold"], objects_all = points[1]["trained_objects_per_fold"];
   ASSERT_EQ(objects_half.size(), objects_all.size());
   for (size_t c = 0; c < objects_half.size(); ++c) {  // ⌈n / 2⌉ of each class's n tracks
