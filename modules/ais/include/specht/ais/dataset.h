@@ -75,7 +75,8 @@ struct AisPreprocessOptions : classify::PreprocessOptions {
 };
 
 // Section "ais_model": the classifier. Default variant "tiny", the one
-// cross-validated here (README); the paper's best, "shallow", is one --set away.
+// cross-validated here (README), with its inputs encoded over 4 quantile bins
+// (input_bins); the paper's best, "shallow", is one --set away.
 struct AisModelOptions : classify::ModelOptions {
   AisModelOptions();
 };
