@@ -18,6 +18,7 @@
 #include "run_setup.h"
 #include "specht/core/error.h"
 #include "specht/core/progress.h"
+#include "specht/core/text.h"
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
 #include "specht/io/atomic_file.h"
@@ -70,8 +71,9 @@ cv::Mat Annotate(const cv::Mat& image, const std::vector<detect::Detection>& det
     if (obstacles[i]) std::snprintf(text, sizeof(text), "%s %.2f %.1f m", d.cls.c_str(), d.score, obstacles[i]->distance_m);
     else std::snprintf(text, sizeof(text), "%s %.2f", d.cls.c_str(), d.score);
     const cv::Point corner(static_cast<int>(d.box.x), std::max(12, static_cast<int>(d.box.y) - 4));
-    cv::putText(out, text, corner, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
-    cv::putText(out, text, corner, cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1, cv::LINE_AA);
+    const std::string label = AsciiForImage(text);  // class names come from the model's label file
+    cv::putText(out, label, corner, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
+    cv::putText(out, label, corner, cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1, cv::LINE_AA);
   }
   return out;
 }

@@ -6,6 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "specht/core/text.h"
 #include "specht/io/map_io.h"
 
 namespace specht::classify {
@@ -18,7 +19,7 @@ constexpr int kPaletteSize = sizeof(kPalette) / sizeof(kPalette[0]);
 
 void PutLabel(cv::Mat& img, const std::string& text, cv::Point at, double scale = 0.45,
               cv::Scalar colour = cv::Scalar(0, 0, 0)) {
-  cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
+  cv::putText(img, AsciiForImage(text), at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
 }
 
 }  // namespace
@@ -79,7 +80,8 @@ namespace {
 // A column heading within `width` pixels, bottom line at `baseline`: split into two
 // lines at the last space or hyphen when too wide ("Pleasure Craft", "Cargo-Tanker"),
 // then shrunk until the wider line fits.
-void PutColumnHeading(cv::Mat& img, const std::string& text, int x, int baseline, int width) {
+void PutColumnHeading(cv::Mat& img, const std::string& utf8, int x, int baseline, int width) {
+  const std::string text = AsciiForImage(utf8);
   const int font = cv::FONT_HERSHEY_SIMPLEX;
   double scale = 0.45;
   auto wide = [&](const std::string& t) { return cv::getTextSize(t, font, scale, 1, nullptr).width; };
@@ -102,7 +104,7 @@ void WriteConfusionPng(const Scores& s, const std::vector<std::string>& classes,
                        const std::string& path) {
   const int k = static_cast<int>(classes.size()), cell = 90, left = 150, top = 70;
   cv::Mat img(top + k * cell + 60, left + k * cell + 20, CV_8UC3, cv::Scalar(255, 255, 255));
-  cv::putText(img, title, {10, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  PutLabel(img, title, {10, 25}, 0.6);
   for (int r = 0; r < k; ++r) {
     const double support = std::max<long>(1, s.support[r]);
     for (int c = 0; c < k; ++c) {
@@ -114,16 +116,15 @@ void WriteConfusionPng(const Scores& s, const std::vector<std::string>& classes,
       char text[48];
       std::snprintf(text, sizeof(text), "%.2f", f);
       const cv::Scalar ink = f > 0.6 ? cv::Scalar(255, 255, 255) : cv::Scalar(0, 0, 0);
-      cv::putText(img, text, {box.x + 18, box.y + 40}, cv::FONT_HERSHEY_SIMPLEX, 0.6, ink, 1, cv::LINE_AA);
+      PutLabel(img, text, {box.x + 18, box.y + 40}, 0.6, ink);
       std::snprintf(text, sizeof(text), "(%ld)", s.confusion[r][c]);
-      cv::putText(img, text, {box.x + 18, box.y + 62}, cv::FONT_HERSHEY_SIMPLEX, 0.42, ink, 1, cv::LINE_AA);
+      PutLabel(img, text, {box.x + 18, box.y + 62}, 0.42, ink);
     }
-    cv::putText(img, classes[r], {8, top + r * cell + cell / 2 + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.5,
-                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    PutLabel(img, classes[r], {8, top + r * cell + cell / 2 + 5}, 0.5);
   }
   for (int c = 0; c < k; ++c) PutColumnHeading(img, classes[c], left + c * cell + 4, top - 8, cell - 8);
-  cv::putText(img, "rows: truth, columns: predicted (fraction of the row, count)", {10, top + k * cell + 35},
-              cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+  PutLabel(img, "rows: truth, columns: predicted (fraction of the row, count)", {10, top + k * cell + 35}, 0.45,
+           cv::Scalar(60, 60, 60));
   io::WritePng(img, path);
 }
 
@@ -133,7 +134,7 @@ void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>
   const int k = static_cast<int>(classes.size()), n = static_cast<int>(steps.size());
   const int bar = 16, group = k * bar + 30, left = 70, top = 50, height = 300;
   cv::Mat img(top + height + 90, left + n * group + 180, CV_8UC3, cv::Scalar(255, 255, 255));
-  cv::putText(img, title, {10, 25}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  PutLabel(img, title, {10, 25}, 0.6);
   long max_count = 1;
   for (const auto& [step, per_class] : counts)
     for (const auto& [cls, c] : per_class) max_count = std::max(max_count, c);
@@ -142,8 +143,7 @@ void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>
   for (int d = 0; d <= decades; ++d) {
     const int y = y_of(std::pow(10.0, d) - 1);
     cv::line(img, {left - 5, y}, {left + n * group, y}, cv::Scalar(220, 220, 220), 1);
-    cv::putText(img, "1e" + std::to_string(d), {15, y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(60, 60, 60), 1,
-                cv::LINE_AA);
+    PutLabel(img, "1e" + std::to_string(d), {15, y + 5}, 0.4, cv::Scalar(60, 60, 60));
   }
   for (int s = 0; s < n; ++s) {
     const auto it = counts.find(steps[s]);
@@ -154,16 +154,14 @@ void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>
       cv::rectangle(img, cv::Point(x, y_of(static_cast<double>(v))), cv::Point(x + bar - 2, top + height), kPalette[c % kPaletteSize],
                     cv::FILLED);
     }
-    cv::putText(img, steps[s], {left + s * group, top + height + 20}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
-                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    PutLabel(img, steps[s], {left + s * group, top + height + 20});
   }
   for (int c = 0; c < k; ++c) {
     const int y = top + 10 + c * 22, x = left + n * group + 15;
     cv::rectangle(img, cv::Point(x, y), cv::Point(x + 14, y + 14), kPalette[c % kPaletteSize], cv::FILLED);
-    cv::putText(img, classes[c], {x + 20, y + 12}, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    PutLabel(img, classes[c], {x + 20, y + 12});
   }
-  cv::putText(img, "count per class after each step (log scale)", {left, top + height + 50}, cv::FONT_HERSHEY_SIMPLEX,
-              0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+  PutLabel(img, "count per class after each step (log scale)", {left, top + height + 50}, 0.45, cv::Scalar(60, 60, 60));
   io::WritePng(img, path);
 }
 

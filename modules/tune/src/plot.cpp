@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
+#include "specht/core/text.h"
 
 namespace specht::tune {
 
@@ -33,7 +34,7 @@ void WriteConvergencePng(const RunResult& r, bool maximise, const std::string& m
   }
   std::snprintf(buf, sizeof(buf), "evaluation (0 = defaults, %zu in all)", r.evaluations.size());
   cv::putText(img, buf, {left, h - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0));
-  cv::putText(img, metric + (maximise ? " (higher is better)" : " (lower is better)"), {left, 25},
+  cv::putText(img, AsciiForImage(metric) + (maximise ? " (higher is better)" : " (lower is better)"), {left, 25},
               cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0));
   if (!r.evaluations.empty() && r.evaluations[0].ok) {
     const int y = Y(r.evaluations[0].value);
