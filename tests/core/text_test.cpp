@@ -16,11 +16,11 @@ TEST(AsciiForImageTest, PassesAsciiAndMarksTheRest) {
   const std::string ascii = "plain ASCII: 0-9, [a/b] {x=1}";
   EXPECT_EQ(AsciiForImage(ascii), ascii);
   EXPECT_EQ(AsciiForImage(""), "");
-  EXPECT_EQ(AsciiForImage("日本"), "??");     // characters without a spelling: one '?' each
-  EXPECT_EQ(AsciiForImage("a\xC3"), "a?");   // truncated two-byte sequence
-  EXPECT_EQ(AsciiForImage("\xE2\x88"), "??");  // truncated three-byte sequence: '?' per byte
+  EXPECT_EQ(AsciiForImage("日本"), "??");        // characters without a spelling: one '?' each
+  EXPECT_EQ(AsciiForImage("a\xC3"), "a?");       // truncated two-byte sequence
+  EXPECT_EQ(AsciiForImage("\xE2\x88"), "??");    // truncated three-byte sequence: '?' per byte
   EXPECT_EQ(AsciiForImage("\x80x\xFF"), "?x?");  // stray continuation byte, invalid lead byte
-  EXPECT_EQ(AsciiForImage("\xC3(b"), "?(b");  // lead byte followed by a non-continuation byte
+  EXPECT_EQ(AsciiForImage("\xC3(b"), "?(b");     // lead byte followed by a non-continuation byte
 }
 
 }  // namespace
