@@ -182,8 +182,8 @@ void WriteMapPng(const COccupancyGridMap2D& grid, const std::vector<PathOverlay>
     }
     if (!overlay.label.empty()) {
       cv::line(img, {10, legend_y - 5}, {40, legend_y - 5}, color, 3);
-      cv::putText(img, AsciiForImage(overlay.label), {48, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1,
-                  cv::LINE_AA);
+      cv::putText(img, AsciiForImage(overlay.label), {48, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55,
+                  cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
       legend_y += 22;
     }
   }
