@@ -276,7 +276,8 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
     throw InputError(dataset + ": no unlabelled windows for --pseudo-labels (AIS: prepare with ais.unlabelled)");
   std::vector<size_t> train_rows, val_rows;
   classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
-  const classify::Dataset labelled = d.windows.Subset(train_rows);
+  classify::Dataset labelled = d.windows.Subset(train_rows);
+  if (o.distillation > 0) labelled.teacher = classify::OutOfFoldForest(d, train_rows, o.seed);
   const classify::Dataset val = d.windows.Subset(val_rows);
   PrepareOutputDir(common, params);
   const std::string& out = common.out_dir;

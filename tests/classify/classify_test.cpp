@@ -3,6 +3,7 @@
 // and reloads to identical predictions, trains reproducibly, refuses mismatched
 // models and inputs.
 #include <cmath>
+#include <numeric>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -216,6 +217,24 @@ TEST(DatasetTest, SubsetThenAppendRestoresTheWindowsAndRefusesOtherShapes) {
   EXPECT_EQ(back.size(), d.size());  // a refused append leaves the windows as they were
 }
 
+// A teacher's probabilities travel with their windows through Subset and Append,
+// and an Append of windows without them drops them all (a part cannot be taught).
+TEST(DatasetTest, TeacherProbabilitiesTravelWithTheirWindows) {
+  Dataset d = ToyDataset(3, 1);  // 6 windows
+  for (size_t i = 0; i < d.size(); ++i) d.teacher.insert(d.teacher.end(), {0.1f * i, 1 - 0.1f * i});
+  const Dataset odd = d.Subset({1, 3, 5});
+  EXPECT_EQ(odd.teacher, (std::vector<float>{0.1f, 0.9f, 0.3f, 0.7f, 0.5f, 0.5f}));
+  Dataset back;
+  back.features = 4, back.length = 32;
+  back.Append(d.Subset({0, 1, 2}));  // into an empty dataset: kept
+  back.Append(d.Subset({3, 4, 5}));
+  EXPECT_EQ(back.teacher, d.teacher);
+  Dataset untaught = ToyDataset(1, 2);
+  back.Append(untaught);
+  EXPECT_TRUE(back.teacher.empty());
+  EXPECT_TRUE(untaught.Subset({0, 1}).teacher.empty());
+}
+
 TEST(ModelTest, LearnsAToyProblemAndReloadsIdentically) {
   const Dataset train = ToyDataset(100, 1), test = ToyDataset(50, 2);
   Classifier c(Small(), 4, 32, {"straight", "weaving"});
@@ -256,6 +275,29 @@ TEST(ModelTest, InputBinsAreFittedAndTravelWithTheModel) {
   const Classifier back = Classifier::Load(dir + "/m");
   EXPECT_EQ(back.options().input_bins, 4);
   EXPECT_EQ(back.Predict(test), binned.Predict(test));  // bins left at their initial 0, 1 would differ
+}
+
+// With distillation α = 1 the loss is the teacher's alone: a teacher that swaps the
+// two classes is learnt instead of the labels. Without its probabilities for every
+// training window distillation is refused.
+TEST(ModelTest, DistillationLearnsTheTeachersAnswers) {
+  Dataset train = ToyDataset(100, 1);
+  const Dataset test = ToyDataset(50, 2);
+  for (int y : train.y) train.teacher.insert(train.teacher.end(), {y == 1 ? 1.0f : 0.0f, y == 0 ? 1.0f : 0.0f});
+  ModelOptions o = Small();
+  o.distillation = 1.0;
+  o.validation_fraction = 0;
+  Classifier c(o, 4, 32, {"straight", "weaving"});
+  c.Train(train, {});
+  std::vector<int> swapped;
+  for (int y : test.y) swapped.push_back(1 - y);
+  EXPECT_GT(Score(swapped, c.PredictClasses(test), 2).macro_f1, 0.95);
+
+  Dataset untaught = ToyDataset(100, 1);
+  Classifier refuses(o, 4, 32, {"straight", "weaving"});
+  EXPECT_THROW(refuses.Train(untaught, {}), InputError);
+  untaught.teacher.assign(2 * 99, 0.5f);  // one window short
+  EXPECT_THROW(refuses.Train(untaught, {}), InputError);
 }
 
 TEST(ModelTest, SameSeedSameModel) {
@@ -659,6 +701,44 @@ PreparedDataset TwoClassDataset() {
   return d;
 }
 
+// The distillation teacher is out of fold: where each object's features are its own
+// (a random value, unrelated to its class) a forest remembers its training objects
+// but cannot tell an unseen one, so out of fold it is near chance; where the features
+// carry the class it is right (features = class + N(0, 1): about 0.94, as the
+// trees see the rows in another order). Rows come back in the order asked, summing to 1.
+TEST(CrossValidationTest, OutOfFoldForestNeverSawTheRowsObject) {
+  const PreparedDataset separable = TwoClassDataset();
+  PreparedDataset memorised = separable;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> value(0, 1);
+  const auto width = static_cast<size_t>(HandcraftedFeatureCount());
+  for (size_t i = 0; i < memorised.windows.size(); i += 3) {
+    const float v = value(rng);  // the object's own value, in all of its 3 windows
+    std::fill_n(memorised.handcrafted.begin() + static_cast<long>(i * width), 3 * width, v);
+  }
+  std::vector<size_t> all(separable.windows.size());
+  std::iota(all.begin(), all.end(), 0);
+  auto accuracy = [](const std::vector<float>& p, const std::vector<int>& y) {
+    double right = 0;
+    for (size_t i = 0; i < y.size(); ++i) right += (p[2 * i + 1] > p[2 * i]) == (y[i] == 1);
+    return right / static_cast<double>(y.size());
+  };
+  const std::vector<float> p = OutOfFoldForest(separable, all, 1);
+  ASSERT_EQ(p.size(), 2 * all.size());
+  for (size_t i = 0; i < all.size(); ++i) EXPECT_NEAR(p[2 * i] + p[2 * i + 1], 1.0f, 1e-5f);
+  EXPECT_GT(accuracy(p, separable.windows.y), 0.85);
+
+  ForestBaseline remembers(200, 12, 1);
+  remembers.Train(memorised.handcrafted, memorised.windows.y);
+  EXPECT_GT(accuracy(remembers.Probabilities(memorised.handcrafted, 2), memorised.windows.y), 0.95);
+  EXPECT_LT(accuracy(OutOfFoldForest(memorised, all, 1), memorised.windows.y), 0.7);
+
+  const std::vector<size_t> reversed(all.rbegin(), all.rend());
+  const std::vector<float> back = OutOfFoldForest(separable, reversed, 1);
+  std::vector<int> reversed_y(separable.windows.y.rbegin(), separable.windows.y.rend());
+  EXPECT_GT(accuracy(back, reversed_y), 0.85);
+}
+
 // Repeated cross-validation: repeat r is exactly the single run with seed + r, and
 // the report holds every repeat's folds and each repeat's mean.
 TEST(CrossValidationTest, RepeatRIsTheRunWithSeedPlusR) {
@@ -959,12 +1039,12 @@ TEST(CrossValidationTest, PseudoLabelsComeFromTheFoldsForestAndAreNeverScored) {
   // Interleave 12 unlabelled windows of 4 objects: 6 clearly "b" (features 5), 6 of
   // a third kind the forest cannot be sure of (features 0.5, between "a" and "b").
   PreparedDataset mixed = labelled;
-  mixed.windows = Dataset{1, 2, {}, {}, {}}, mixed.handcrafted.clear(), mixed.labels.clear();
+  mixed.windows = Dataset{1, 2, {}, {}, {}, {}}, mixed.handcrafted.clear(), mixed.labels.clear();
   const int width = HandcraftedFeatureCount();
   for (size_t i = 0; i < labelled.windows.size(); ++i) {
     if (i % 10 == 0) {
       const size_t u = i / 10;
-      mixed.windows.Append(Dataset{1, 2, {0.0f, 0.0f}, {-1}, {"u" + std::to_string(u % 4)}});
+      mixed.windows.Append(Dataset{1, 2, {0.0f, 0.0f}, {-1}, {"u" + std::to_string(u % 4)}, {}});
       mixed.labels.push_back("unlabelled");
       mixed.handcrafted.insert(mixed.handcrafted.end(), width, u % 2 ? 0.5f : 5.0f);
     }

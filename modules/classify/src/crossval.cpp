@@ -138,7 +138,8 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     result.trained_objects[slot].assign(kc, 0);
     for (size_t i : train_rows)
       if (trained.insert(d.windows.object_ids[i]).second) ++result.trained_objects[slot][d.windows.y[i]];
-    const Dataset train_all = d.windows.Subset(train_rows), test = d.windows.Subset(test_rows);
+    Dataset train_all = d.windows.Subset(train_rows);
+    const Dataset test = d.windows.Subset(test_rows);
     // Scores a model's test probabilities three ways and keeps them.
     auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
       const std::vector<int> predicted = MostProbable(probabilities, k);
@@ -171,6 +172,8 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     if (o.forest) forest.Train(HandcraftedRows(d, train_rows), train_all.y);
     const std::vector<float> forest_unlabelled =
         pseudo_labels ? forest.Probabilities(unlabelled.handcrafted, k) : std::vector<float>();
+    if (std::any_of(o.networks.begin(), o.networks.end(), [](const auto& n) { return n.second.distillation > 0; }))
+      train_all.teacher = OutOfFoldForest(d, train_rows, o.seed + r + f);
     std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
     for (const auto& [name, network_options] : o.networks) {
       ModelOptions options = network_options;
@@ -218,6 +221,33 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
 }
 
 }  // namespace
+
+std::vector<float> OutOfFoldForest(const PreparedDataset& d, const std::vector<size_t>& rows, int seed) {
+  const size_t k = d.classes.size();
+  std::vector<std::string> ids;
+  std::vector<int> labels;
+  for (size_t i : rows) ids.push_back(d.windows.object_ids[i]), labels.push_back(d.windows.y[i]);
+  const int folds = 5;
+  const std::vector<int> fold = FoldsByObject(ids, labels, folds, seed + kSubsampleSeedSalt);
+  std::vector<float> out(rows.size() * k);
+  for (int g = 0; g < folds; ++g) {
+    std::vector<size_t> fit, held, held_at;
+    std::vector<int> fit_labels;
+    for (size_t j = 0; j < rows.size(); ++j) {
+      if (fold[j] == g) {
+        held.push_back(rows[j]), held_at.push_back(j);
+      } else {
+        fit.push_back(rows[j]), fit_labels.push_back(labels[j]);
+      }
+    }
+    if (held.empty()) continue;  // fewer objects than folds
+    ForestBaseline forest(200, 12, seed);
+    forest.Train(HandcraftedRows(d, fit), fit_labels);
+    const std::vector<float> p = forest.Probabilities(HandcraftedRows(d, held), static_cast<int>(k));
+    for (size_t t = 0; t < held.size(); ++t) std::copy_n(p.begin() + t * k, k, out.begin() + held_at[t] * k);
+  }
+  return out;
+}
 
 void PseudoLabelOptions::Check() const {
   if (votes < 0 || votes > 1)

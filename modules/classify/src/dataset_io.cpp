@@ -151,6 +151,9 @@ Dataset PseudoLabelled(const std::vector<float>& p, const PreparedDataset& unlab
   }
   Dataset out = unlabelled.windows.Subset(kept);
   out.y = classes;
+  out.teacher.clear();
+  const size_t kc = static_cast<size_t>(k);
+  for (size_t i : kept) out.teacher.insert(out.teacher.end(), p.begin() + i * kc, p.begin() + (i + 1) * kc);
   return out;
 }
 

@@ -155,11 +155,13 @@ Dataset Dataset::Subset(const std::vector<size_t>& rows) const {
   Dataset d;
   d.features = features, d.length = length;
   const size_t stride = static_cast<size_t>(features) * length;
+  const size_t k = size() ? teacher.size() / size() : 0;
   d.x.reserve(rows.size() * stride);
   for (size_t r : rows) {
     d.x.insert(d.x.end(), x.begin() + r * stride, x.begin() + (r + 1) * stride);
     d.y.push_back(y[r]);
     d.object_ids.push_back(object_ids[r]);
+    d.teacher.insert(d.teacher.end(), teacher.begin() + r * k, teacher.begin() + (r + 1) * k);
   }
   return d;
 }
@@ -169,9 +171,14 @@ void Dataset::Append(const Dataset& other) {
     throw InputError("Dataset::Append: windows of " + std::to_string(other.features) + " × " +
                      std::to_string(other.length) + " after windows of " + std::to_string(features) + " × " +
                      std::to_string(length));
+  const bool taught = (size() == 0 || !teacher.empty()) && (other.size() == 0 || !other.teacher.empty());
   x.insert(x.end(), other.x.begin(), other.x.end());
   y.insert(y.end(), other.y.begin(), other.y.end());
   object_ids.insert(object_ids.end(), other.object_ids.begin(), other.object_ids.end());
+  if (taught)
+    teacher.insert(teacher.end(), other.teacher.begin(), other.teacher.end());
+  else
+    teacher.clear();
 }
 
 void SplitByObject(const std::vector<std::string>& ids, double fraction, int seed, std::vector<size_t>& kept,
@@ -350,7 +357,8 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
                               {"classes", classes_},         {"train", train.size()},
                               {"validation", validation.size()}, {"batch_size", options_.batch_size},
                               {"seed", options_.seed},       {"input_noise", options_.input_noise},
-                              {"class_weights", options_.class_weights}, {"input_bins", options_.input_bins}};
+                              {"class_weights", options_.class_weights}, {"input_bins", options_.input_bins},
+                              {"distillation", options_.distillation}};
   TrainingState state;
   state.learning_rate = options_.learning_rate;
   if (checkpoint.empty() || !ReadCheckpoint(checkpoint, run, state, *net_, optimiser)) {
@@ -364,6 +372,11 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
     for (const auto& r : state.reports) on_epoch(r);
 
   const auto labels_all = torch::tensor(std::vector<int64_t>(train.y.begin(), train.y.end()));
+  const double alpha = options_.distillation;
+  if (alpha > 0 && train.teacher.size() != train.size() * k)
+    throw InputError("classify: distillation needs the teacher's probabilities for every training window");
+  const auto teacher_all = alpha > 0 ? torch::tensor(train.teacher).reshape({static_cast<int64_t>(train.size()), k})
+                                     : torch::Tensor();
   for (int epoch = state.epoch + 1; epoch <= options_.epochs && state.since_best < options_.early_stop_patience;
        ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -380,8 +393,13 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
       if (options_.input_noise > 0) x = x + options_.input_noise * torch::randn_like(x);
       const auto target = labels_all.index_select(0, torch::tensor(rows));
       optimiser.zero_grad();
-      const auto loss = torch::nn::functional::cross_entropy(
-          net_->forward(x), target, torch::nn::functional::CrossEntropyFuncOptions().weight(weight));
+      const auto logits = net_->forward(x);
+      auto loss = torch::nn::functional::cross_entropy(logits, target,
+                                                       torch::nn::functional::CrossEntropyFuncOptions().weight(weight));
+      if (alpha > 0) {
+        const auto soft = teacher_all.index_select(0, torch::tensor(rows));
+        loss = (1 - alpha) * loss - alpha * (soft * torch::log_softmax(logits, 1)).sum(1).mean();
+      }
       loss.backward();
       optimiser.step();
       loss_sum += loss.item<double>() * static_cast<double>(end - start);

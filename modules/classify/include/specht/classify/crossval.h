@@ -58,6 +58,14 @@ std::vector<int> FoldsByObject(const std::vector<std::string>& object_ids, const
 std::vector<size_t> SubsampleObjects(const std::vector<std::string>& object_ids, const std::vector<int>& labels,
                                      const std::vector<size_t>& rows, double fraction, int seed);
 
+// Distillation's teacher (ModelOptions::distillation): for each of `rows`, the class
+// probabilities (its trees' vote fractions) of a forest that did not see the row's
+// object, from 5 folds by object within `rows`. Out of fold, so that the network
+// learns what the forest answers for vessels it has not seen, not how well it
+// remembers the training ones (a forest's own training windows get near one-hot
+// votes: the labels again). rows.size() × classes, row-major.
+std::vector<float> OutOfFoldForest(const PreparedDataset& d, const std::vector<size_t>& rows, int seed);
+
 // Self-training with pseudo-labels (Lee 2013, "Pseudo-label: the simple and efficient
 // semi-supervised learning method"; the teacher here is another model, as in Xie et
 // al. 2020's noisy student): windows without a class (objects never tested, e.g.

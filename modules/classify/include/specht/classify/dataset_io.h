@@ -29,7 +29,8 @@ PreparedDataset SplitOffUnlabelled(PreparedDataset& d);
 
 // Self-training's pseudo-labels (PseudoLabelOptions): the windows of `unlabelled`
 // that a teacher gives at least `votes` of its class probabilities (size × classes;
-// the forest's are its trees' vote fractions), with the most probable class as y;
+// the forest's are its trees' vote fractions), with the most probable class as y and
+// the teacher's probabilities as their Dataset::teacher (for distillation);
 // `per_class` gets how many of each class.
 Dataset PseudoLabelled(const std::vector<float>& probabilities, const PreparedDataset& unlabelled, double votes,
                        int classes, std::vector<long>& per_class);

@@ -27,6 +27,16 @@
 // so a convolution can respond to a range of a value (a flag's codes, a region's
 // band) as a tree's split does, instead of only to its linear trend.
 //
+// Optional distillation (distillation = α > 0; Hinton et al. 2015, "Distilling the
+// knowledge in a neural network"): each training window carries a teacher's class
+// probabilities q (Dataset::teacher) and the loss on a batch of n windows is
+//   L = (1 − α) · CE_w(logits, y) − α · (1/n) Σ_i Σ_c q_ic · log softmax(logits_i)_c
+// where CE_w is the (class-weighted) cross-entropy with the labels. The teacher is
+// the forest out of fold (OutOfFoldForest, crossval.h): the network learns from its
+// answers on vessels it has not seen, which generalise across vessels better than
+// the labels of the 58–81 vessels of a small AIS class alone. Validation (early
+// stopping) still scores the labels.
+//
 // Training: Adam; the learning rate halves after plateau_patience epochs without a
 // lower validation loss; training stops after early_stop_patience such epochs and
 // the best epoch's weights are kept. Optional Gaussian input noise and inverse-
@@ -66,6 +76,7 @@ struct ModelOptions {
   int threads = 2;
   double validation_fraction = 0.2;
   int input_bins = 0;
+  double distillation = 0.0;
 
   template <class V>
   void Visit(V& v) {
@@ -90,6 +101,10 @@ struct ModelOptions {
             "piecewise-linear encoding of each input row over this many quantile bins of the training data "
             "(Gorishniy et al. 2022); 0 = the rows as they are",
             Range::Of(0, 64));
+    v.Param("distillation", distillation,
+            "weight of a teacher's class probabilities in the training loss (Hinton et al. 2015; cross-validation: "
+            "the forest's, out of fold); 0 = the labels only",
+            Range::Of(0.0, 1.0));
   }
 };
 
@@ -99,10 +114,12 @@ struct Dataset {
   std::vector<float> x;
   std::vector<int> y;                   // class index (−1 unknown)
   std::vector<std::string> object_ids;  // one per window
+  std::vector<float> teacher;           // size × classes: a teacher's probabilities (distillation), or empty
   size_t size() const { return y.size(); }
   // The windows whose index is in `rows`.
   Dataset Subset(const std::vector<size_t>& rows) const;
   // `other`'s windows after these (the same features and length, else InputError).
+  // The teacher's probabilities are kept only when both have them.
   void Append(const Dataset& other);
 };
 
