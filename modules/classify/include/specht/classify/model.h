@@ -102,8 +102,8 @@ struct ModelOptions {
             "(Gorishniy et al. 2022); 0 = the rows as they are",
             Range::Of(0, 64));
     v.Param("distillation", distillation,
-            "weight of a teacher's class probabilities in the training loss (Hinton et al. 2015; cross-validation: "
-            "the forest's, out of fold); 0 = the labels only",
+            "weight of a teacher's class probabilities in the training loss (Hinton et al. 2015; the teacher is "
+            "the random forest, asked about each training window out of fold); 0 = the labels only",
             Range::Of(0.0, 1.0));
   }
 };
