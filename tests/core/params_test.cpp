@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "options_registry.h"
+#include "specht/ais/dataset.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/scan_matching.h"
 #include "test_support.h"
@@ -193,6 +194,16 @@ TEST(ParamsTest, ShippedPresetsLoad) {
   const auto matching = app::AllOptions().Load(noisy).Get<slam::ScanMatchingOptions>("scan_matching");
   EXPECT_TRUE(matching.fuse_odometry);
   EXPECT_DOUBLE_EQ(matching.point_sigma_m, 0.3);
+  // ais-360 is ais.yaml (the AIS defaults) with two values changed.
+  ParamTree ais360;
+  ais360.MergeFile(testing::SourceDir() + "/params/ais-360.yaml");
+  const auto loaded = app::AllOptions().Load(ais360);
+  const auto preprocess = loaded.Get<ais::AisPreprocessOptions>("ais_classify");
+  EXPECT_EQ(preprocess.length, 360);
+  EXPECT_DOUBLE_EQ(preprocess.max_gap_s, 7200.0);  // AIS's, not the classify default
+  const auto model = loaded.Get<ais::AisModelOptions>("ais_model");
+  EXPECT_DOUBLE_EQ(model.distillation, 0.5);
+  EXPECT_EQ(model.input_bins, 4);
 }
 
 TEST(ParamsTest, EditDistance) {
