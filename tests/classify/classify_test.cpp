@@ -300,52 +300,6 @@ TEST(ModelTest, DistillationLearnsTheTeachersAnswers) {
   EXPECT_THROW(refuses.Train(untaught, {}), InputError);
 }
 
-// Two classes told apart by how tightly they turn; the training windows all turn
-// left, the test windows right. Without the mirror augmentation the network has
-// only seen turn rates above ½ and misreads the right turns; with it, it has seen
-// both. Without the dataset's mirrored rows the augmentation is refused.
-TEST(ModelTest, MirrorAugmentationGeneralisesToTheMirrorImage) {
-  PreprocessOptions p;
-  p.length = 32;
-  p.features = {"x", "y", "speed", "turn_rate"};
-  auto turning = [&](int per_class, int seed, double side) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> speed(1, 3), phase(0, 6.28), jitter(0.8, 1.2);
-    Dataset d;
-    d.features = 4, d.length = 32, d.mirror_rows = MirroredRows(p);
-    for (int i = 0; i < 2 * per_class; ++i) {
-      const int cls = i % 2;
-      const double v = speed(rng), rate = side * (cls ? 0.25 : 0.06) * jitter(rng);
-      Trajectory t{"turn" + std::to_string(seed) + "_" + std::to_string(i), "", {}};
-      double x = 0, y = 0, h = phase(rng);
-      for (int k = 0; k < 32; ++k) {
-        h += rate, x += v * 0.1 * std::cos(h), y += v * 0.1 * std::sin(h);
-        t.points.push_back({0.1 * k, x, y});
-      }
-      const auto f = Features(Chunk(t, p)[0], p, {});
-      d.x.insert(d.x.end(), f.begin(), f.end());
-      d.y.push_back(cls);
-      d.object_ids.push_back(t.object_id);
-    }
-    return d;
-  };
-  const Dataset left = turning(100, 1, +1), right = turning(50, 2, -1);
-  ModelOptions o = Small();
-  o.validation_fraction = 0;
-  Classifier plain(o, 4, 32, {"gentle", "tight"});
-  plain.Train(left, {});
-  o.mirror = true;
-  Classifier mirrored(o, 4, 32, {"gentle", "tight"});
-  mirrored.Train(left, {});
-  EXPECT_GT(Score(left.y, plain.PredictClasses(left), 2).macro_f1, 0.95);
-  EXPECT_LT(Score(right.y, plain.PredictClasses(right), 2).macro_f1, 0.7);
-  EXPECT_GT(Score(right.y, mirrored.PredictClasses(right), 2).macro_f1, 0.95);
-
-  Dataset unnamed = left;
-  unnamed.mirror_rows.clear();
-  EXPECT_THROW(Classifier(o, 4, 32, {"gentle", "tight"}).Train(unnamed, {}), InputError);
-}
-
 TEST(ModelTest, SameSeedSameModel) {
   const Dataset train = ToyDataset(40, 3);
   auto o = Small();
@@ -661,46 +615,6 @@ TEST(PreprocessTest, HeadingIsTheCourseOnTheCircle) {
   EXPECT_GT(f[2] - f[3], 0.9);                        // course jumps across the seam
   EXPECT_LT(std::abs(f[6] - f[7]), 0.2);              // sin moves a little
   EXPECT_NEAR(f[10], f[11], 1e-5);                    // cos(350°) = cos(10°)
-}
-
-// A window and its mirror image (y → −y about the first point): on MirroredRows
-// every valid point's value v becomes 1 − v, every other row is the same, and the
-// zero padding stays zero. A dataset read back names the same rows.
-TEST(PreprocessTest, MirroredRowsAreThoseOfTheMirrorImage) {
-  PreprocessOptions o;
-  o.length = 24;
-  o.features = {"x", "y", "dt", "speed", "course", "heading", "accel", "turn_rate"};
-  o.stationary_threshold = 0;
-  EXPECT_EQ(MirroredRows(o), (std::vector<int>{1, 4, 5, 8}));  // y, course, heading's sine, turn_rate
-  Trajectory t{"t", "", {}}, mirrored{"m", "", {}};
-  double x = 0, y = 0, h = 0.3;
-  for (int k = 0; k < 20; ++k) {  // 20 of 24 points: 4 padded
-    h += 0.2 * std::sin(0.5 * k), x += (1 + 0.05 * k) * std::cos(h), y += (1 + 0.05 * k) * std::sin(h);
-    t.points.push_back({1.0 * k + 0.1 * (k % 3), x, y});
-    mirrored.points.push_back({t.points.back().t_s, x, -y});
-  }
-  const auto f = Features(Chunk(t, o)[0], o, {}), g = Features(Chunk(mirrored, o)[0], o, {});
-  const std::vector<int> rows = MirroredRows(o);
-  for (int r = 0; r < FeatureRows(o); ++r) {
-    const bool flips = std::find(rows.begin(), rows.end(), r) != rows.end();
-    for (int i = 0; i < o.length; ++i) {
-      const float v = f[r * o.length + i];
-      EXPECT_NEAR(g[r * o.length + i], i >= 20 ? 0.0f : flips ? 1 - v : v, 1e-5) << "row " << r << " point " << i;
-    }
-  }
-  o.normalisation = "global";  // y's mirror image is 1 − y only for bounds symmetric about the window
-  EXPECT_EQ(MirroredRows(o), (std::vector<int>{4, 5, 8}));
-
-  PreparedDataset d;
-  d.windows.features = FeatureRows(o), d.windows.length = o.length;
-  d.windows.x = f, d.windows.y = {0}, d.windows.object_ids = {"t"};
-  d.labels = {"a"}, d.classes = {"a", "b"};
-  d.handcrafted.assign(HandcraftedFeatureCount(), 0.0f);
-  d.info = {{"preprocessing", PreprocessingJson(o, {})}};
-  const std::string dir = testing::TempDir("mirror_rows");
-  WritePrepared(d, dir);
-  EXPECT_EQ(ReadPrepared(dir).windows.mirror_rows, MirroredRows(o));
-  EXPECT_EQ(ReadPrepared(dir).windows.Subset({0}).mirror_rows, MirroredRows(o));
 }
 
 // A prepared dataset reads back as written; a truncated or corrupted file, a

@@ -5,7 +5,6 @@
 #include <sstream>
 
 #include "specht/classify/baseline.h"
-#include "specht/classify/trajectory_classifier.h"
 #include "specht/core/error.h"
 #include "specht/io/atomic_file.h"
 
@@ -109,8 +108,6 @@ PreparedDataset ReadPrepared(const std::string& dir) {
   }
   if (d.windows.size() * d.windows.features * d.windows.length != d.windows.x.size())
     throw InputError(dir + ": windows.csv has " + std::to_string(d.windows.size()) + " rows, windows.npy another count");
-  if (d.info.contains("preprocessing"))  // datasets made before it was stored have none: no mirror
-    d.windows.mirror_rows = MirroredRows(PreprocessingFromJson(d.info["preprocessing"], dir + "/dataset.json"));
   return d;
 }
 

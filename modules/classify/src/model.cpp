@@ -154,7 +154,6 @@ struct Classifier::Net : nn::Module {
 Dataset Dataset::Subset(const std::vector<size_t>& rows) const {
   Dataset d;
   d.features = features, d.length = length;
-  d.mirror_rows = mirror_rows;
   const size_t stride = static_cast<size_t>(features) * length;
   const size_t k = size() ? teacher.size() / size() : 0;
   d.x.reserve(rows.size() * stride);
@@ -172,7 +171,6 @@ void Dataset::Append(const Dataset& other) {
     throw InputError("Dataset::Append: windows of " + std::to_string(other.features) + " × " +
                      std::to_string(other.length) + " after windows of " + std::to_string(features) + " × " +
                      std::to_string(length));
-  if (size() == 0) mirror_rows = other.mirror_rows;
   const bool taught = (size() == 0 || !teacher.empty()) && (other.size() == 0 || !other.teacher.empty());
   x.insert(x.end(), other.x.begin(), other.x.end());
   y.insert(y.end(), other.y.begin(), other.y.end());
@@ -229,16 +227,6 @@ torch::Tensor Inputs(const Dataset& d, const std::vector<int64_t>& rows) {
   float* out = t.data_ptr<float>();
   for (size_t i = 0; i < rows.size(); ++i) std::copy_n(d.x.data() + rows[i] * stride, stride, out + i * stride);
   return t;
-}
-
-// With probability ½ per window, v → 1 − v on `rows` at the points where any row is
-// non-zero (the zero padding stays zero): x is windows × rows × length.
-torch::Tensor Mirrored(const torch::Tensor& x, const torch::Tensor& rows) {
-  const auto flip = torch::rand({x.size(0), 1, 1}) < 0.5;
-  const auto valid = (x != 0).any(1, /*keepdim=*/true);
-  auto part = x.index_select(1, rows);
-  part = torch::where(flip & valid, 1 - part, part);
-  return x.index_copy(1, rows, part);
 }
 
 void CheckShape(const Dataset& d, int features, int length, const char* what) {
@@ -370,7 +358,7 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
                               {"validation", validation.size()}, {"batch_size", options_.batch_size},
                               {"seed", options_.seed},       {"input_noise", options_.input_noise},
                               {"class_weights", options_.class_weights}, {"input_bins", options_.input_bins},
-                              {"distillation", options_.distillation}, {"mirror", options_.mirror}};
+                              {"distillation", options_.distillation}};
   TrainingState state;
   state.learning_rate = options_.learning_rate;
   if (checkpoint.empty() || !ReadCheckpoint(checkpoint, run, state, *net_, optimiser)) {
@@ -389,10 +377,6 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
     throw InputError("classify: distillation needs the teacher's probabilities for every training window");
   const auto teacher_all = alpha > 0 ? torch::tensor(train.teacher).reshape({static_cast<int64_t>(train.size()), k})
                                      : torch::Tensor();
-  if (options_.mirror && train.mirror_rows.empty())
-    throw InputError("classify: mirror needs the dataset's mirrored rows (prepared with y, course, heading or "
-                     "turn_rate among its features)");
-  const auto mirror_rows = torch::tensor(std::vector<int64_t>(train.mirror_rows.begin(), train.mirror_rows.end()));
   for (int epoch = state.epoch + 1; epoch <= options_.epochs && state.since_best < options_.early_stop_patience;
        ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -406,7 +390,6 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
       if (end - start < 2 && options_.batch_norm && start > 0) break;  // batch norm needs two windows
       std::vector<int64_t> rows(idx + start, idx + end);
       auto x = Inputs(train, rows);
-      if (options_.mirror) x = Mirrored(x, mirror_rows);
       if (options_.input_noise > 0) x = x + options_.input_noise * torch::randn_like(x);
       const auto target = labels_all.index_select(0, torch::tensor(rows));
       optimiser.zero_grad();

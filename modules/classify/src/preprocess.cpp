@@ -36,22 +36,6 @@ int FeatureRows(const PreprocessOptions& o) {
   return rows;
 }
 
-std::vector<int> MirroredRows(const PreprocessOptions& o) {
-  std::vector<int> mirrored;
-  int row = 0;
-  for (const auto& f : o.features) {
-    // y (min-max over the window, or ±position_extent: both symmetric about the
-    // window's middle), the course's angle and the turn rate change sign; heading's
-    // first row is its sine. Under global bounds y's mirror image is not 1 − y. The
-    // course is the absolute one: under rotate_to_zero the positions mirror about
-    // the window's own axis and the course about east, two mirror images.
-    if ((f == "y" && o.normalisation != "global") || f == "course" || f == "turn_rate" || f == "heading")
-      mirrored.push_back(row);
-    row += f == "category" ? 1 + 2 * o.category_frequencies : f == "heading" ? 2 : 1;
-  }
-  return mirrored;
-}
-
 std::vector<std::string> PreprocessOptions::Relations() const {
   std::vector<std::string> problems;
   if (features.empty()) problems.push_back("features: at least one");

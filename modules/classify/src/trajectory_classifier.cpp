@@ -8,19 +8,6 @@ nlohmann::json PreprocessingJson(const PreprocessOptions& o, const PositionBound
   return {{"options_yaml", params::ToYaml(o)}, {"position_bounds", {b.min_x, b.max_x, b.min_y, b.max_y}}};
 }
 
-PreprocessOptions PreprocessingFromJson(const nlohmann::json& p, const std::string& where, PositionBounds* bounds) {
-  try {
-    PreprocessOptions o =
-        params::FromYaml<PreprocessOptions>(p.at("options_yaml").get<std::string>(), where + " (preprocessing)");
-    const auto b = p.at("position_bounds").get<std::vector<double>>();
-    if (b.size() != 4) throw InputError(where + ": position_bounds needs 4 numbers");
-    if (bounds) *bounds = {b[0], b[1], b[2], b[3]};
-    return o;
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(where + ": preprocessing: " + e.what());
-  }
-}
-
 TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path, const std::string& forest_path) {
   nlohmann::json extra;
   Classifier model = Classifier::Load(path, &extra);
@@ -29,7 +16,16 @@ TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path, const s
     throw InputError(where + ": the model carries no preprocessing (made before it was stored; re-run classify "
                              "prepare and train)");
   PositionBounds bounds;
-  PreprocessOptions o = PreprocessingFromJson(extra.at("preprocessing"), where, &bounds);
+  PreprocessOptions o;
+  try {
+    const auto& p = extra.at("preprocessing");
+    o = params::FromYaml<PreprocessOptions>(p.at("options_yaml").get<std::string>(), where + " (preprocessing)");
+    const auto b = p.at("position_bounds").get<std::vector<double>>();
+    if (b.size() != 4) throw InputError(where + ": position_bounds needs 4 numbers");
+    bounds = {b[0], b[1], b[2], b[3]};
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": preprocessing: " + e.what());
+  }
   if (FeatureRows(o) != model.features() || o.length != model.length())
     throw InputError(where + ": the preprocessing makes windows of " + std::to_string(FeatureRows(o)) + " × " +
                      std::to_string(o.length) + ", the network takes " + std::to_string(model.features()) + " × " +

@@ -39,13 +39,6 @@
 // the labels of the 58–81 vessels of a small AIS class alone. Validation (early
 // stopping) still scores the labels.
 //
-// Optional mirror augmentation (mirror = true): each training window, drawn anew
-// every epoch, is with probability ½ replaced by its mirror image about its first
-// point's x axis, v → 1 − v on the rows Dataset::mirror_rows names (MirroredRows,
-// preprocess.h) at its valid (not zero-padded) points. A vessel turning left is as
-// much a trawler as one turning right; the mirror image doubles the shapes a small
-// class shows without inventing any.
-//
 // Training: Adam; the learning rate halves after plateau_patience epochs without a
 // lower validation loss; training stops after early_stop_patience such epochs and
 // the best epoch's weights are kept. Optional Gaussian input noise and inverse-
@@ -86,7 +79,6 @@ struct ModelOptions {
   double validation_fraction = 0.2;
   int input_bins = 0;
   double distillation = 0.0;
-  bool mirror = false;
 
   template <class V>
   void Visit(V& v) {
@@ -115,7 +107,6 @@ struct ModelOptions {
             "weight of a teacher's class probabilities in the training loss (Hinton et al. 2015; the teacher is "
             "the random forest, asked about each training window out of fold); 0 = the labels only",
             Range::Of(0.0, 1.0));
-    v.Param("mirror", mirror, "augment: mirror each training window (y → −y) with probability ½, drawn every epoch");
   }
 };
 
@@ -126,7 +117,6 @@ struct Dataset {
   std::vector<int> y;                   // class index (−1 unknown)
   std::vector<std::string> object_ids;  // one per window
   std::vector<float> teacher;           // size × classes: a teacher's probabilities (distillation), or empty
-  std::vector<int> mirror_rows;         // rows with v → 1 − v in a mirror image (MirroredRows), or empty
   size_t size() const { return y.size(); }
   // The windows whose index is in `rows`.
   Dataset Subset(const std::vector<size_t>& rows) const;

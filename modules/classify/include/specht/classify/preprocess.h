@@ -115,10 +115,6 @@ const std::vector<std::string>& FeatureNames();
 // Rows of a window's feature matrix: one per feature, 2 for "heading",
 // 1 + 2·category_frequencies for "category".
 int FeatureRows(const PreprocessOptions& o);
-// The rows whose value v becomes 1 − v when a window is mirrored about its first
-// point's x axis (y → −y): the network's mirror augmentation (ModelOptions::mirror).
-// Distances and the region are those of the real positions and stay.
-std::vector<int> MirroredRows(const PreprocessOptions& o);
 
 // Map features at a position: distance to the nearest occupied static cell (the
 // analogue of distance-to-coast) and to the nearest point of interest (of

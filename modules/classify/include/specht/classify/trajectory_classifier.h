@@ -23,9 +23,6 @@ namespace specht::classify {
 // What `classify prepare` stores with a dataset and `classify train` copies into
 // the model: the options and the fitted position bounds.
 nlohmann::json PreprocessingJson(const PreprocessOptions& o, const PositionBounds& bounds);
-// Its inverse; InputError naming `where` when it does not parse.
-PreprocessOptions PreprocessingFromJson(const nlohmann::json& preprocessing, const std::string& where,
-                                        PositionBounds* bounds = nullptr);
 
 class TrajectoryClassifier {
  public:
