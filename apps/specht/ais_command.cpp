@@ -187,16 +187,13 @@ int RunPrepare(const AisArgs& a) {
   j["counts"] = r.counts;
   j["vessels_per_class"] = r.vessels_per_class;
   j["excluded_vessels"] = r.excluded_vessels;
-  const size_t shifted = classify::TimeShiftedWindows(d);
-  j["windows"] = d.windows.size() - shifted;
-  j["time_shifted_windows"] = shifted;  // training only (ais_classify.training_shifts)
+  j["windows"] = d.windows.size();
   j["timing"] = {{"seconds", seconds}, {"points", r.points}, {"points_per_s", r.points / std::max(1e-9, seconds)}};
   report.AddOutput("counts.png");
   report.Write(out);
   std::printf("ais prepare: %ld points, %zu windows of %d × %d (%.0f points/s); %ld vessels of other or unknown type\n",
-              r.points, d.windows.size() - shifted, d.windows.features, o.length, r.points / std::max(1e-9, seconds),
+              r.points, d.windows.size(), d.windows.features, o.length, r.points / std::max(1e-9, seconds),
               r.excluded_vessels);
-  if (shifted) std::printf("  and %zu time-shifted windows for training only\n", shifted);
   std::vector<std::string> columns = ais::VesselClasses();
   if (r.vessels_per_class.count(ais::kUnlabelled)) columns.push_back(ais::kUnlabelled);
   std::printf("  %-8s", "step");

@@ -26,7 +26,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <numeric>
 #include <set>
 
 #include "commands.h"
@@ -105,7 +104,7 @@ int RunPrepare(const ClassifyArgs& a) {
   const std::vector<classify::Trajectory> trajectories = ReadTrajectories(a.inputs, true);
   PrepareOutputDir(a.common, params);
   std::map<std::string, std::map<std::string, long>> counts;
-  const auto windows = classify::MakeWindows(trajectories, o, &counts, classify::WindowCuts::kWithTrainingShifts);
+  const auto windows = classify::MakeWindows(trajectories, o, &counts);
   if (windows.empty()) throw InputError("classify prepare: no window survived preprocessing");
   const classify::PositionBounds bounds = classify::FitPositionBounds(windows, o);
   std::set<std::string> class_set;
@@ -123,7 +122,6 @@ int RunPrepare(const ClassifyArgs& a) {
     d.windows.y.push_back(static_cast<int>(std::find(d.classes.begin(), d.classes.end(), w.label) - d.classes.begin()));
     d.windows.object_ids.push_back(w.object_id);
     d.labels.push_back(w.label);
-    d.shifts.push_back(w.shift);
   }
   d.info = {{"features", o.features},
             {"length", o.length},
@@ -131,10 +129,8 @@ int RunPrepare(const ClassifyArgs& a) {
             {"with_map", !maps.empty()},
             {"preprocessing", classify::PreprocessingJson(o, bounds)}};
   classify::WritePrepared(d, a.common.out_dir);
-  const size_t shifted = classify::TimeShiftedWindows(d);
-  std::printf("classify prepare: %zu trajectories → %zu windows of %d × %d\n", trajectories.size(),
-              windows.size() - shifted, d.windows.features, o.length);
-  if (shifted) std::printf("  and %zu time-shifted windows for training only\n", shifted);
+  std::printf("classify prepare: %zu trajectories → %zu windows of %d × %d\n", trajectories.size(), windows.size(),
+              d.windows.features, o.length);
   for (const auto& [step, per_class] : counts) {
     std::printf("  %-8s", step.c_str());
     for (const auto& [cls, n] : per_class) std::printf("  %s %ld", cls.c_str(), n);
@@ -147,7 +143,6 @@ int RunEval(const ClassifyArgs& a) {
   const classify::Classifier model = classify::Classifier::Load(a.model_dir + "/model");
   const classify::ForestBaseline forest = classify::ForestBaseline::Load(a.model_dir + "/forest.yml");
   classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
-  classify::SplitOffShifted(d);  // training-only windows are not scored
   // Labels by name in the model's classes.
   for (size_t i = 0; i < d.labels.size(); ++i) {
     const auto it = std::find(model.classes().begin(), model.classes().end(), d.labels[i]);
@@ -276,18 +271,13 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
                           const std::string& label) {
   pseudo_labels.Check();
   classify::PreparedDataset d = classify::ReadPrepared(dataset);
-  const classify::PreparedDataset shifted = classify::SplitOffShifted(d);  // trains, never validates
   const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);
   if (pseudo_labels.on() && unlabelled.windows.size() == 0)
     throw InputError(dataset + ": no unlabelled windows for --pseudo-labels (AIS: prepare with ais.unlabelled)");
   std::vector<size_t> train_rows, val_rows;
   classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
-  // The training windows and their objects' time-shifted ones.
-  const classify::PreparedDataset pool = classify::WithShiftedWindows(d, train_rows, shifted);
-  classify::Dataset labelled = pool.windows;
-  std::vector<size_t> pool_rows(pool.windows.size());
-  std::iota(pool_rows.begin(), pool_rows.end(), size_t{0});
-  if (o.distillation > 0) labelled.teacher = classify::OutOfFoldForest(pool, pool_rows, o.seed);
+  classify::Dataset labelled = d.windows.Subset(train_rows);
+  if (o.distillation > 0) labelled.teacher = classify::OutOfFoldForest(d, train_rows, o.seed);
   const classify::Dataset val = d.windows.Subset(val_rows);
   PrepareOutputDir(common, params);
   const std::string& out = common.out_dir;
@@ -295,7 +285,7 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   // The forest first: it is the pseudo-labels' teacher.
   const int k = static_cast<int>(d.classes.size());
   classify::ForestBaseline forest(200, 12, o.seed);
-  forest.Train(pool.handcrafted, labelled.y);
+  forest.Train(classify::HandcraftedRows(d, train_rows), labelled.y);
   forest.Save(out + "/forest.yml");
 
   // One network trained on `windows`; with several rounds each has its own checkpoint,

@@ -225,9 +225,8 @@ namespace {
 // results are written all the same).
 nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidationOptions cv, double train_fraction,
                           const std::string& out, const classify::PreparedDataset& d,
-                          const classify::PreparedDataset& unlabelled, const classify::PreparedDataset& shifted,
-                          const params::Params& params, const CrossValidationNames& names,
-                          std::string& comparison_error) {
+                          const classify::PreparedDataset& unlabelled, const params::Params& params,
+                          const CrossValidationNames& names, std::string& comparison_error) {
   cv.train_fraction = train_fraction;
   // What decides the folds: the same in an earlier run means the same folds.
   const nlohmann::json deal = {{"windows", d.windows.size()}, {"folds", a.folds}, {"repeats", a.repeats},
@@ -243,7 +242,7 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
     if (!a.common.quiet)
       std::fprintf(stderr, "%s: %s (%.0f s, ETA %s)\n", names.command.c_str(), line.c_str(), elapsed,
                    FormatEta(elapsed, fraction).c_str());
-  }, unlabelled, shifted);
+  }, unlabelled);
   io::RunReport report(names.command);
   auto& j = report.json();
   j["dataset"] = a.dataset;
@@ -252,7 +251,6 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
   j["fold_windows"] = result.FoldSizes();
   j["fold_objects_trained"] = result.trained_objects;  // per fold and class
   j["unlabelled_windows"] = unlabelled.windows.size();
-  j["time_shifted_windows"] = shifted.windows.size();  // training only (classify.training_shifts)
   if (cv.pseudo_labels.on()) {
     j["pseudo_labels"] = {{"votes", cv.pseudo_labels.votes}, {"rounds", cv.pseudo_labels.rounds},
                           {"classes", d.classes}, {"per_fold", result.pseudo_labelled}};
@@ -398,20 +396,18 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   if (fractions.empty()) throw InputError("--train-fraction: no share given");
   const classify::CrossValidationOptions cv = OptionsOf(a, base);  // bad options fail before the data is read
   classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
-  const classify::PreparedDataset shifted = classify::SplitOffShifted(d);        // trains, never scored
   const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);  // never scored
   const std::string& out = a.common.out_dir;
   std::string comparison_error;
   if (fractions.size() == 1) {
-    RunAtShare(a, cv, fractions[0], out, d, unlabelled, shifted, params, names, comparison_error);
+    RunAtShare(a, cv, fractions[0], out, d, unlabelled, params, names, comparison_error);
   } else {
     PrepareOutputDir(a.common, params);
     std::vector<std::pair<double, nlohmann::json>> runs;
     for (double f : fractions) {
       if (!a.common.quiet) std::fprintf(stderr, "%s: learning curve, share %s\n", names.command.c_str(), ShareName(f).c_str());
       std::string error;
-      runs.emplace_back(f, RunAtShare(a, cv, f, out + "/share-" + ShareName(f), d, unlabelled, shifted, params, names,
-                                      error));
+      runs.emplace_back(f, RunAtShare(a, cv, f, out + "/share-" + ShareName(f), d, unlabelled, params, names, error));
       if (comparison_error.empty()) comparison_error = error;
     }
     io::RunReport report(names.command);

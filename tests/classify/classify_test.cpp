@@ -64,34 +64,6 @@ TEST(PreprocessTest, ChunksWithTheEightyPercentRule) {
   EXPECT_EQ(f[19], 0.0f);
 }
 
-// Time-shifted training windows: each piece is cut again from j · length / (S + 1)
-// points in, after its scored windows, with the same 80 % rule; the steps' counts
-// and a classifier's input (kScored) see the scored windows only.
-TEST(PreprocessTest, TrainingShiftsCutEachPieceAgainFromLaterStarts) {
-  PreprocessOptions o;
-  o.length = 10;
-  o.training_shifts = 2;
-  const Trajectory t = Line("a", 40, 1.0, 0.5, 0);
-  std::map<std::string, std::map<std::string, long>> scored_counts, counts;
-  const std::vector<Window> scored = MakeWindows({t}, o, &scored_counts);
-  const std::vector<Window> all = MakeWindows({t}, o, &counts, WindowCuts::kWithTrainingShifts);
-  ASSERT_EQ(scored.size(), 4u);
-  // Shift 1 starts at 3, 13, 23 (33: 7 points left, < 8); shift 2 at 6, 16, 26 (36: 4 left).
-  ASSERT_EQ(all.size(), 10u);
-  const std::vector<int> shifts = {0, 0, 0, 0, 1, 1, 1, 2, 2, 2};
-  const std::vector<double> starts = {0, 10, 20, 30, 3, 13, 23, 6, 16, 26};
-  for (size_t i = 0; i < all.size(); ++i) {
-    EXPECT_EQ(all[i].shift, shifts[i]) << i;
-    EXPECT_DOUBLE_EQ(all[i].t0_s, starts[i]) << i;
-    EXPECT_EQ(all[i].valid, 10) << i;
-  }
-  for (const auto& w : scored) EXPECT_EQ(w.shift, 0);
-  EXPECT_EQ(counts, scored_counts);
-  EXPECT_EQ(counts["moving"]["car"], 4);
-  o.stationary_threshold = 1e9;  // the stationary filter drops shifted windows too
-  EXPECT_TRUE(MakeWindows({t}, o, nullptr, WindowCuts::kWithTrainingShifts).empty());
-}
-
 TEST(PreprocessTest, StationaryFilterUsesMeanStepLength) {
   // 5 points 1 m apart: Σ|ΔP| = 4, n = 5 → α = 0.8.
   EXPECT_DOUBLE_EQ(MeanStepLength(Line("a", 5, 1, 1, 0).points), 0.8);
@@ -696,63 +668,6 @@ TEST(DatasetIoTest, RoundTripsAndRefusesDamagedFiles) {
   EXPECT_NO_THROW(ReadPrepared(dir));  // every damaged file was put back
 }
 
-// Time-shifted training windows travel in a fourth column of windows.csv, written
-// only when there are some; SplitOffShifted keeps the scored ones in order and
-// returns the labelled shifted ones; WithShiftedWindows joins a set of rows with
-// their objects' shifted windows.
-TEST(DatasetIoTest, TimeShiftedWindowsRoundTripAndSplitOff) {
-  PreparedDataset d;
-  d.windows.features = 1, d.windows.length = 2;
-  d.classes = {"a", "b"};
-  const std::vector<int> shifts = {0, 1, 0, 2, 1};
-  const std::vector<int> labels = {0, 0, 1, 1, -1};
-  const std::vector<std::string> objects = {"p", "p", "q", "q", "u"};
-  for (size_t i = 0; i < shifts.size(); ++i) {
-    d.windows.x.insert(d.windows.x.end(), {static_cast<float>(i), 0.0f});
-    d.windows.y.push_back(labels[i]);
-    d.windows.object_ids.push_back(objects[i]);
-    d.labels.push_back(labels[i] < 0 ? "unlabelled" : d.classes[static_cast<size_t>(labels[i])]);
-    d.handcrafted.insert(d.handcrafted.end(), static_cast<size_t>(HandcraftedFeatureCount()), static_cast<float>(i));
-  }
-  d.shifts = shifts;
-  EXPECT_EQ(TimeShiftedWindows(d), 3u);
-  const std::string dir = testing::TempDir("dataset_io_shifts");
-  WritePrepared(d, dir);
-  EXPECT_THAT(testing::ReadFile(dir + "/windows.csv"), ::testing::StartsWith("index,object_id,label,shift\n0,p,a,0\n"));
-  PreparedDataset r = ReadPrepared(dir);
-  EXPECT_EQ(r.shifts, shifts);
-  EXPECT_EQ(r.windows.object_ids, objects);
-  EXPECT_EQ(r.labels, d.labels);
-
-  const PreparedDataset shifted = SplitOffShifted(r);
-  EXPECT_EQ(r.windows.object_ids, (std::vector<std::string>{"p", "q"}));
-  EXPECT_EQ(r.windows.x, (std::vector<float>{0, 0, 2, 0}));
-  EXPECT_TRUE(r.shifts.empty());
-  EXPECT_EQ(shifted.windows.object_ids, (std::vector<std::string>{"p", "q"}));  // not the unlabelled one
-  EXPECT_EQ(shifted.windows.y, (std::vector<int>{0, 1}));
-  EXPECT_EQ(shifted.shifts, (std::vector<int>{1, 2}));
-  EXPECT_EQ(shifted.handcrafted[static_cast<size_t>(HandcraftedFeatureCount())], 3.0f);
-
-  const PreparedDataset pool = WithShiftedWindows(r, {1}, shifted);  // object q and its shifted window
-  EXPECT_EQ(pool.windows.x, (std::vector<float>{2, 0, 3, 0}));
-  EXPECT_EQ(pool.windows.y, (std::vector<int>{1, 1}));
-  EXPECT_EQ(pool.labels, (std::vector<std::string>{"b", "b"}));
-  EXPECT_EQ(pool.handcrafted.size(), 2u * HandcraftedFeatureCount());
-
-  PreparedDataset plain = r;  // no shifted windows: the three-column file of before
-  WritePrepared(plain, dir);
-  EXPECT_THAT(testing::ReadFile(dir + "/windows.csv"), ::testing::StartsWith("index,object_id,label\n"));
-  for (const char* bad : {"0,p,a,x", "0,p,a,-1", "0,p,a,", "0,p,a,1 "}) {
-    testing::WriteFile(dir + "/windows.csv", std::string("index,object_id,label,shift\n") + bad + "\n2,q,b,0\n");
-    try {
-      ReadPrepared(dir);
-      ADD_FAILURE() << bad << ": accepted";
-    } catch (const InputError& e) {
-      EXPECT_THAT(e.what(), ::testing::HasSubstr("windows.csv:2: need index,object_id,label,shift")) << e.what();
-    }
-  }
-}
-
 TEST(SplitTest, DisjointByObject) {
   std::vector<std::string> ids;
   for (int i = 0; i < 200; ++i) ids.push_back("obj" + std::to_string(i / 4));  // 4 windows per object
@@ -1195,59 +1110,6 @@ TEST(CrossValidationTest, PseudoLabelsComeFromTheFoldsForestAndAreNeverScored) {
   PreparedDataset unsplit = mixed;
   unsplit.windows.Append(unlabelled.windows);
   EXPECT_THROW(CrossValidate(unsplit, o), InputError);  // unlabelled windows left among the scored ones
-}
-
-// Time-shifted windows train every model of a fold, but only those of its training
-// objects. Each object's handcrafted features are its own random value (nothing to
-// do with its class), so a forest is at chance on unseen objects and right on those
-// it trained on: if a test object's shifted windows leaked into training, the scored
-// windows would be recognised. Shifted windows of training objects labelled with the
-// other class do reach the forest: its answers flip.
-TEST(CrossValidationTest, TimeShiftedWindowsTrainButNeverLeakTheTestObjects) {
-  PreparedDataset d = TwoClassDataset();
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> value(0, 1);
-  const auto width = static_cast<size_t>(HandcraftedFeatureCount());
-  for (size_t i = 0; i < d.windows.size(); i += 3) {
-    const float v = value(rng);
-    std::fill_n(d.handcrafted.begin() + static_cast<long>(i * width), 3 * width, v);
-  }
-  PreparedDataset same = d;  // each object's shifted windows: its own features and class, twice over
-  same.windows.Append(d.windows);
-  same.handcrafted.insert(same.handcrafted.end(), d.handcrafted.begin(), d.handcrafted.end());
-  same.labels.insert(same.labels.end(), d.labels.begin(), d.labels.end());
-  CrossValidationOptions o;
-  o.folds = 4, o.seed = 2;
-  ModelOptions m;
-  m.variant = "mlp", m.epochs = 1, m.threads = 1;
-  o.networks = {{"mlp", m}};
-  std::vector<std::string> lines;
-  const CrossValidationResult plain = CrossValidate(d, o);
-  const CrossValidationResult shifted =
-      CrossValidate(d, o, [&](const std::string& l, double) { lines.push_back(l); }, {}, same);
-  EXPECT_LT(plain.pooled.at("forest").accuracy, 0.75);
-  EXPECT_LT(shifted.pooled.at("forest").accuracy, 0.75);  // no test object was seen
-  EXPECT_EQ(shifted.fold_of, plain.fold_of);
-  EXPECT_EQ(shifted.trained_windows, plain.trained_windows);  // ρ counts scored windows
-  EXPECT_EQ(shifted.probabilities.at("mlp").size(), d.windows.size() * 2);
-  EXPECT_NE(lines[0].find("(180 time-shifted)"), std::string::npos) << lines[0];  // 3 of 4 folds' 240 windows
-
-  const PreparedDataset separable = TwoClassDataset();  // features = class + N(0, 1)
-  PreparedDataset flipped = separable;  // its windows twice over, with the other class
-  flipped.windows.Append(separable.windows);
-  flipped.handcrafted.insert(flipped.handcrafted.end(), separable.handcrafted.begin(), separable.handcrafted.end());
-  flipped.labels.insert(flipped.labels.end(), separable.labels.begin(), separable.labels.end());
-  for (int& y : flipped.windows.y) y = 1 - y;
-  o.networks.clear();
-  const double right = CrossValidate(separable, o).pooled.at("forest").accuracy;
-  const double misled = CrossValidate(separable, o, {}, {}, flipped).pooled.at("forest").accuracy;
-  EXPECT_GT(right, 0.8);
-  EXPECT_LT(misled, right - 0.2);
-
-  PreparedDataset unsplit = separable;
-  unsplit.shifts.assign(unsplit.windows.size(), 0);
-  unsplit.shifts[5] = 1;
-  EXPECT_THROW(CrossValidate(unsplit, o), InputError);  // shifted windows left among the scored ones
 }
 
 // Noisy student's rounds: round 1 learns the forest's sure windows; round 2 a fresh

@@ -29,7 +29,7 @@ VesselWindows Process(const Vessel& v, const classify::PreprocessOptions& o, con
   double cos_lat0 = 1;
   classify::Trajectory t = ToTrajectory(v, cos_lat0);
   if (t.label.empty()) t.label = kUnlabelled;  // only vessels of unknown type get here without a class
-  out.windows = classify::MakeWindows({t}, o, &out.counts, classify::WindowCuts::kWithTrainingShifts);
+  out.windows = classify::MakeWindows({t}, o, &out.counts);
   const classify::MapFeatures map = geo.ForFrame(cos_lat0);
   for (const auto& w : out.windows) {
     const auto f = classify::Features(w, o, map);
@@ -152,7 +152,6 @@ classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, 
           d.windows.y.push_back(y);
           d.windows.object_ids.push_back(w.object_id);
           d.labels.push_back(w.label);
-          d.shifts.push_back(w.shift);
         }
         d.windows.x.insert(d.windows.x.end(), r.features.begin(), r.features.end());
         d.handcrafted.insert(d.handcrafted.end(), r.handcrafted.begin(), r.handcrafted.end());

@@ -113,20 +113,13 @@ std::vector<size_t> SubsampleObjects(const std::vector<std::string>& ids, const 
 
 namespace {
 
-// 0, 1, …, windows − 1.
-std::vector<size_t> AllRows(const PreparedDataset& d) {
-  std::vector<size_t> rows(d.windows.size());
-  std::iota(rows.begin(), rows.end(), size_t{0});
-  return rows;
-}
-
 // Salt of the subsample's hash order, so that it is not the order of the deal to folds.
 constexpr int kSubsampleSeedSalt = 7919;
 
 // One k-fold run of CrossValidate: repeat r, every seed raised by r.
 void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o, int r,
-                       const PreparedDataset& unlabelled, const PreparedDataset& shifted,
-                       const CrossValidationLog& log, CrossValidationResult& result) {
+                       const PreparedDataset& unlabelled, const CrossValidationLog& log,
+                       CrossValidationResult& result) {
   const int k = static_cast<int>(d.classes.size());
   const size_t kc = d.classes.size(), n = d.windows.size();
   const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed + r);
@@ -145,9 +138,7 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     result.trained_objects[slot].assign(kc, 0);
     for (size_t i : train_rows)
       if (trained.insert(d.windows.object_ids[i]).second) ++result.trained_objects[slot][d.windows.y[i]];
-    // The training windows, then their objects' time-shifted ones (none unless prepared).
-    const PreparedDataset pool = WithShiftedWindows(d, train_rows, shifted);
-    Dataset train_all = pool.windows;
+    Dataset train_all = d.windows.Subset(train_rows);
     const Dataset test = d.windows.Subset(test_rows);
     // Scores a model's test probabilities three ways and keeps them.
     auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
@@ -178,19 +169,17 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     };
     // The forest first: it is the pseudo-labels' teacher.
     ForestBaseline forest(200, 12, o.seed + r);
-    if (o.forest) forest.Train(pool.handcrafted, train_all.y);
+    if (o.forest) forest.Train(HandcraftedRows(d, train_rows), train_all.y);
     const std::vector<float> forest_unlabelled =
         pseudo_labels ? forest.Probabilities(unlabelled.handcrafted, k) : std::vector<float>();
     if (std::any_of(o.networks.begin(), o.networks.end(), [](const auto& n) { return n.second.distillation > 0; }))
-      train_all.teacher = OutOfFoldForest(pool, AllRows(pool), o.seed + r + f);
+      train_all.teacher = OutOfFoldForest(d, train_rows, o.seed + r + f);
     std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
     for (const auto& [name, network_options] : o.networks) {
       ModelOptions options = network_options;
       options.seed += r;
       std::vector<size_t> fit, val;
       SplitByObject(train_all.object_ids, options.validation_fraction, options.seed + f, fit, val);
-      // Early stopping watches scored windows only: the shifted ones of validation objects are left out.
-      val.erase(std::remove_if(val.begin(), val.end(), [&](size_t i) { return i >= train_rows.size(); }), val.end());
       const Dataset fit_windows = train_all.Subset(fit), val_windows = train_all.Subset(val);
       size_t epochs = 0, pseudo = 0;
       const TrainNetwork train = [&](const Dataset& windows, int) {
@@ -214,8 +203,6 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
       std::string extra;
       if (pseudo_labels) extra = " + " + std::to_string(pseudo) + " pseudo-labelled";
       if (o.pseudo_labels.rounds > 1) extra += " in round " + std::to_string(o.pseudo_labels.rounds);
-      if (train_all.size() > train_rows.size())
-        extra += " (" + std::to_string(train_all.size() - train_rows.size()) + " time-shifted)";
       std::snprintf(details, sizeof(details), " (%zu%s train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
                     extra.c_str(), test.size(), epochs, s);
       report(name, record(name, network_probabilities.back().second), details, 1.0);
@@ -289,8 +276,7 @@ Classifier SelfTrain(const TrainNetwork& train, const Dataset& labelled, const P
 }
 
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
-                                    const CrossValidationLog& log, const PreparedDataset& unlabelled,
-                                    const PreparedDataset& shifted) {
+                                    const CrossValidationLog& log, const PreparedDataset& unlabelled) {
   if (o.repeats < 1) throw InputError("cross-validation needs at least 1 repeat");
   if (!(o.train_fraction > 0 && o.train_fraction <= 1))
     throw InputError("cross-validation: the train fraction must be in (0, 1], not " + std::to_string(o.train_fraction));
@@ -302,8 +288,6 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   for (int y : d.windows.y)
     if (y < 0 || y >= static_cast<int>(d.classes.size()))
       throw InputError("cross-validation: a window without a class among the labelled ones (SplitOffUnlabelled)");
-  for (int s : d.shifts)
-    if (s != 0) throw InputError("cross-validation: a time-shifted training window among the scored ones (SplitOffShifted)");
   CrossValidationResult result;
   result.folds = o.folds;
   for (const auto& [name, options] : o.networks) result.models.push_back(name);
@@ -320,7 +304,7 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   if (o.pseudo_labels.on()) result.pseudo_labelled.resize(slots), result.pseudo_labelled_by_round.resize(slots);
   for (const auto& name : result.models)
     result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);
-  for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, unlabelled, shifted, log, result);
+  for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, unlabelled, log, result);
   const int k = static_cast<int>(d.classes.size());
   for (const auto& name : result.models) {
     std::vector<Scores> folds;

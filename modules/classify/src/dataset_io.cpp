@@ -1,9 +1,7 @@
 #include "specht/classify/dataset_io.h"
 
-#include <algorithm>
 #include <cstring>
 #include <fstream>
-#include <set>
 #include <sstream>
 
 #include "specht/classify/baseline.h"
@@ -67,12 +65,8 @@ void WritePrepared(const PreparedDataset& d, const std::string& dir) {
   const auto& w = d.windows;
   WriteNpy(dir + "/windows.npy", w.x, {w.size(), static_cast<size_t>(w.features), static_cast<size_t>(w.length)});
   WriteNpy(dir + "/handcrafted.npy", d.handcrafted, {w.size(), static_cast<size_t>(HandcraftedFeatureCount())});
-  const bool shifted = TimeShiftedWindows(d) > 0;
-  std::string csv = shifted ? "index,object_id,label,shift\n" : "index,object_id,label\n";
-  for (size_t i = 0; i < w.size(); ++i) {
-    csv += std::to_string(i) + "," + w.object_ids[i] + "," + d.labels[i];
-    csv += (shifted ? "," + std::to_string(d.shifts[i]) : std::string()) + "\n";
-  }
+  std::string csv = "index,object_id,label\n";
+  for (size_t i = 0; i < w.size(); ++i) csv += std::to_string(i) + "," + w.object_ids[i] + "," + d.labels[i] + "\n";
   io::WriteTextAtomically(dir + "/windows.csv", csv);
   nlohmann::json info = d.info;
   info["classes"] = d.classes;
@@ -102,22 +96,11 @@ PreparedDataset ReadPrepared(const std::string& dir) {
   std::ifstream csv(dir + "/windows.csv");
   std::string line;
   std::getline(csv, line);
-  const bool shifted = line == "index,object_id,label,shift";
   int line_no = 1;
   while (std::getline(csv, line)) {
     ++line_no;
-    const std::string where = dir + "/windows.csv:" + std::to_string(line_no) + ": ";
-    if (shifted) {
-      const size_t last = line.rfind(',');
-      char* end = nullptr;
-      const long shift = last == std::string::npos ? -1 : std::strtol(line.c_str() + last + 1, &end, 10);
-      if (shift < 0 || shift > 1000 || end == line.c_str() + last + 1 || *end)
-        throw InputError(where + "need index,object_id,label,shift with shift a count ≥ 0");
-      d.shifts.push_back(static_cast<int>(shift));
-      line.resize(last);
-    }
     const size_t a = line.find(','), b = line.rfind(',');
-    if (a == std::string::npos || a == b) throw InputError(where + "need index,object_id,label");
+    if (a == std::string::npos || a == b) throw InputError(dir + "/windows.csv:" + std::to_string(line_no) + ": need index,object_id,label");
     d.windows.object_ids.push_back(line.substr(a + 1, b - a - 1));
     d.labels.push_back(line.substr(b + 1));
     const auto it = std::find(d.classes.begin(), d.classes.end(), d.labels.back());
@@ -135,8 +118,6 @@ PreparedDataset SubsetOf(const PreparedDataset& d, const std::vector<size_t>& ro
   out.windows = d.windows.Subset(rows);
   out.handcrafted = HandcraftedRows(d, rows);
   for (size_t r : rows) out.labels.push_back(d.labels[r]);
-  if (!d.shifts.empty())
-    for (size_t r : rows) out.shifts.push_back(d.shifts[r]);
   out.classes = d.classes;
   out.info = d.info;
   return out;
@@ -150,41 +131,6 @@ PreparedDataset SplitOffUnlabelled(PreparedDataset& d) {
   PreparedDataset rest = SubsetOf(d, unlabelled);
   if (!unlabelled.empty()) d = SubsetOf(d, labelled);
   return rest;
-}
-
-PreparedDataset SplitOffShifted(PreparedDataset& d) {
-  std::vector<size_t> scored, shifted;
-  for (size_t i = 0; i < d.windows.size(); ++i) {
-    if (d.shifts.empty() || d.shifts[i] == 0) {
-      scored.push_back(i);
-    } else if (d.windows.y[i] >= 0) {
-      shifted.push_back(i);
-    }
-  }
-  PreparedDataset rest = SubsetOf(d, shifted);
-  if (scored.size() != d.windows.size()) d = SubsetOf(d, scored);
-  d.shifts.clear();
-  return rest;
-}
-
-size_t TimeShiftedWindows(const PreparedDataset& d) {
-  return static_cast<size_t>(std::count_if(d.shifts.begin(), d.shifts.end(), [](int s) { return s > 0; }));
-}
-
-PreparedDataset WithShiftedWindows(const PreparedDataset& d, const std::vector<size_t>& rows,
-                                   const PreparedDataset& shifted) {
-  PreparedDataset out = SubsetOf(d, rows);
-  if (shifted.windows.size() == 0) return out;
-  const std::set<std::string> objects(out.windows.object_ids.begin(), out.windows.object_ids.end());
-  std::vector<size_t> theirs;
-  for (size_t i = 0; i < shifted.windows.size(); ++i)
-    if (objects.count(shifted.windows.object_ids[i])) theirs.push_back(i);
-  const PreparedDataset more = SubsetOf(shifted, theirs);
-  out.windows.Append(more.windows);
-  out.handcrafted.insert(out.handcrafted.end(), more.handcrafted.begin(), more.handcrafted.end());
-  out.labels.insert(out.labels.end(), more.labels.begin(), more.labels.end());
-  out.shifts.clear();
-  return out;
 }
 
 Dataset PseudoLabelled(const std::vector<float>& p, const PreparedDataset& unlabelled, double votes, int k,

@@ -65,10 +65,10 @@ std::vector<Trajectory> Split(const Trajectory& t, const PreprocessOptions& o) {
   return out;
 }
 
-std::vector<Window> Chunk(const Trajectory& t, const PreprocessOptions& o, size_t offset, int shift) {
+std::vector<Window> Chunk(const Trajectory& t, const PreprocessOptions& o) {
   std::vector<Window> out;
   const size_t n = static_cast<size_t>(o.length);
-  for (size_t start = offset; start < t.points.size(); start += n) {
+  for (size_t start = 0; start < t.points.size(); start += n) {
     const size_t count = std::min(n, t.points.size() - start);
     if (count < n && count < o.min_fill * n) break;  // the leftover is too short
     Window w;
@@ -77,7 +77,6 @@ std::vector<Window> Chunk(const Trajectory& t, const PreprocessOptions& o, size_
     w.category = t.category;
     w.t0_s = t.points[start].t_s;
     w.valid = static_cast<int>(count);
-    w.shift = shift;
     w.points.assign(t.points.begin() + start, t.points.begin() + start + count);
     out.push_back(std::move(w));
   }
@@ -92,7 +91,7 @@ double MeanStepLength(const std::vector<TrajectoryPoint>& p) {
 }
 
 std::vector<Window> MakeWindows(const std::vector<Trajectory>& trajectories, const PreprocessOptions& o,
-                                std::map<std::string, std::map<std::string, long>>* counts, WindowCuts cuts) {
+                                std::map<std::string, std::map<std::string, long>>* counts) {
   std::vector<Window> out;
   auto count = [&](const char* step, const std::string& label) {
     if (counts) ++(*counts)[step][label];
@@ -107,11 +106,6 @@ std::vector<Window> MakeWindows(const std::vector<Trajectory>& trajectories, con
         count("moving", w.label);
         out.push_back(std::move(w));
       }
-      if (cuts != WindowCuts::kWithTrainingShifts) continue;
-      const size_t shifts = static_cast<size_t>(o.training_shifts), n = static_cast<size_t>(o.length);
-      for (size_t j = 1; j <= shifts; ++j)
-        for (auto& w : Chunk(piece, o, j * n / (shifts + 1), static_cast<int>(j)))
-          if (MeanStepLength(w.points) >= o.stationary_threshold) out.push_back(std::move(w));
     }
   }
   return out;

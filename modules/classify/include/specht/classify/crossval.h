@@ -216,15 +216,9 @@ nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& compar
 // combinations taking seconds beside them; the forests when there is no network).
 using CrossValidationLog = std::function<void(const std::string& line, double fraction_done)>;
 
-// `log` may be empty. `d` holds labelled, scored windows only (SplitOffUnlabelled,
-// SplitOffShifted); `unlabelled` the windows for pseudo-labels (used only when
-// o.pseudo_labels is on); `shifted` the time-shifted training windows
-// (PreprocessOptions::training_shifts): in each fold those of the training objects
-// join the training windows of every model (the forest, distillation's teacher, the
-// networks' fitting windows; not their validation windows), never the test. The
-// folds, the trained_windows counts and so the t-test's ρ count scored windows only.
+// `log` may be empty. `d` holds labelled windows only (SplitOffUnlabelled);
+// `unlabelled` the windows for pseudo-labels (used only when o.pseudo_labels is on).
 CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidationOptions& o,
-                                    const CrossValidationLog& log = {}, const PreparedDataset& unlabelled = {},
-                                    const PreparedDataset& shifted = {});
+                                    const CrossValidationLog& log = {}, const PreparedDataset& unlabelled = {});
 
 }  // namespace specht::classify

@@ -1,8 +1,7 @@
 // specht/classify/dataset_io.h: prepared datasets on disk, readable with numpy:
 //   windows.npy      float32, windows × features × length (NumPy .npy v1.0)
 //   handcrafted.npy  float32, windows × HandcraftedFeatureCount() (the baseline's)
-//   windows.csv      index,object_id,label[,shift] (shift only when some window is a
-//                    time-shifted training window, PreprocessOptions::training_shifts)
+//   windows.csv      index,object_id,label
 //   dataset.json     feature names, length, classes, counts per preprocessing step
 #pragma once
 
@@ -21,26 +20,12 @@ struct PreparedDataset {
   std::vector<float> handcrafted;
   std::vector<std::string> labels;  // per window
   std::vector<std::string> classes;
-  std::vector<int> shifts;  // per window: 0 scored, j > 0 the j-th time-shifted cut; empty: all 0
-  nlohmann::json info;      // dataset.json
+  nlohmann::json info;  // dataset.json
 };
 
 // Removes the windows without a class (y = −1: AIS vessels of unknown type) from
 // `d` and returns them, each part in its original order.
 PreparedDataset SplitOffUnlabelled(PreparedDataset& d);
-
-// Removes the time-shifted training windows (shift > 0) from `d` and returns those
-// with a class, each part in its original order: they train, never score.
-PreparedDataset SplitOffShifted(PreparedDataset& d);
-
-// How many of `d`'s windows are time-shifted training windows (shift > 0).
-size_t TimeShiftedWindows(const PreparedDataset& d);
-
-// The windows of `rows` of `d` (in that order) followed by every window of
-// `shifted` whose object is among theirs (in its order): a fold's training set with
-// its time-shifted windows.
-PreparedDataset WithShiftedWindows(const PreparedDataset& d, const std::vector<size_t>& rows,
-                                   const PreparedDataset& shifted);
 
 // Self-training's pseudo-labels (PseudoLabelOptions): the windows of `unlabelled`
 // that a teacher gives at least `votes` of its class probabilities (size × classes;

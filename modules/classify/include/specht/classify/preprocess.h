@@ -8,11 +8,7 @@
 //      is only a jump if it also implies a faster speed (so the test holds for
 //      any sampling interval, and position noise over short intervals is no jump);
 //   2. cut each piece into windows of `length` points; a leftover shorter than
-//      min_fill · length is dropped, a longer one zero-padded (after normalisation).
-//      With training_shifts S > 0 each piece is cut S more times, starting
-//      j · length / (S + 1) points in (j = 1 … S): windows shifted in time, for
-//      training only (an augmentation: the same vessel seen from other starts),
-//      never scored and not counted in the steps' counts;
+//      min_fill · length is dropped, a longer one zero-padded (after normalisation);
 //   3. drop stationary windows: α = Σ|P_i − P_{i−1}| / n below stationary_threshold;
 //   4. features per point (see FeatureNames), positions relative to the first point
 //      or also rotated so the last point lies on the +x axis (rotate_to_zero);
@@ -77,7 +73,6 @@ struct PreprocessOptions {
   double poi_cap = 50.0;
   double category_cap = 1000.0;
   int category_frequencies = 0;
-  int training_shifts = 0;
 
   template <class V>
   void Visit(V& v) {
@@ -111,10 +106,6 @@ struct PreprocessOptions {
     v.Param("category_frequencies", category_frequencies,
             "sine/cosine pairs encoding the category for the network (frequencies 1, 2, 4, … per category_cap)",
             Range::Of(0, 16));
-    v.Param("training_shifts", training_shifts,
-            "also cut each piece starting j·length/(S+1) points in, j = 1…S: time-shifted windows for training "
-            "only, never scored",
-            Range::Of(0, 15));
   }
   std::vector<std::string> Relations() const;
 };
@@ -141,25 +132,19 @@ struct Window {
   int category = 0;  // the trajectory's
   double t0_s = 0;
   int valid = 0;                 // points before the zero padding
-  int shift = 0;                 // 0: a scored window; j > 0: the j-th time-shifted cut (training only)
   std::vector<TrajectoryPoint> points;  // the raw points (valid of them)
 };
 
 // Steps 1–3. Throws InputError on a trajectory with a non-finite value or time that
 // goes backwards (naming the object and the sample index).
 std::vector<Trajectory> Split(const Trajectory& t, const PreprocessOptions& o);
-// Windows from `offset` points in (step 2), each marked with `shift`.
-std::vector<Window> Chunk(const Trajectory& t, const PreprocessOptions& o, size_t offset = 0, int shift = 0);
+std::vector<Window> Chunk(const Trajectory& t, const PreprocessOptions& o);
 double MeanStepLength(const std::vector<TrajectoryPoint>& points);
 // The whole chain for many trajectories; `counts` (when given) receives the number
 // of trajectories/windows per class after each step ("input", "split", "chunked",
-// "moving") — the paper's Figure 3. The time-shifted training windows
-// (training_shifts) are made only for a training set (kWithTrainingShifts: `prepare`),
-// after each piece's scored windows; a classifier's input is cut once.
-enum class WindowCuts { kScored, kWithTrainingShifts };
+// "moving") — the paper's Figure 3.
 std::vector<Window> MakeWindows(const std::vector<Trajectory>& trajectories, const PreprocessOptions& o,
-                                std::map<std::string, std::map<std::string, long>>* counts = nullptr,
-                                WindowCuts cuts = WindowCuts::kScored);
+                                std::map<std::string, std::map<std::string, long>>* counts = nullptr);
 
 // Step 4 position transforms, in place.
 void RelativeToFirst(std::vector<TrajectoryPoint>& points);
