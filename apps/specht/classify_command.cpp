@@ -119,9 +119,7 @@ int RunPrepare(const ClassifyArgs& a) {
     d.windows.x.insert(d.windows.x.end(), f.begin(), f.end());
     const auto h = classify::HandcraftedFeatures(w, map, o.features);
     d.handcrafted.insert(d.handcrafted.end(), h.begin(), h.end());
-    d.windows.y.push_back(static_cast<int>(std::find(d.classes.begin(), d.classes.end(), w.label) - d.classes.begin()));
-    d.windows.object_ids.push_back(w.object_id);
-    d.labels.push_back(w.label);
+    d.AddWindow(w, static_cast<int>(std::find(d.classes.begin(), d.classes.end(), w.label) - d.classes.begin()));
   }
   d.info = {{"features", o.features},
             {"length", o.length},

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "commands.h"
@@ -212,6 +213,11 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
   cmd.add_option("--networks", args.networks, "comma-separated network variants (" + VariantList() + ")");
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
   AddPseudoLabelOption(cmd, args.pseudo_labels);
+  cmd.add_option("--train-on", args.train_on,
+                 "another directory written by " + names.prepare + " from the same tracks with shorter windows: "
+                 "every model trains on its windows of the " + names.objects + " outside the test fold (also of " +
+                 names.objects + " too short for this dataset's windows) and scores a window by the mean over "
+                 "the shorter windows within it; the folds stay this dataset's");
   cmd.add_option("--compare-to", args.compare_to,
                  "an earlier run's output directory on the same dataset, folds, repeats and seed: each model "
                  "compared with its earlier self fold by fold");
@@ -248,6 +254,7 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
   j["dataset"] = a.dataset;
   j.update(deal);
   j["train_fraction"] = train_fraction;
+  if (!a.train_on.empty()) j["train_on"] = a.train_on;
   j["fold_windows"] = result.FoldSizes();
   j["fold_objects_trained"] = result.trained_objects;  // per fold and class
   j["unlabelled_windows"] = unlabelled.windows.size();
@@ -384,6 +391,21 @@ void WriteLearningCurveLevel(const nlohmann::json& curve, classify::ScoreLevel l
   }
 }
 
+// How the scored windows lie over the shorter ones of --train-on.
+void PrintWithin(const classify::PreparedDataset& d, const classify::PreparedDataset& train_on,
+                 const std::string& dir, const CrossValidationNames& names) {
+  const auto within = classify::WindowsWithin(d, train_on);
+  size_t none = 0, total = 0;
+  for (const auto& rows : within) none += rows.empty(), total += rows.size();
+  std::set<std::string> scored(d.windows.object_ids.begin(), d.windows.object_ids.end());
+  std::set<std::string> all(train_on.windows.object_ids.begin(), train_on.windows.object_ids.end());
+  std::fprintf(stderr,
+               "%s: training on %s: %zu windows of %d points from %zu %s (%zu of them scored here); "
+               "%.1f of them within a window here on average, %zu windows here with none (scored 1/classes)\n",
+               names.command.c_str(), dir.c_str(), train_on.windows.size(), train_on.windows.length, all.size(),
+               names.objects.c_str(), scored.size(), within.empty() ? 0.0 : double(total) / within.size(), none);
+}
+
 }  // namespace
 
 int RunCrossValidation(const CrossValidationArgs& a, const params::Params& params, const classify::ModelOptions& base,
@@ -394,9 +416,16 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
   for (double f : fractions)
     if (!(f > 0 && f <= 1)) throw InputError("--train-fraction: " + ShareName(f) + " is not in (0, 1]");
   if (fractions.empty()) throw InputError("--train-fraction: no share given");
-  const classify::CrossValidationOptions cv = OptionsOf(a, base);  // bad options fail before the data is read
+  classify::CrossValidationOptions cv = OptionsOf(a, base);  // bad options fail before the data is read
   classify::PreparedDataset d = classify::ReadPrepared(a.dataset);
   const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);  // never scored
+  classify::PreparedDataset train_on;
+  if (!a.train_on.empty()) {
+    train_on = classify::ReadPrepared(a.train_on);
+    classify::SplitOffUnlabelled(train_on);
+    cv.train_on = &train_on;
+    PrintWithin(d, train_on, a.train_on, names);
+  }
   const std::string& out = a.common.out_dir;
   std::string comparison_error;
   if (fractions.size() == 1) {

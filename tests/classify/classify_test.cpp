@@ -629,6 +629,7 @@ TEST(DatasetIoTest, RoundTripsAndRefusesDamagedFiles) {
     d.windows.y.push_back(i % 2);
     d.windows.object_ids.push_back("obj" + std::to_string(i / 2));
     d.labels.push_back(d.classes[i % 2]);
+    d.t0_s.push_back(1444565687.25 + 600 * i), d.t1_s.push_back(d.t0_s.back() + 590.5);
     for (int j = 0; j < HandcraftedFeatureCount(); ++j) d.handcrafted.push_back(static_cast<float>(i * 100 + j));
   }
   const std::string dir = testing::TempDir("dataset_io");
@@ -638,6 +639,9 @@ TEST(DatasetIoTest, RoundTripsAndRefusesDamagedFiles) {
   EXPECT_EQ(r.windows.y, d.windows.y);
   EXPECT_EQ(r.windows.object_ids, d.windows.object_ids);
   EXPECT_EQ(r.handcrafted, d.handcrafted);
+  EXPECT_EQ(r.t0_s, d.t0_s);  // to the millisecond, which these are
+  EXPECT_EQ(r.t1_s, d.t1_s);
+  EXPECT_TRUE(HasSpans(r));
   EXPECT_EQ(HandcraftedRows(r, {3}), std::vector<float>(d.handcrafted.end() - HandcraftedFeatureCount(), d.handcrafted.end()));
 
   auto refused = [&](const std::string& file, const std::string& bytes, const std::string& says) {
@@ -664,8 +668,48 @@ TEST(DatasetIoTest, RoundTripsAndRefusesDamagedFiles) {
   const std::string csv = testing::ReadFile(dir + "/windows.csv");
   refused("windows.csv", csv.substr(0, csv.rfind('\n', csv.size() - 2) + 1), "3 rows");
   refused("windows.csv", "index,object_id,label\n0;obj0;a\n", "need index,object_id,label");
+  refused("windows.csv", "idx,object,label\n", ":1: the header");
+  const std::string header = "index,object_id,label,t0_s,t1_s\n";
+  refused("windows.csv", header + "0,obj0,a,100.0\n", "windows.csv:2: 4 fields");
+  refused("windows.csv", header + "0,obj0,a,100.0,9x\n", "windows.csv:2: t0_s, t1_s");
+  refused("windows.csv", header + "0,obj0,a,100.0,99.0\n", "windows.csv:2: t0_s, t1_s");
   refused("dataset.json", "{\"classes\": ", "dataset.json");
   EXPECT_NO_THROW(ReadPrepared(dir));  // every damaged file was put back
+
+  // A dataset of an older version (no spans) reads, without spans, and is written so.
+  std::string old_csv = "index,object_id,label\n";
+  for (int i = 0; i < 4; ++i)
+    old_csv += std::to_string(i) + ",obj" + std::to_string(i / 2) + "," + d.classes[i % 2] + "\n";
+  testing::WriteFile(dir + "/windows.csv", old_csv);
+  const PreparedDataset old = ReadPrepared(dir);
+  EXPECT_EQ(old.windows.object_ids, d.windows.object_ids);
+  EXPECT_FALSE(HasSpans(old));
+  WritePrepared(old, dir);
+  EXPECT_EQ(testing::ReadFile(dir + "/windows.csv"), old_csv);
+}
+
+// WindowsWithin: the shorter windows of the same object inside a window's span;
+// where the stationary filter left none inside, the overlapping ones; else none.
+TEST(CrossValidationTest, WindowsWithinAreTheSameObjectsShorterWindowsInTheSpan) {
+  PreparedDataset longer, shorter;
+  auto add = [](PreparedDataset& d, const std::string& id, double t0, double t1) {
+    d.windows.object_ids.push_back(id), d.windows.y.push_back(0), d.labels.push_back("a");
+    d.t0_s.push_back(t0), d.t1_s.push_back(t1);
+  };
+  add(longer, "v1", 0, 100), add(longer, "v1", 110, 200), add(longer, "v2", 0, 100), add(longer, "v3", 0, 100);
+  add(shorter, "v1", 0, 40), add(shorter, "v1", 50, 100), add(shorter, "v2", 0, 50);  // 0–2
+  add(shorter, "v1", 90, 130);   // 3: overlaps both of v1's, within neither
+  add(shorter, "v2", 80, 120);   // 4: overlaps v2's
+  add(shorter, "v1", 300, 340);  // 5: within none
+  add(shorter, "v4", 0, 40);     // 6: an object with no longer window
+  const auto within = WindowsWithin(longer, shorter);
+  ASSERT_EQ(within.size(), 4u);
+  EXPECT_EQ(within[0], (std::vector<size_t>{0, 1}));
+  EXPECT_EQ(within[1], (std::vector<size_t>{3}));  // none inside: the overlapping one
+  EXPECT_EQ(within[2], (std::vector<size_t>{2}));  // the inside one only
+  EXPECT_TRUE(within[3].empty());
+  shorter.t0_s.pop_back();
+  EXPECT_THROW(WindowsWithin(longer, shorter), InputError);
 }
 
 TEST(SplitTest, DisjointByObject) {
@@ -737,6 +781,61 @@ TEST(CrossValidationTest, OutOfFoldForestNeverSawTheRowsObject) {
   const std::vector<float> back = OutOfFoldForest(separable, reversed, 1);
   std::vector<int> reversed_y(separable.windows.y.rbegin(), separable.windows.y.rend());
   EXPECT_GT(accuracy(back, reversed_y), 0.85);
+}
+
+// Training on shorter windows (train_on): a scored window is classified from the
+// models' answers on the shorter windows within it. Where those carry the class
+// (class + N(0, 1), as TwoClassDataset) the forest is right on most; where each
+// object's short windows carry only a value of its own, a forest that saw a tested
+// object's windows would recognise it, so a score near chance shows that none of a
+// tested object's windows trained — not even the one outside its scored window.
+// Objects with only short windows train in every fold; the folds are the scored
+// dataset's (the same as a plain run's), and so is the t-test's ρ.
+TEST(CrossValidationTest, TrainingOnShorterWindowsNeverSeesATestedObject) {
+  PreparedDataset scored = TwoClassDataset();
+  const PreparedDataset plain = scored;
+  for (size_t i = 0; i < scored.windows.size(); ++i)
+    scored.t0_s.push_back(1000.0 * i), scored.t1_s.push_back(1000.0 * i + 900);
+  auto shorter = [&](bool memorised) {
+    PreparedDataset d;
+    d.classes = scored.classes;
+    d.windows.features = 1, d.windows.length = 1;
+    std::mt19937 rng(5);
+    std::normal_distribution<float> noise(0, 1);
+    std::uniform_real_distribution<float> value(0, 1);
+    const auto width = static_cast<size_t>(HandcraftedFeatureCount());
+    std::map<std::string, float> own;
+    auto add = [&](const std::string& id, int y, double t0) {
+      d.windows.x.push_back(0.0f), d.windows.y.push_back(y), d.windows.object_ids.push_back(id);
+      d.labels.push_back(d.classes[static_cast<size_t>(y)]), d.t0_s.push_back(t0), d.t1_s.push_back(t0 + 100);
+      if (!own.count(id)) own[id] = value(rng);
+      for (size_t j = 0; j < width; ++j) d.handcrafted.push_back(memorised ? own[id] : y + noise(rng));
+    };
+    for (size_t i = 0; i < scored.windows.size(); ++i)
+      for (int k = 0; k < 3; ++k) add(scored.windows.object_ids[i], scored.windows.y[i], scored.t0_s[i] + 300 * k);
+    for (size_t i = 0; i < scored.windows.size(); i += 3)  // after the object's scored windows: within none
+      add(scored.windows.object_ids[i], scored.windows.y[i], 1e7);
+    for (int extra = 0; extra < 10; ++extra) add("short-only" + std::to_string(extra), extra % 2, 0);
+    return d;
+  };
+  CrossValidationOptions o;
+  o.folds = 4, o.seed = 2;
+  const CrossValidationResult reference = CrossValidate(plain, o);
+  const PreparedDataset separable = shorter(false), memorised = shorter(true);
+  o.train_on = &separable;
+  const CrossValidationResult learns = CrossValidate(scored, o);
+  EXPECT_GT(learns.pooled.at("forest").macro_f1, 0.9);
+  EXPECT_EQ(learns.fold_of, reference.fold_of);
+  EXPECT_EQ(learns.FoldSizes(), reference.FoldSizes());
+  o.train_on = &memorised;
+  EXPECT_LT(CrossValidate(scored, o).pooled.at("forest").macro_f1, 0.7);
+
+  PreparedDataset other_classes = separable;
+  other_classes.classes = {"b", "a"};
+  o.train_on = &other_classes;
+  EXPECT_THROW(CrossValidate(scored, o), InputError);
+  o.train_on = &separable, o.train_fraction = 0.5;
+  EXPECT_THROW(CrossValidate(scored, o), InputError);
 }
 
 // Repeated cross-validation: repeat r is exactly the single run with seed + r, and

@@ -152,6 +152,39 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   EXPECT_NE(testing::ReadFile(dir + "/pred/objects.csv"), testing::ReadFile(dir + "/pred1/objects.csv"));
 }
 
+// A long-window dataset scored by models trained on the short windows of the same
+// tracks (--train-on): the folds are the long dataset's, so the run compares with a
+// plain one fold by fold; every long window has short ones within it.
+TEST(AisCliTest, EvalTrainsOnTheShortWindowsOfTheSameTracks) {
+  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  const std::string dir = testing::TempDir("ais_train_on");
+  WriteSliceOfTracks("brest-dev", 40000, dir);
+  const std::string data = " --data-dir '" + testing::DataDir() + "'";
+  for (const char* length : {"60", "180"}) {
+    const auto r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' --set ais_classify.length=" + length +
+                                      " -q -o '" + dir + "/data" + length + "'" + data);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_THAT(testing::ReadFile(dir + "/data180/windows.csv"),
+              ::testing::StartsWith("index,object_id,label,t0_s,t1_s\n"));
+  const std::string eval = "ais eval '" + dir + "/data180' --folds 2 --networks tiny -q --set ais_model.epochs=1";
+  auto r = testing::RunSpecht(eval + " -o '" + dir + "/plain'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = testing::RunSpecht(eval + " --train-on '" + dir + "/data60' -o '" + dir + "/short' --compare-to '" + dir +
+                         "/plain'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("training on " + dir + "/data60: "));
+  EXPECT_THAT(r.err, HasSubstr(", 0 windows here with none"));
+  const auto j = Report(dir + "/short");
+  EXPECT_EQ(j["train_on"], dir + "/data60");
+  EXPECT_EQ(j["fold_windows"], Report(dir + "/plain")["fold_windows"]);
+  EXPECT_TRUE(j["compared_to"]["paired"].contains("forest vs forest (earlier)"));
+  EXPECT_EQ(j["models"]["tiny+forest"]["folds"].size(), 2u);
+  r = testing::RunSpecht(eval + " --train-on '" + dir + "/nowhere' -o '" + dir + "/bad'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("nowhere/dataset.json"));
+}
+
 // Self-training on a slice of the Canadian tracks, whose first vessels report no
 // ship type: prepared with ais.unlabelled, their windows are pseudo-labelled by the
 // forest for the network in `eval` (per fold) and `train`, and the forest's own

@@ -148,11 +148,7 @@ classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, 
         if (vessels_seen.insert(r.windows.front().object_id).second) ++report.vessels_per_class[label];
         const auto known = std::find(d.classes.begin(), d.classes.end(), label);
         const int y = known == d.classes.end() ? -1 : static_cast<int>(known - d.classes.begin());
-        for (const auto& w : r.windows) {
-          d.windows.y.push_back(y);
-          d.windows.object_ids.push_back(w.object_id);
-          d.labels.push_back(w.label);
-        }
+        for (const auto& w : r.windows) d.AddWindow(w, y);
         d.windows.x.insert(d.windows.x.end(), r.features.begin(), r.features.end());
         d.handcrafted.insert(d.handcrafted.end(), r.handcrafted.begin(), r.handcrafted.end());
       }

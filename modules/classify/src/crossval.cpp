@@ -116,10 +116,52 @@ namespace {
 // Salt of the subsample's hash order, so that it is not the order of the deal to folds.
 constexpr int kSubsampleSeedSalt = 7919;
 
+// Training on another dataset's windows (CrossValidationOptions::train_on): its rows
+// of every object outside the fold (`test_rows` of the scored `d`) to fit — none of
+// a tested object's, also those within none of its scored windows — and the rows
+// within the test windows to predict (ascending, each once).
+void ShortRowsOfFold(const PreparedDataset& d, const PreparedDataset& src,
+                     const std::vector<std::vector<size_t>>& within, const std::vector<size_t>& test_rows,
+                     std::vector<size_t>& fit_rows, std::vector<size_t>& predict_rows) {
+  std::set<std::string> tested;
+  std::set<size_t> predicted;
+  for (size_t i : test_rows) {
+    predicted.insert(within[i].begin(), within[i].end());
+    tested.insert(d.windows.object_ids[i]);
+  }
+  fit_rows.clear();
+  for (size_t j = 0; j < src.windows.size(); ++j)
+    if (!tested.count(src.windows.object_ids[j])) fit_rows.push_back(j);
+  predict_rows.assign(predicted.begin(), predicted.end());
+}
+
+// Per scored test window, the mean of `p` (rows of predict_rows × k) over its rows
+// within; a window with none gets 1/k for every class (a miss, mostly).
+std::vector<float> MeanWithin(const std::vector<float>& p, const std::vector<size_t>& predict_rows,
+                              const std::vector<std::vector<size_t>>& within, const std::vector<size_t>& test_rows,
+                              int classes) {
+  const size_t k = static_cast<size_t>(classes);
+  std::map<size_t, size_t> at;
+  for (size_t t = 0; t < predict_rows.size(); ++t) at[predict_rows[t]] = t;
+  std::vector<float> out(test_rows.size() * k, 1.0f / static_cast<float>(k));
+  for (size_t t = 0; t < test_rows.size(); ++t) {
+    const auto& rows = within[test_rows[t]];
+    if (rows.empty()) continue;
+    for (size_t c = 0; c < k; ++c) {
+      double sum = 0;
+      for (size_t j : rows) sum += p[at.at(j) * k + c];
+      out[t * k + c] = static_cast<float>(sum / static_cast<double>(rows.size()));
+    }
+  }
+  return out;
+}
+
 // One k-fold run of CrossValidate: repeat r, every seed raised by r.
+// `within`: with o.train_on, each scored window's rows there (WindowsWithin).
 void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o, int r,
-                       const PreparedDataset& unlabelled, const CrossValidationLog& log,
-                       CrossValidationResult& result) {
+                       const PreparedDataset& unlabelled, const std::vector<std::vector<size_t>>& within,
+                       const CrossValidationLog& log, CrossValidationResult& result) {
+  const PreparedDataset& src = o.train_on ? *o.train_on : d;  // the windows the models train on and predict
   const int k = static_cast<int>(d.classes.size());
   const size_t kc = d.classes.size(), n = d.windows.size();
   const auto fold = FoldsByObject(d.windows.object_ids, d.windows.y, o.folds, o.seed + r);
@@ -138,8 +180,15 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     result.trained_objects[slot].assign(kc, 0);
     for (size_t i : train_rows)
       if (trained.insert(d.windows.object_ids[i]).second) ++result.trained_objects[slot][d.windows.y[i]];
-    Dataset train_all = d.windows.Subset(train_rows);
-    const Dataset test = d.windows.Subset(test_rows);
+    // The rows of `src` to train on and to predict; with train_on, a scored window's
+    // probabilities are then the mean over its rows there.
+    std::vector<size_t> fit_rows = train_rows, predict_rows = test_rows;
+    if (o.train_on) ShortRowsOfFold(d, src, within, test_rows, fit_rows, predict_rows);
+    auto scored = [&](const std::vector<float>& p) {
+      return o.train_on ? MeanWithin(p, predict_rows, within, test_rows, k) : p;
+    };
+    Dataset train_all = src.windows.Subset(fit_rows);
+    const Dataset test = d.windows.Subset(test_rows), predict = src.windows.Subset(predict_rows);
     // Scores a model's test probabilities three ways and keeps them.
     auto record = [&](const std::string& name, const std::vector<float>& probabilities) {
       const std::vector<int> predicted = MostProbable(probabilities, k);
@@ -169,11 +218,11 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
     };
     // The forest first: it is the pseudo-labels' teacher.
     ForestBaseline forest(200, 12, o.seed + r);
-    if (o.forest) forest.Train(HandcraftedRows(d, train_rows), train_all.y);
+    if (o.forest) forest.Train(HandcraftedRows(src, fit_rows), train_all.y);
     const std::vector<float> forest_unlabelled =
         pseudo_labels ? forest.Probabilities(unlabelled.handcrafted, k) : std::vector<float>();
     if (std::any_of(o.networks.begin(), o.networks.end(), [](const auto& n) { return n.second.distillation > 0; }))
-      train_all.teacher = OutOfFoldForest(d, train_rows, o.seed + r + f);
+      train_all.teacher = OutOfFoldForest(src, fit_rows, o.seed + r + f);
     std::vector<std::pair<std::string, std::vector<float>>> network_probabilities;
     for (const auto& [name, network_options] : o.networks) {
       ModelOptions options = network_options;
@@ -183,7 +232,7 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
       const Dataset fit_windows = train_all.Subset(fit), val_windows = train_all.Subset(val);
       size_t epochs = 0, pseudo = 0;
       const TrainNetwork train = [&](const Dataset& windows, int) {
-        Classifier model(options, d.windows.features, d.windows.length, d.classes);
+        Classifier model(options, src.windows.features, src.windows.length, d.classes);
         epochs += model.Train(windows, val_windows).size();
         pseudo = windows.size() - fit_windows.size();
         return model;
@@ -198,20 +247,20 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
         result.pseudo_labelled[slot] = per_round.front();  // the forest's: the same for every network
         if (o.pseudo_labels.rounds > 1) result.pseudo_labelled_by_round[slot][name] = per_round;
       }
-      network_probabilities.emplace_back(name, model.Predict(test));
+      network_probabilities.emplace_back(name, scored(model.Predict(predict)));
       char details[192];
       std::string extra;
       if (pseudo_labels) extra = " + " + std::to_string(pseudo) + " pseudo-labelled";
       if (o.pseudo_labels.rounds > 1) extra += " in round " + std::to_string(o.pseudo_labels.rounds);
       std::snprintf(details, sizeof(details), " (%zu%s train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
-                    extra.c_str(), test.size(), epochs, s);
+                    extra.c_str(), predict.size(), epochs, s);
       report(name, record(name, network_probabilities.back().second), details, 1.0);
     }
     if (o.forest) {
-      const std::vector<float> test_x = HandcraftedRows(d, test_rows);
       // The forest's own answer is its most voted class (RTrees::predict's, tie
       // included: 0 of 19,331 AIS windows differ), so the trees run once.
-      const std::vector<float> forest_probabilities = forest.Probabilities(test_x, k);
+      const std::vector<float> forest_probabilities =
+          scored(forest.Probabilities(HandcraftedRows(src, predict_rows), k));
       report("forest", record("forest", forest_probabilities), "", forest_units);
       for (const auto& [name, p] : network_probabilities) {
         report(name + "+forest", record(name + "+forest", CombinedProbabilities(p, forest_probabilities)), "", 0.0);
@@ -221,6 +270,28 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
 }
 
 }  // namespace
+
+std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, const PreparedDataset& short_windows) {
+  if (!HasSpans(scored) || !HasSpans(short_windows))
+    throw InputError("windows within windows: both datasets need each window's time span (windows.csv t0_s, t1_s; "
+                     "prepare them again)");
+  std::map<std::string, std::vector<size_t>> by_object;
+  for (size_t j = 0; j < short_windows.windows.size(); ++j) by_object[short_windows.windows.object_ids[j]].push_back(j);
+  std::vector<std::vector<size_t>> out(scored.windows.size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    const auto it = by_object.find(scored.windows.object_ids[i]);
+    if (it == by_object.end()) continue;
+    const double t0 = scored.t0_s[i], t1 = scored.t1_s[i];
+    std::vector<size_t> overlapping;
+    for (size_t j : it->second) {
+      const double a = short_windows.t0_s[j], b = short_windows.t1_s[j];
+      if (a >= t0 && b <= t1) out[i].push_back(j);
+      else if (a <= t1 && b >= t0) overlapping.push_back(j);
+    }
+    if (out[i].empty()) out[i] = overlapping;
+  }
+  return out;
+}
 
 std::vector<float> OutOfFoldForest(const PreparedDataset& d, const std::vector<size_t>& rows, int seed) {
   const size_t k = d.classes.size();
@@ -288,6 +359,16 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   for (int y : d.windows.y)
     if (y < 0 || y >= static_cast<int>(d.classes.size()))
       throw InputError("cross-validation: a window without a class among the labelled ones (SplitOffUnlabelled)");
+  if (o.train_on) {
+    if (o.train_on->classes != d.classes)
+      throw InputError("cross-validation: the dataset to train on has other classes than the scored one");
+    if (o.pseudo_labels.on() || o.train_fraction < 1)
+      throw InputError("cross-validation: training on another dataset's windows goes with neither pseudo-labels "
+                       "nor a train fraction");
+    for (int y : o.train_on->windows.y)
+      if (y < 0 || y >= static_cast<int>(d.classes.size()))
+        throw InputError("cross-validation: a window without a class in the dataset to train on");
+  }
   CrossValidationResult result;
   result.folds = o.folds;
   for (const auto& [name, options] : o.networks) result.models.push_back(name);
@@ -304,7 +385,8 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
   if (o.pseudo_labels.on()) result.pseudo_labelled.resize(slots), result.pseudo_labelled_by_round.resize(slots);
   for (const auto& name : result.models)
     result.probabilities[name].assign(o.repeats * d.windows.size() * d.classes.size(), 0.0f);
-  for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, unlabelled, log, result);
+  const auto within = o.train_on ? WindowsWithin(d, *o.train_on) : std::vector<std::vector<size_t>>();
+  for (int r = 0; r < o.repeats; ++r) CrossValidateOnce(d, o, r, unlabelled, within, log, result);
   const int k = static_cast<int>(d.classes.size());
   for (const auto& name : result.models) {
     std::vector<Scores> folds;

@@ -1,5 +1,8 @@
 #include "specht/classify/dataset_io.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -61,16 +64,72 @@ std::vector<float> ReadNpy(const std::string& path, std::vector<size_t>& shape) 
   return out;
 }
 
+bool HasSpans(const PreparedDataset& d) {
+  return d.t0_s.size() == d.windows.size() && d.t1_s.size() == d.windows.size() &&
+         std::none_of(d.t0_s.begin(), d.t0_s.end(), [](double t) { return std::isnan(t); });
+}
+
 void WritePrepared(const PreparedDataset& d, const std::string& dir) {
   const auto& w = d.windows;
   WriteNpy(dir + "/windows.npy", w.x, {w.size(), static_cast<size_t>(w.features), static_cast<size_t>(w.length)});
   WriteNpy(dir + "/handcrafted.npy", d.handcrafted, {w.size(), static_cast<size_t>(HandcraftedFeatureCount())});
-  std::string csv = "index,object_id,label\n";
-  for (size_t i = 0; i < w.size(); ++i) csv += std::to_string(i) + "," + w.object_ids[i] + "," + d.labels[i] + "\n";
+  const bool spans = HasSpans(d);
+  std::string csv = spans ? "index,object_id,label,t0_s,t1_s\n" : "index,object_id,label\n";
+  char span[64] = "\n";
+  for (size_t i = 0; i < w.size(); ++i) {
+    if (spans) std::snprintf(span, sizeof(span), ",%.3f,%.3f\n", d.t0_s[i], d.t1_s[i]);
+    csv += std::to_string(i) + "," + w.object_ids[i] + "," + d.labels[i] + span;
+  }
   io::WriteTextAtomically(dir + "/windows.csv", csv);
   nlohmann::json info = d.info;
   info["classes"] = d.classes;
   io::WriteTextAtomically(dir + "/dataset.json", info.dump(2) + "\n");
+}
+
+namespace {
+
+// windows.csv: index,object_id,label[,t0_s,t1_s] (the spans since 2026-11-29).
+void ReadWindowsCsv(const std::string& path, PreparedDataset& d) {
+  std::ifstream csv(path);
+  if (!csv) throw InputError(path + ": cannot open");
+  std::string line;
+  std::getline(csv, line);
+  const bool spans = line.rfind("index,object_id,label,t0_s,t1_s", 0) == 0;
+  if (!spans && line.rfind("index,object_id,label", 0) != 0)
+    throw InputError(path + ":1: the header must be index,object_id,label[,t0_s,t1_s]");
+  int line_no = 1;
+  while (std::getline(csv, line)) {
+    ++line_no;
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    const size_t columns = spans ? 5 : 3;
+    if (cells.size() != columns)
+      throw InputError(path + ":" + std::to_string(line_no) + ": " + std::to_string(cells.size()) + " fields, need " +
+                       (spans ? "index,object_id,label,t0_s,t1_s" : "index,object_id,label"));
+    d.windows.object_ids.push_back(cells[1]);
+    d.labels.push_back(cells[2]);
+    const auto it = std::find(d.classes.begin(), d.classes.end(), d.labels.back());
+    d.windows.y.push_back(it == d.classes.end() ? -1 : static_cast<int>(it - d.classes.begin()));
+    double t0 = std::nan(""), t1 = std::nan("");
+    if (spans) {
+      char *end0 = nullptr, *end1 = nullptr;
+      t0 = std::strtod(cells[3].c_str(), &end0), t1 = std::strtod(cells[4].c_str(), &end1);
+      if (cells[3].empty() || *end0 || cells[4].empty() || *end1 || !(t0 <= t1))
+        throw InputError(path + ":" + std::to_string(line_no) + ": t0_s, t1_s must be two times with t0_s <= t1_s");
+    }
+    d.t0_s.push_back(t0), d.t1_s.push_back(t1);
+  }
+}
+
+}  // namespace
+
+void PreparedDataset::AddWindow(const Window& w, int y) {
+  windows.y.push_back(y);
+  windows.object_ids.push_back(w.object_id);
+  labels.push_back(w.label);
+  t0_s.push_back(w.points.empty() ? w.t0_s : w.points.front().t_s);
+  t1_s.push_back(w.points.empty() ? w.t0_s : w.points.back().t_s);
 }
 
 PreparedDataset ReadPrepared(const std::string& dir) {
@@ -93,19 +152,7 @@ PreparedDataset ReadPrepared(const std::string& dir) {
     throw InputError(dir + "/handcrafted.npy: expected " + std::to_string(windows) + " windows × " +
                      std::to_string(HandcraftedFeatureCount()) +
                      " features, as windows.npy (a dataset of an older version: prepare it again)");
-  std::ifstream csv(dir + "/windows.csv");
-  std::string line;
-  std::getline(csv, line);
-  int line_no = 1;
-  while (std::getline(csv, line)) {
-    ++line_no;
-    const size_t a = line.find(','), b = line.rfind(',');
-    if (a == std::string::npos || a == b) throw InputError(dir + "/windows.csv:" + std::to_string(line_no) + ": need index,object_id,label");
-    d.windows.object_ids.push_back(line.substr(a + 1, b - a - 1));
-    d.labels.push_back(line.substr(b + 1));
-    const auto it = std::find(d.classes.begin(), d.classes.end(), d.labels.back());
-    d.windows.y.push_back(it == d.classes.end() ? -1 : static_cast<int>(it - d.classes.begin()));
-  }
+  ReadWindowsCsv(dir + "/windows.csv", d);
   if (d.windows.size() * d.windows.features * d.windows.length != d.windows.x.size())
     throw InputError(dir + ": windows.csv has " + std::to_string(d.windows.size()) + " rows, windows.npy another count");
   return d;
@@ -118,6 +165,8 @@ PreparedDataset SubsetOf(const PreparedDataset& d, const std::vector<size_t>& ro
   out.windows = d.windows.Subset(rows);
   out.handcrafted = HandcraftedRows(d, rows);
   for (size_t r : rows) out.labels.push_back(d.labels[r]);
+  if (HasSpans(d))
+    for (size_t r : rows) out.t0_s.push_back(d.t0_s[r]), out.t1_s.push_back(d.t1_s[r]);
   out.classes = d.classes;
   out.info = d.info;
   return out;

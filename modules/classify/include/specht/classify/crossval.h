@@ -86,9 +86,25 @@ struct PseudoLabelOptions {
   void Check() const;  // InputError when out of range
 };
 
+// For each window of `scored`, the rows of `short_windows` (another dataset cut from
+// the same tracks, e.g. 60-point windows beside 360-point ones) of the same object
+// that lie within its time span; where none does (the stationary filter dropped
+// them), those that overlap it; else none. Both datasets need spans (HasSpans).
+std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, const PreparedDataset& short_windows);
+
 // A learning curve's point: every model of a fold trains on a share of each class's
 // training objects (SubsampleObjects), tested on the same fold as with all of them,
 // so a run at 0.5 compares with a run at 1 fold by fold (--compare-to).
+//
+// Training on shorter windows (`train_on`): the folds are dealt over the scored
+// dataset's objects as always, but every model trains on `train_on`'s windows of
+// the objects outside the test fold — including the objects that have no scored
+// window at all (at 360 points 247 AIS vessels have a window, at 60 points 1,338:
+// the long windows leave most vessels, and most of each small class, out) — and a
+// scored window's probabilities are the mean of the model's over its WindowsWithin.
+// A long sequence is thus classified by a model of its short pieces; the
+// corrected t-test's ρ still counts the scored dataset's windows (or objects), so
+// its comparisons stay those of a plain run on the same folds.
 struct CrossValidationOptions {
   int folds = 5;
   int repeats = 1;
@@ -97,6 +113,7 @@ struct CrossValidationOptions {
   std::vector<std::pair<std::string, ModelOptions>> networks;  // name → options
   bool forest = true;
   PseudoLabelOptions pseudo_labels;
+  const PreparedDataset* train_on = nullptr;  // see above; the same classes, spans in both
 };
 
 // Trains one network on `labelled` and pseudo-labelled windows of `unlabelled`,

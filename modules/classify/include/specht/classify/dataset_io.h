@@ -1,7 +1,8 @@
 // specht/classify/dataset_io.h: prepared datasets on disk, readable with numpy:
 //   windows.npy      float32, windows × features × length (NumPy .npy v1.0)
 //   handcrafted.npy  float32, windows × HandcraftedFeatureCount() (the baseline's)
-//   windows.csv      index,object_id,label
+//   windows.csv      index,object_id,label,t0_s,t1_s (the window's first and last point's
+//                    time; datasets of older versions lack the last two: then NaN)
 //   dataset.json     feature names, length, classes, counts per preprocessing step
 #pragma once
 
@@ -19,8 +20,16 @@ struct PreparedDataset {
   Dataset windows;  // y indexes `classes`
   std::vector<float> handcrafted;
   std::vector<std::string> labels;  // per window
+  // Per window: the time of its first and last point (s; NaN where the dataset was
+  // prepared before windows.csv had them). A window's span says which windows of
+  // another dataset, cut from the same tracks, lie inside it (crossval's train_on).
+  std::vector<double> t0_s, t1_s;
   std::vector<std::string> classes;
   nlohmann::json info;  // dataset.json
+
+  // Appends `w`'s identity, label (y indexes `classes`, −1 for none) and span; its
+  // features and handcrafted row are the caller's.
+  void AddWindow(const Window& w, int y);
 };
 
 // Removes the windows without a class (y = −1: AIS vessels of unknown type) from
@@ -41,6 +50,9 @@ std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<s
 void WriteNpy(const std::string& path, const std::vector<float>& data, const std::vector<size_t>& shape);
 // Throws InputError naming the file on a bad header, dtype or truncated data.
 std::vector<float> ReadNpy(const std::string& path, std::vector<size_t>& shape);
+
+// Whether every window of `d` has its span (t0_s, t1_s).
+bool HasSpans(const PreparedDataset& d);
 
 void WritePrepared(const PreparedDataset& d, const std::string& dir);
 PreparedDataset ReadPrepared(const std::string& dir);
