@@ -99,7 +99,7 @@ std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, co
 // Training on shorter windows (`train_on`): the folds are dealt over the scored
 // dataset's objects as always, but every model trains on `train_on`'s windows of
 // the objects outside the test fold — including the objects that have no scored
-// window at all (at 360 points 247 AIS vessels have a window, at 60 points 1,338:
+// window at all (at 360 points 247 AIS vessels have a window, at 60 points 1,352:
 // the long windows leave most vessels, and most of each small class, out) — and a
 // scored window's probabilities are the mean of the model's over its WindowsWithin.
 // A long sequence is thus classified by a model of its short pieces; the
