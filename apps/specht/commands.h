@@ -59,6 +59,7 @@ struct CrossValidationArgs {
   bool no_forest = false;
   classify::PseudoLabelOptions pseudo_labels;  // off unless --pseudo-labels
   std::string train_on;  // another prepared dataset whose windows the models train on, or empty
+  double fine_tune = 0;  // with train_on: the networks' learning rate on this dataset's windows after (0 = off)
 };
 // How a command names things: "ais eval", "ais prepare", "MMSI" (what the folds are
 // disjoint by), "vessels" (the objects), "specht-out/ais-eval".
@@ -66,7 +67,7 @@ struct CrossValidationNames {
   std::string command, prepare, key, objects, default_out;
 };
 // Registers the dataset argument, --folds, --repeats, --train-fraction, --networks,
-// --no-forest, --pseudo-labels, --compare-to, --train-on and the common options.
+// --no-forest, --pseudo-labels, --compare-to, --train-on, --fine-tune and the common options.
 void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const CrossValidationNames& names);
 // Runs it with `base` for every network (variant replaced); writes report.json,
 // report.md, a pooled confusion PNG per model and predictions.csv; prints the summary.

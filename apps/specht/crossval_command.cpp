@@ -69,6 +69,8 @@ classify::CrossValidationOptions OptionsOf(const CrossValidationArgs& a, const c
   cv.seed = base.seed;
   cv.forest = !a.no_forest;
   cv.pseudo_labels = a.pseudo_labels;
+  if (a.fine_tune > 0 && a.train_on.empty()) throw InputError("--fine-tune: goes with --train-on");
+  cv.fine_tune_learning_rate = a.fine_tune;
   for (const auto& variant : SplitList(a.networks)) {
     classify::ModelOptions m = base;
     m.variant = variant;
@@ -218,6 +220,11 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
                  "every model trains on its windows of the " + names.objects + " outside the test fold (also of " +
                  names.objects + " too short for this dataset's windows) and scores a window by the mean over "
                  "the shorter windows within it; the folds stay this dataset's");
+  cmd.add_option("--fine-tune", args.fine_tune,
+                 "with --train-on: each convolutional network, once trained on the shorter windows, continues on "
+                 "this dataset's training windows at this learning rate (e.g. 1e-4) and scores its windows itself "
+                 "(the MLP and the forest keep the mean over the shorter windows); 0: off")
+      ->check(CLI::Range(0.0, 0.999));
   cmd.add_option("--compare-to", args.compare_to,
                  "an earlier run's output directory on the same dataset, folds, repeats and seed: each model "
                  "compared with its earlier self fold by fold");
@@ -255,6 +262,7 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
   j.update(deal);
   j["train_fraction"] = train_fraction;
   if (!a.train_on.empty()) j["train_on"] = a.train_on;
+  if (a.fine_tune > 0) j["fine_tune_learning_rate"] = a.fine_tune;
   j["fold_windows"] = result.FoldSizes();
   j["fold_objects_trained"] = result.trained_objects;  // per fold and class
   j["unlabelled_windows"] = unlabelled.windows.size();

@@ -164,20 +164,20 @@ TEST(MetricsTest, F1ByHand) {
 
 // Two classes that differ only in how they move (straight vs. weaving), with the
 // same speed range: learnable from the sequence, not from one point.
-Dataset ToyDataset(int per_class, int seed, std::vector<std::string>* ids = nullptr) {
+Dataset ToyDataset(int per_class, int seed, std::vector<std::string>* ids = nullptr, int length = 32) {
   PreprocessOptions o;
-  o.length = 32;
+  o.length = length;
   o.features = {"x", "y", "speed", "turn_rate"};
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> speed(1, 3), phase(0, 6.28);
   Dataset d;
-  d.features = 4, d.length = 32;
+  d.features = 4, d.length = length;
   for (int i = 0; i < 2 * per_class; ++i) {
     const int cls = i % 2;
     const double v = speed(rng), ph = phase(rng);
     Trajectory t{"obj" + std::to_string(seed) + "_" + std::to_string(i), "", {}};
     double x = 0, y = 0, h = ph;
-    for (int k = 0; k < 32; ++k) {
+    for (int k = 0; k < length; ++k) {
       h += cls ? 0.5 * std::sin(k * 0.8) : 0.0;
       x += v * 0.1 * std::cos(h), y += v * 0.1 * std::sin(h);
       t.points.push_back({0.1 * k, x, y});
@@ -298,6 +298,41 @@ TEST(ModelTest, DistillationLearnsTheTeachersAnswers) {
   EXPECT_THROW(refuses.Train(untaught, {}), InputError);
   untaught.teacher.assign(2 * 99, 0.5f);  // one window short
   EXPECT_THROW(refuses.Train(untaught, {}), InputError);
+}
+
+// Fine-tuning continues a model of 32-point windows on 64-point ones: the model
+// then takes (and saves) the new length, keeps its options' rate, and
+// tells the classes apart at that length. An MLP (fixed input size), a zero rate
+// and windows of other features are refused, leaving the model as it was.
+TEST(ModelTest, FineTuningContinuesOnLongerWindows) {
+  auto o = Small();
+  o.input_bins = 4;
+  Classifier c(o, 4, 32, {"straight", "weaving"});
+  c.Train(ToyDataset(100, 1), ToyDataset(50, 2));
+  const Dataset long_train = ToyDataset(100, 3, nullptr, 64), long_test = ToyDataset(50, 4, nullptr, 64);
+  EXPECT_THROW(c.Predict(long_test), InputError);
+  const auto reports = c.FineTune(long_train, long_test, 3e-4);
+  EXPECT_FALSE(reports.empty());
+  EXPECT_EQ(c.length(), 64);
+  EXPECT_EQ(c.options().learning_rate, o.learning_rate);
+  EXPECT_GT(Score(long_test.y, c.PredictClasses(long_test), 2).macro_f1, 0.95);
+  const std::string dir = testing::TempDir("model_tuned");
+  c.Save(dir + "/m");
+  const Classifier back = Classifier::Load(dir + "/m");
+  EXPECT_EQ(back.length(), 64);
+  EXPECT_EQ(back.Predict(long_test), c.Predict(long_test));
+
+  const auto before = c.Predict(long_test);
+  Dataset wider = long_train;
+  wider.features = 8, wider.length = 32;  // the same floats a window, another shape
+  EXPECT_THROW(c.FineTune(wider, {}, 3e-4), InputError);
+  EXPECT_THROW(c.FineTune(long_train, {}, 0), InputError);
+  EXPECT_EQ(c.length(), 64);
+  EXPECT_EQ(c.Predict(long_test), before);
+  auto mlp = Small();
+  mlp.variant = "mlp";
+  Classifier fixed(mlp, 4, 32, {"straight", "weaving"});
+  EXPECT_THROW(fixed.FineTune(long_train, {}, 3e-4), InputError);
 }
 
 TEST(ModelTest, SameSeedSameModel) {
@@ -835,6 +870,47 @@ TEST(CrossValidationTest, TrainingOnShorterWindowsNeverSeesATestedObject) {
   o.train_on = &other_classes;
   EXPECT_THROW(CrossValidate(scored, o), InputError);
   o.train_on = &separable, o.train_fraction = 0.5;
+  EXPECT_THROW(CrossValidate(scored, o), InputError);
+}
+
+// Fine-tuning after training on shorter windows: where only the scored (longer)
+// windows carry the class in their values and the shorter ones carry nothing, the
+// network alone is at chance on the shorter windows' mean and right once tuned on
+// the scored training windows; the forest (no tuning) stays as it was. Fine-tuning
+// needs train_on.
+TEST(CrossValidationTest, FineTunedNetworkScoresTheLongerWindowsItself) {
+  PreparedDataset scored = TwoClassDataset();
+  std::mt19937 rng(9);
+  std::normal_distribution<float> noise(0, 0.3f);
+  for (size_t i = 0; i < scored.windows.size(); ++i) {
+    scored.t0_s.push_back(1000.0 * i), scored.t1_s.push_back(1000.0 * i + 900);
+    for (int t = 0; t < 2; ++t) scored.windows.x[2 * i + t] = 2.0f * scored.windows.y[i] - 1 + noise(rng);
+  }
+  PreparedDataset shorter;
+  shorter.classes = scored.classes;
+  shorter.windows.features = 1, shorter.windows.length = 1;
+  for (size_t i = 0; i < scored.windows.size(); ++i) {
+    const int y = scored.windows.y[i];
+    shorter.windows.x.push_back(noise(rng)), shorter.windows.y.push_back(y);
+    shorter.windows.object_ids.push_back(scored.windows.object_ids[i]);
+    shorter.labels.push_back(scored.labels[i]), shorter.t0_s.push_back(scored.t0_s[i] + 100);
+    shorter.t1_s.push_back(scored.t0_s[i] + 200);
+    shorter.handcrafted.insert(shorter.handcrafted.end(), scored.handcrafted.begin() + i * HandcraftedFeatureCount(),
+                               scored.handcrafted.begin() + (i + 1) * HandcraftedFeatureCount());
+  }
+  CrossValidationOptions o;
+  o.folds = 3, o.seed = 2;
+  ModelOptions m = Small();
+  m.epochs = 15, m.batch_size = 16, m.class_weights = false;
+  o.networks = {{"tiny", m}};
+  o.train_on = &shorter;
+  const CrossValidationResult mean_within = CrossValidate(scored, o);
+  o.fine_tune_learning_rate = 3e-3;
+  const CrossValidationResult tuned = CrossValidate(scored, o);
+  EXPECT_LT(mean_within.pooled.at("tiny").macro_f1, 0.7);
+  EXPECT_GT(tuned.pooled.at("tiny").macro_f1, 0.9);
+  EXPECT_EQ(tuned.pooled.at("forest").macro_f1, mean_within.pooled.at("forest").macro_f1);
+  o.train_on = nullptr;
   EXPECT_THROW(CrossValidate(scored, o), InputError);
 }
 

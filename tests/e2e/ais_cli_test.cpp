@@ -180,6 +180,15 @@ TEST(AisCliTest, EvalTrainsOnTheShortWindowsOfTheSameTracks) {
   EXPECT_EQ(j["fold_windows"], Report(dir + "/plain")["fold_windows"]);
   EXPECT_TRUE(j["compared_to"]["paired"].contains("forest vs forest (earlier)"));
   EXPECT_EQ(j["models"]["tiny+forest"]["folds"].size(), 2u);
+  // Fine-tuned on the long windows: the network's figures change, the forest's do not.
+  r = testing::RunSpecht(eval + " --train-on '" + dir + "/data60' --fine-tune 1e-4 -o '" + dir + "/tuned'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto tuned = Report(dir + "/tuned");
+  EXPECT_EQ(tuned["fine_tune_learning_rate"], 1e-4);
+  EXPECT_EQ(tuned["models"]["forest"]["folds"], j["models"]["forest"]["folds"]);
+  r = testing::RunSpecht(eval + " --fine-tune 1e-4 -o '" + dir + "/bad'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--fine-tune: goes with --train-on"));
   r = testing::RunSpecht(eval + " --train-on '" + dir + "/nowhere' -o '" + dir + "/bad'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("nowhere/dataset.json"));

@@ -239,21 +239,35 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
       };
       const auto t0 = std::chrono::steady_clock::now();
       std::vector<std::vector<long>> per_round;
-      const Classifier model =
+      Classifier model =
           pseudo_labels ? SelfTrain(train, fit_windows, unlabelled, forest_unlabelled, o.pseudo_labels, k, per_round)
                         : train(fit_windows, 1);
+      // Fine-tuning (train_on): on to the scored dataset's own training windows, the
+      // validation vessels split off as for the shorter ones.
+      const bool tuned = o.fine_tune_learning_rate > 0 && options.variant != "mlp";
+      size_t tuned_epochs = 0;
+      if (tuned) {
+        const Dataset long_train = d.windows.Subset(train_rows);
+        std::vector<size_t> tune_fit, tune_val;
+        SplitByObject(long_train.object_ids, options.validation_fraction, options.seed + f, tune_fit, tune_val);
+        tuned_epochs = model.FineTune(long_train.Subset(tune_fit), long_train.Subset(tune_val),
+                                      o.fine_tune_learning_rate).size();
+      }
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (pseudo_labels) {
         result.pseudo_labelled[slot] = per_round.front();  // the forest's: the same for every network
         if (o.pseudo_labels.rounds > 1) result.pseudo_labelled_by_round[slot][name] = per_round;
       }
-      network_probabilities.emplace_back(name, scored(model.Predict(predict)));
+      network_probabilities.emplace_back(name, tuned ? model.Predict(test) : scored(model.Predict(predict)));
       char details[192];
       std::string extra;
       if (pseudo_labels) extra = " + " + std::to_string(pseudo) + " pseudo-labelled";
       if (o.pseudo_labels.rounds > 1) extra += " in round " + std::to_string(o.pseudo_labels.rounds);
-      std::snprintf(details, sizeof(details), " (%zu%s train, %zu test windows, %zu epochs, %.0f s)", train_all.size(),
-                    extra.c_str(), predict.size(), epochs, s);
+      const std::string tuning = tuned ? " + " + std::to_string(tuned_epochs) + " tuned on " +
+                                             std::to_string(train_rows.size()) + " windows here"
+                                       : "";
+      std::snprintf(details, sizeof(details), " (%zu%s train, %zu test windows, %zu epochs%s, %.0f s)",
+                    train_all.size(), extra.c_str(), tuned ? test.size() : predict.size(), epochs, tuning.c_str(), s);
       report(name, record(name, network_probabilities.back().second), details, 1.0);
     }
     if (o.forest) {
@@ -368,7 +382,15 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
     for (int y : o.train_on->windows.y)
       if (y < 0 || y >= static_cast<int>(d.classes.size()))
         throw InputError("cross-validation: a window without a class in the dataset to train on");
+    if (o.fine_tune_learning_rate > 0 && o.train_on->windows.features != d.windows.features)
+      throw InputError("cross-validation: fine-tuning needs the same features in both datasets (" +
+                       std::to_string(o.train_on->windows.features) + " and " + std::to_string(d.windows.features) +
+                       ")");
+  } else if (o.fine_tune_learning_rate > 0) {
+    throw InputError("cross-validation: fine-tuning continues a model of another dataset's windows (train_on)");
   }
+  if (!(o.fine_tune_learning_rate >= 0 && o.fine_tune_learning_rate < 1))
+    throw InputError("cross-validation: the fine-tuning learning rate must be in [0, 1)");
   CrossValidationResult result;
   result.folds = o.folds;
   for (const auto& [name, options] : o.networks) result.models.push_back(name);

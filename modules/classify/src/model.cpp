@@ -362,7 +362,7 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
   TrainingState state;
   state.learning_rate = options_.learning_rate;
   if (checkpoint.empty() || !ReadCheckpoint(checkpoint, run, state, *net_, optimiser)) {
-    net_->FitBins(train.x, train.size(), length_);
+    if (!tuning_) net_->FitBins(train.x, train.size(), length_);
     std::stringstream initial;
     torch::save(net_, initial);
     state.best_weights = initial.str();
@@ -444,6 +444,24 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
   std::stringstream best(state.best_weights);
   torch::load(net_, best);
   return state.reports;
+}
+
+std::vector<EpochReport> Classifier::FineTune(const Dataset& train, const Dataset& validation,
+                                              double learning_rate) {
+  if (net_->paths.empty()) throw InputError("classify: an mlp takes one window length, it cannot be fine-tuned");
+  if (!(learning_rate > 0)) throw InputError("classify: fine-tuning needs a positive learning rate");
+  const int length = length_;
+  const double rate = options_.learning_rate;
+  length_ = train.length, options_.learning_rate = learning_rate, tuning_ = true;
+  std::vector<EpochReport> reports;
+  try {
+    reports = Train(train, validation);
+  } catch (...) {  // refused windows: the model stays as it was
+    length_ = length, options_.learning_rate = rate, tuning_ = false;
+    throw;
+  }
+  options_.learning_rate = rate, tuning_ = false;
+  return reports;
 }
 
 std::vector<float> Classifier::Predict(const Dataset& data, int batch_size) const {

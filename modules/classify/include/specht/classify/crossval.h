@@ -105,6 +105,14 @@ std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, co
 // A long sequence is thus classified by a model of its short pieces; the
 // corrected t-test's ρ still counts the scored dataset's windows (or objects), so
 // its comparisons stay those of a plain run on the same folds.
+//
+// Fine-tuning (`fine_tune_learning_rate` > 0, with train_on): each convolutional
+// network, once trained on the shorter windows, continues on the scored dataset's
+// training windows of the fold at that rate (Classifier::FineTune; its validation
+// objects split off as for the shorter ones) and scores the test windows itself —
+// transfer from every object's short pieces to the long windows of the few objects
+// that have them, which a forest cannot do. The MLP (its input length is fixed) and
+// the forest keep the mean over the shorter windows.
 struct CrossValidationOptions {
   int folds = 5;
   int repeats = 1;
@@ -114,6 +122,7 @@ struct CrossValidationOptions {
   bool forest = true;
   PseudoLabelOptions pseudo_labels;
   const PreparedDataset* train_on = nullptr;  // see above; the same classes, spans in both
+  double fine_tune_learning_rate = 0;         // see above; 0 = off
 };
 
 // Trains one network on `labelled` and pseudo-labelled windows of `unlabelled`,

@@ -152,6 +152,13 @@ class Classifier {
   std::vector<EpochReport> Train(const Dataset& train, const Dataset& validation,
                                  const std::function<void(const EpochReport&)>& on_epoch = nullptr,
                                  const std::string& checkpoint = "");
+  // Continues training from the current weights on windows of another length (or
+  // the same), at `learning_rate`, as Train does otherwise; the model then takes
+  // windows of that length. Transfer: a model of every vessel's 60-point windows
+  // tuned on the 360-point windows of the few that have them. The input encoding's
+  // bins stay as first fitted; the options' learning rate is left as it was. The
+  // convolutional variants only (they pool over time): InputError for mlp.
+  std::vector<EpochReport> FineTune(const Dataset& train, const Dataset& validation, double learning_rate);
   // Class probabilities, size × classes, row-major (batched, no gradients).
   // batch_size 0 picks one whose activations stay near 4 MiB: cache-sized batches
   // ran 2× faster than 256 on 360-point windows (bench/classify_bench).
@@ -176,6 +183,7 @@ class Classifier {
   struct Net;
   ModelOptions options_;
   int features_, length_;
+  bool tuning_ = false;  // FineTune: keep the encoding's bins
   std::vector<std::string> classes_;
   std::shared_ptr<Net> net_;
 };
