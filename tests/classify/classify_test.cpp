@@ -877,7 +877,7 @@ TEST(CrossValidationTest, TrainingOnShorterWindowsNeverSeesATestedObject) {
 // windows carry the class in their values and the shorter ones carry nothing, the
 // network alone is at chance on the shorter windows' mean and right once tuned on
 // the scored training windows; the forest (no tuning) stays as it was. Fine-tuning
-// needs train_on.
+// needs train_on and a rate in [0, 1).
 TEST(CrossValidationTest, FineTunedNetworkScoresTheLongerWindowsItself) {
   PreparedDataset scored = TwoClassDataset();
   std::mt19937 rng(9);
@@ -910,7 +910,11 @@ TEST(CrossValidationTest, FineTunedNetworkScoresTheLongerWindowsItself) {
   EXPECT_LT(mean_within.pooled.at("tiny").macro_f1, 0.7);
   EXPECT_GT(tuned.pooled.at("tiny").macro_f1, 0.9);
   EXPECT_EQ(tuned.pooled.at("forest").macro_f1, mean_within.pooled.at("forest").macro_f1);
-  o.train_on = nullptr;
+  for (double rate : {1.0, -1e-4}) {  // out of [0, 1)
+    o.fine_tune_learning_rate = rate;
+    EXPECT_THROW(CrossValidate(scored, o), InputError);
+  }
+  o.fine_tune_learning_rate = 3e-3, o.train_on = nullptr;
   EXPECT_THROW(CrossValidate(scored, o), InputError);
 }
 
