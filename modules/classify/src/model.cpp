@@ -334,6 +334,27 @@ bool ReadCheckpoint(const std::string& path, const nlohmann::json& run, Training
 std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& validation,
                                            const std::function<void(const EpochReport&)>& on_epoch,
                                            const std::string& checkpoint) {
+  return Fit(train, validation, on_epoch, checkpoint, options_.learning_rate, true);
+}
+
+std::vector<EpochReport> Classifier::FineTune(const Dataset& train, const Dataset& validation,
+                                              double learning_rate,
+                                              const std::function<void(const EpochReport&)>& on_epoch) {
+  if (net_->paths.empty()) throw InputError("classify: an mlp takes one window length, it cannot be fine-tuned");
+  if (!(learning_rate > 0)) throw InputError("classify: fine-tuning needs a positive learning rate");
+  const int length = length_;
+  length_ = train.length;
+  try {
+    return Fit(train, validation, on_epoch, "", learning_rate, false);
+  } catch (...) {  // refused windows: the model stays as it was
+    length_ = length;
+    throw;
+  }
+}
+
+std::vector<EpochReport> Classifier::Fit(const Dataset& train, const Dataset& validation,
+                                         const std::function<void(const EpochReport&)>& on_epoch,
+                                         const std::string& checkpoint, double learning_rate, bool fit_bins) {
   CheckShape(train, features_, length_, "the training set");
   if (validation.size()) CheckShape(validation, features_, length_, "the validation set");
   if (train.size() == 0) throw InputError("classify: the training set is empty");
@@ -349,7 +370,7 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
     for (int c = 0; c < k; ++c) weights[c] = counts[c] > 0 ? train.size() / (k * counts[c]) : 0.0;
   }
   const auto weight = torch::tensor(std::vector<float>(weights.begin(), weights.end()));
-  torch::optim::Adam optimiser(net_->parameters(), torch::optim::AdamOptions(options_.learning_rate));
+  torch::optim::Adam optimiser(net_->parameters(), torch::optim::AdamOptions(learning_rate));
 
   // What must match for a checkpoint to be continued (epochs may grow).
   const nlohmann::json run = {{"variant", options_.variant}, {"batch_norm", options_.batch_norm},
@@ -360,9 +381,9 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
                               {"class_weights", options_.class_weights}, {"input_bins", options_.input_bins},
                               {"distillation", options_.distillation}};
   TrainingState state;
-  state.learning_rate = options_.learning_rate;
+  state.learning_rate = learning_rate;
   if (checkpoint.empty() || !ReadCheckpoint(checkpoint, run, state, *net_, optimiser)) {
-    if (!tuning_) net_->FitBins(train.x, train.size(), length_);
+    if (fit_bins) net_->FitBins(train.x, train.size(), length_);
     std::stringstream initial;
     torch::save(net_, initial);
     state.best_weights = initial.str();
@@ -444,24 +465,6 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
   std::stringstream best(state.best_weights);
   torch::load(net_, best);
   return state.reports;
-}
-
-std::vector<EpochReport> Classifier::FineTune(const Dataset& train, const Dataset& validation,
-                                              double learning_rate) {
-  if (net_->paths.empty()) throw InputError("classify: an mlp takes one window length, it cannot be fine-tuned");
-  if (!(learning_rate > 0)) throw InputError("classify: fine-tuning needs a positive learning rate");
-  const int length = length_;
-  const double rate = options_.learning_rate;
-  length_ = train.length, options_.learning_rate = learning_rate, tuning_ = true;
-  std::vector<EpochReport> reports;
-  try {
-    reports = Train(train, validation);
-  } catch (...) {  // refused windows: the model stays as it was
-    length_ = length, options_.learning_rate = rate, tuning_ = false;
-    throw;
-  }
-  options_.learning_rate = rate, tuning_ = false;
-  return reports;
 }
 
 std::vector<float> Classifier::Predict(const Dataset& data, int batch_size) const {

@@ -158,7 +158,9 @@ class Classifier {
   // tuned on the 360-point windows of the few that have them. The input encoding's
   // bins stay as first fitted; the options' learning rate is left as it was. The
   // convolutional variants only (they pool over time): InputError for mlp.
-  std::vector<EpochReport> FineTune(const Dataset& train, const Dataset& validation, double learning_rate);
+  // `on_epoch` as for Train.
+  std::vector<EpochReport> FineTune(const Dataset& train, const Dataset& validation, double learning_rate,
+                                    const std::function<void(const EpochReport&)>& on_epoch = nullptr);
   // Class probabilities, size × classes, row-major (batched, no gradients).
   // batch_size 0 picks one whose activations stay near 4 MiB: cache-sized batches
   // ran 2× faster than 256 on 360-point windows (bench/classify_bench).
@@ -181,9 +183,14 @@ class Classifier {
 
  private:
   struct Net;
+  // Train and FineTune: trains from the current weights at `learning_rate`; with
+  // `fit_bins` the input encoding's bins are fitted to `train` first (a new model),
+  // else kept (a model tuned on other windows keeps its inputs' meaning).
+  std::vector<EpochReport> Fit(const Dataset& train, const Dataset& validation,
+                               const std::function<void(const EpochReport&)>& on_epoch, const std::string& checkpoint,
+                               double learning_rate, bool fit_bins);
   ModelOptions options_;
   int features_, length_;
-  bool tuning_ = false;  // FineTune: keep the encoding's bins
   std::vector<std::string> classes_;
   std::shared_ptr<Net> net_;
 };
