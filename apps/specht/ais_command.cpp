@@ -7,8 +7,9 @@
 //   prepare <tracks.csv>... -o DIR   tabular AIS (positions.h layouts) → windows
 //       (sections "ais", "ais_classify"), class counts after each step (counts.png,
 //       the paper's Figure 3), dataset files as classify writes them.
-//   train <dataset> -o DIR [--resume]   the 1D ResNet (section "ais_model") and the
-//       random forest, as `classify train`.
+//   train <dataset> -o DIR [--resume] [--train-on SHORTER [--fine-tune RATE]]   the 1D
+//       ResNet (section "ais_model") and the random forest, as `classify train`
+//       (--train-on: the model `eval --train-on [--fine-tune]` measures).
 //   eval <dataset> -o DIR [--folds 5] [--repeats 1] [--networks tiny,mlp]
 //       cross-validation with folds disjoint by MMSI: per model (each network, the
 //       forest, each network combined with the forest) macro/weighted F1 mean ± std,
@@ -51,9 +52,9 @@ namespace {
 struct AisArgs {
   CommonArgs common;
   std::vector<std::string> inputs;
-  std::string dataset, model_dir;
-  bool resume = false, network_only = false;
-  classify::PseudoLabelOptions pseudo_labels;  // train --pseudo-labels, --pseudo-label-rounds
+  std::string model_dir;
+  bool network_only = false;
+  TrainingArgs training;  // train
 };
 
 double Seconds(std::chrono::steady_clock::time_point t0) {
@@ -299,14 +300,12 @@ void AddAisCommand(CLI::App& app, int& exit_code) {
 
   auto train = std::make_shared<AisArgs>();
   CLI::App* t = cmd->add_subcommand("train", "train the 1D ResNet (section ais_model) and the random forest");
-  t->add_option("dataset", train->dataset, "a directory written by ais prepare")->required();
-  t->add_flag("--resume", train->resume, "continue from the output directory's checkpoint.pt");
-  AddPseudoLabelOption(*t, train->pseudo_labels);
+  AddTrainingOptions(*t, train->training, "ais prepare");
   AddCommonOptions(*t, train->common, "specht-out/ais-model");
   t->callback([train, &exit_code] {
     const params::Params params = LoadParams(train->common);
     exit_code = RunClassifierTraining(train->common, params, params.Get<ais::AisModelOptions>("ais_model"),
-                                      train->dataset, train->resume, train->pseudo_labels, "ais train");
+                                      train->training, "ais train");
   });
 
   auto ev = std::make_shared<CrossValidationArgs>();

@@ -5,10 +5,14 @@
 //       is the second part of the track id ("s3/urban-crossing/t7": its true static
 //       grid and parking bays as points of interest); writes dataset_io.h's files
 //       and the class counts after each step.
-//   train <dataset> -o DIR [--resume]   the 1D ResNet (section "classify_model") with a
-//       held-out validation split by object, and the random-forest baseline on the
-//       same split; progress per epoch; writes model.pt/.json, forest.yml,
-//       training.csv; checkpoint.pt after every epoch (--resume continues from it).
+//   train <dataset> -o DIR [--resume] [--train-on SHORTER [--fine-tune RATE]]
+//       the 1D ResNet (section "classify_model") with a held-out validation split by
+//       object, and the random-forest baseline on the same split; progress per
+//       epoch; writes model.pt/.json, forest.yml, training.csv; checkpoint.pt after
+//       every epoch (--resume continues from it). --train-on: both learn from the
+//       shorter windows of every object and the model classifies the dataset's
+//       windows by the mean over those within (as crossval --train-on scores them);
+//       --fine-tune then tunes the network on the dataset's windows (fine_tuning.csv).
 //   eval <model dir> <dataset> -o DIR   macro/weighted/per-class F1 of both and of the
 //       two combined (mean probabilities), confusion
 //       matrices as PNG, inference rate.
@@ -52,8 +56,8 @@ struct ClassifyArgs {
   CommonArgs common;
   std::vector<std::string> inputs, scenarios;
   std::string model_dir, dataset;
-  bool resume = false, network_only = false;
-  classify::PseudoLabelOptions pseudo_labels;  // train --pseudo-labels, --pseudo-label-rounds
+  bool network_only = false;
+  TrainingArgs training;  // train
 };
 
 std::map<std::string, classify::MapFeatures> ScenarioMaps(const std::vector<std::string>& paths) {
@@ -264,85 +268,191 @@ int RunPredict(const ClassifyArgs& a) {
 
 }  // namespace
 
+void AddTrainingOptions(CLI::App& cmd, TrainingArgs& args, const std::string& prepare) {
+  cmd.add_option("dataset", args.dataset, "a directory written by " + prepare)->required();
+  cmd.add_flag("--resume", args.resume, "continue from the output directory's checkpoint.pt");
+  AddPseudoLabelOption(cmd, args.pseudo_labels);
+  cmd.add_option("--train-on", args.train_on,
+                 "another directory written by " + prepare + " from the same tracks with shorter windows (a "
+                 "divisor of this dataset's length): both models learn from its windows of every object, also "
+                 "of objects too short for this dataset's windows, and the model classifies a window by the mean "
+                 "over the shorter windows within it, as eval --train-on scores it");
+  cmd.add_option("--fine-tune", args.fine_tune,
+                 "with --train-on: the network, once trained on the shorter windows, continues on this dataset's "
+                 "windows at this learning rate (e.g. 1e-4) and classifies them itself; 0: off")
+      ->check(CLI::Range(0.0, 0.999));
+}
+
+namespace {
+
+// One line per epoch of training.csv and fine_tuning.csv.
+constexpr const char* kEpochHeader = "epoch,train_loss,validation_loss,validation_macro_f1,learning_rate,seconds\n";
+
+// Logs an epoch to `log` and the progress line.
+void LogEpoch(const classify::EpochReport& r, int epochs, std::string& log, ProgressLine& progress) {
+  char line[160], note[120];
+  std::snprintf(line, sizeof(line), "%d,%.5f,%.5f,%.4f,%.2e,%.2f\n", r.epoch, r.train_loss, r.validation_loss,
+                r.validation_macro_f1, r.learning_rate, r.seconds);
+  log += line;
+  std::snprintf(note, sizeof(note), "loss %.4f val loss %.4f val F1 %.3f", r.train_loss, r.validation_loss,
+                r.validation_macro_f1);
+  progress.Update(r.epoch, static_cast<double>(r.epoch) / epochs, note);
+}
+
+// The datasets a training reads: the labelled windows, the unlabelled ones (for
+// pseudo-labels) and, with --train-on, the shorter windows the models learn from;
+// every combination of options that cannot work is refused before any training.
+struct TrainingData {
+  classify::PreparedDataset d, unlabelled, shorter;
+  bool on_shorter = false;
+  const classify::PreparedDataset& src() const { return on_shorter ? shorter : d; }  // what the models learn from
+};
+
+TrainingData ReadTrainingData(const TrainingArgs& a, const classify::ModelOptions& o) {
+  a.pseudo_labels.Check();
+  if (a.fine_tune > 0 && a.train_on.empty()) throw InputError("--fine-tune: goes with --train-on");
+  if (!a.train_on.empty() && a.pseudo_labels.on()) throw InputError("--train-on: not with --pseudo-labels");
+  if (a.fine_tune > 0 && o.variant == "mlp")
+    throw InputError("--fine-tune: an mlp takes one window length, it cannot be fine-tuned (variant tiny, shallow, …)");
+  TrainingData t;
+  t.d = classify::ReadPrepared(a.dataset);
+  t.unlabelled = classify::SplitOffUnlabelled(t.d);
+  if (a.pseudo_labels.on() && t.unlabelled.windows.size() == 0)
+    throw InputError(a.dataset + ": no unlabelled windows for --pseudo-labels (AIS: prepare with ais.unlabelled)");
+  t.on_shorter = !a.train_on.empty();
+  if (t.on_shorter) {
+    t.shorter = classify::ReadPrepared(a.train_on);
+    classify::SplitOffUnlabelled(t.shorter);
+    const std::string problem = classify::ShorterWindowsProblem(t.d, t.shorter);
+    if (!problem.empty()) throw InputError("--train-on " + a.train_on + ": " + problem);
+  }
+  return t;
+}
+
+// The network's and the forest's probabilities for the dataset's windows `rows` as
+// the saved model gives them: with shorter windows the mean over those within each
+// (WindowsWithin), unless the network was fine-tuned on the windows themselves.
+std::pair<std::vector<float>, std::vector<float>> ModelProbabilities(const TrainingData& t,
+                                                                     const classify::Classifier& network,
+                                                                     const classify::ForestBaseline& forest,
+                                                                     const std::vector<size_t>& rows, bool fine_tuned) {
+  const int k = static_cast<int>(t.d.classes.size());
+  if (!t.on_shorter)
+    return {network.Predict(t.d.windows.Subset(rows)), forest.Probabilities(classify::HandcraftedRows(t.d, rows), k)};
+  const auto within = classify::WindowsWithin(t.d, t.shorter);
+  std::set<size_t> inside;
+  for (size_t i : rows) inside.insert(within[i].begin(), within[i].end());
+  const std::vector<size_t> short_rows(inside.begin(), inside.end());
+  auto mean_within = [&](const std::vector<float>& p) { return classify::MeanWithin(p, short_rows, within, rows, k); };
+  return {fine_tuned ? network.Predict(t.d.windows.Subset(rows))
+                     : mean_within(network.Predict(t.shorter.windows.Subset(short_rows))),
+          mean_within(forest.Probabilities(classify::HandcraftedRows(t.shorter, short_rows), k))};
+}
+
+}  // namespace
+
 int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
-                          const std::string& dataset, bool resume, const classify::PseudoLabelOptions& pseudo_labels,
-                          const std::string& label) {
-  pseudo_labels.Check();
-  classify::PreparedDataset d = classify::ReadPrepared(dataset);
-  const classify::PreparedDataset unlabelled = classify::SplitOffUnlabelled(d);
-  if (pseudo_labels.on() && unlabelled.windows.size() == 0)
-    throw InputError(dataset + ": no unlabelled windows for --pseudo-labels (AIS: prepare with ais.unlabelled)");
-  std::vector<size_t> train_rows, val_rows;
-  classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
-  classify::Dataset labelled = d.windows.Subset(train_rows);
-  if (o.distillation > 0) labelled.teacher = classify::OutOfFoldForest(d, train_rows, o.seed);
-  const classify::Dataset val = d.windows.Subset(val_rows);
+                          const TrainingArgs& a, const std::string& label) {
+  const TrainingData data = ReadTrainingData(a, o);
+  const classify::PreparedDataset &d = data.d, &unlabelled = data.unlabelled, &src = data.src();
+  const bool on_shorter = data.on_shorter;
+  // Validation objects by a hash of the id (SplitByObject): the same objects in both
+  // datasets, so a validation vessel's long windows are never tuned on either.
+  std::vector<size_t> train_rows, val_rows, long_train_rows, long_val_rows;
+  classify::SplitByObject(src.windows.object_ids, o.validation_fraction, o.seed, train_rows, val_rows);
+  classify::SplitByObject(d.windows.object_ids, o.validation_fraction, o.seed, long_train_rows, long_val_rows);
+  classify::Dataset labelled = src.windows.Subset(train_rows);
+  if (o.distillation > 0) labelled.teacher = classify::OutOfFoldForest(src, train_rows, o.seed);
+  const classify::Dataset val = src.windows.Subset(val_rows);
   PrepareOutputDir(common, params);
   const std::string& out = common.out_dir;
 
   // The forest first: it is the pseudo-labels' teacher.
   const int k = static_cast<int>(d.classes.size());
   classify::ForestBaseline forest(200, 12, o.seed);
-  forest.Train(classify::HandcraftedRows(d, train_rows), labelled.y);
+  forest.Train(classify::HandcraftedRows(src, train_rows), labelled.y);
   forest.Save(out + "/forest.yml");
 
   // One network trained on `windows`; with several rounds each has its own checkpoint,
   // so --resume continues the round it stopped in (finished rounds return at once).
-  const int rounds = pseudo_labels.on() ? pseudo_labels.rounds : 1;
+  const int rounds = a.pseudo_labels.on() ? a.pseudo_labels.rounds : 1;
   std::string log;
   size_t epochs = 0, trained_windows = 0, last_round_windows = 0;
   std::vector<std::string> checkpoints;
   const auto t0 = std::chrono::steady_clock::now();
   const classify::TrainNetwork train = [&](const classify::Dataset& windows, int round) {
-    classify::Classifier model(o, d.windows.features, d.windows.length, d.classes);
+    classify::Classifier model(o, src.windows.features, src.windows.length, d.classes);
     const std::string name = rounds > 1 ? label + " round " + std::to_string(round) : label;
     ProgressLine progress(name, "epochs", !common.quiet, 0.0);
-    log = "epoch,train_loss,validation_loss,validation_macro_f1,learning_rate,seconds\n";  // the last round's
+    log = kEpochHeader;  // the last round's
     checkpoints.push_back(rounds > 1 ? "checkpoint-round" + std::to_string(round) + ".pt" : "checkpoint.pt");
     const std::string checkpoint = out + "/" + checkpoints.back();
-    if (!resume) std::remove(checkpoint.c_str());
-    const auto reports = model.Train(windows, val, [&](const classify::EpochReport& r) {
-      char line[160], note[120];
-      std::snprintf(line, sizeof(line), "%d,%.5f,%.5f,%.4f,%.2e,%.2f\n", r.epoch, r.train_loss, r.validation_loss,
-                    r.validation_macro_f1, r.learning_rate, r.seconds);
-      log += line;
-      std::snprintf(note, sizeof(note), "loss %.4f val loss %.4f val F1 %.3f", r.train_loss, r.validation_loss,
-                    r.validation_macro_f1);
-      progress.Update(r.epoch, static_cast<double>(r.epoch) / o.epochs, note);
-    }, checkpoint);
+    if (!a.resume) std::remove(checkpoint.c_str());
+    const auto reports = model.Train(
+        windows, val, [&](const classify::EpochReport& r) { LogEpoch(r, o.epochs, log, progress); }, checkpoint);
     progress.Finish();
     epochs += reports.size(), trained_windows += windows.size() * reports.size();
     last_round_windows = windows.size();
     return model;
   };
   std::vector<std::vector<long>> pseudo_per_round;
-  const classify::Classifier model =
-      pseudo_labels.on() ? classify::SelfTrain(train, labelled, unlabelled, forest.Probabilities(unlabelled.handcrafted, k),
-                                               pseudo_labels, k, pseudo_per_round)
-                         : train(labelled, 1);
+  classify::Classifier model =
+      a.pseudo_labels.on()
+          ? classify::SelfTrain(train, labelled, unlabelled, forest.Probabilities(unlabelled.handcrafted, k),
+                                a.pseudo_labels, k, pseudo_per_round)
+          : train(labelled, 1);
+  // Fine-tuning (--fine-tune): on to the dataset's own windows, no checkpoint (a
+  // resumed run tunes again from the trained network, to the same result).
+  const classify::Dataset long_val = d.windows.Subset(long_val_rows);
+  size_t tuned_epochs = 0;
+  if (a.fine_tune > 0) {
+    std::string tuning_log = kEpochHeader;
+    ProgressLine progress(label + " fine-tuning", "epochs", !common.quiet, 0.0);
+    const auto reports = model.FineTune(d.windows.Subset(long_train_rows), long_val, a.fine_tune,
+                                        [&](const classify::EpochReport& r) {
+                                          LogEpoch(r, o.epochs, tuning_log, progress);
+                                        });
+    progress.Finish();
+    tuned_epochs = reports.size(), trained_windows += long_train_rows.size() * reports.size();
+    io::WriteTextAtomically(out + "/fine_tuning.csv", tuning_log);
+  }
   const double train_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  model.Save(out + "/model", d.info);
+  nlohmann::json extra = d.info;
+  if (on_shorter) extra["input_preprocessing"] = data.shorter.info.at("preprocessing");
+  model.Save(out + "/model", extra);
   io::WriteTextAtomically(out + "/training.csv", log);
 
-  const auto resnet = classify::Score(val.y, model.PredictClasses(val), k);
-  const auto rf = classify::Score(val.y, forest.Predict(classify::HandcraftedRows(d, val_rows)), k);
+  // Validation: the dataset's windows of the validation objects, scored as the saved model classifies them.
+  const auto [network_p, forest_p] = ModelProbabilities(data, model, forest, long_val_rows, a.fine_tune > 0);
+  const auto resnet = classify::Score(long_val.y, classify::MostProbable(network_p, k), k);
+  const auto rf = classify::Score(long_val.y, classify::MostProbable(forest_p, k), k);
   io::RunReport report(label);
   auto& j = report.json();
-  j["dataset"] = dataset;
+  j["dataset"] = a.dataset;
   j["windows"] = {{"train", last_round_windows}, {"validation", val.size()}};  // pseudo-labelled ones included
-  if (pseudo_labels.on()) {
-    j["pseudo_labels"] = {{"votes", pseudo_labels.votes},   {"rounds", pseudo_labels.rounds},
-                          {"classes", d.classes},           {"per_class", pseudo_per_round.back()},
-                          {"per_round", pseudo_per_round}, {"unlabelled_windows", unlabelled.windows.size()}};
+  if (on_shorter) {
+    j["train_on"] = {{"dataset", a.train_on},
+                     {"length", src.windows.length},
+                     {"fine_tune_learning_rate", a.fine_tune},
+                     {"fine_tuning_windows", a.fine_tune > 0 ? long_train_rows.size() : 0},
+                     {"fine_tuning_epochs", tuned_epochs}};
+  }
+  if (a.pseudo_labels.on()) {
+    j["pseudo_labels"] = {{"votes", a.pseudo_labels.votes},   {"rounds", a.pseudo_labels.rounds},
+                          {"classes", d.classes},             {"per_class", pseudo_per_round.back()},
+                          {"per_round", pseudo_per_round},   {"unlabelled_windows", unlabelled.windows.size()}};
   }
   j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", epochs}};
-  j["validation"] = {{"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
+  j["validation"] = {{"windows", long_val.size()}, {"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
   j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", trained_windows / train_s}};
   for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv"}) report.AddOutput(f);
+  if (a.fine_tune > 0) report.AddOutput("fine_tuning.csv");
   for (const auto& c : checkpoints) report.AddOutput(c);
   report.Write(out);
-  std::printf("%s: %zu epochs, %.1f s (%.0f windows/s); validation macro F1: ResNet %.3f, forest %.3f\n", label.c_str(),
-              epochs, train_s, trained_windows / train_s, resnet.macro_f1, rf.macro_f1);
+  const std::string tuned = a.fine_tune > 0 ? " + " + std::to_string(tuned_epochs) + " fine-tuning" : "";
+  std::printf("%s: %zu epochs%s, %.1f s (%.0f windows/s); validation macro F1 (%zu windows): ResNet %.3f, forest %.3f\n",
+              label.c_str(), epochs, tuned.c_str(), train_s, trained_windows / train_s, long_val.size(),
+              resnet.macro_f1, rf.macro_f1);
   return 0;
 }
 
@@ -364,14 +474,12 @@ void AddClassifyCommand(CLI::App& app, int& exit_code) {
 
   auto train = std::make_shared<ClassifyArgs>();
   CLI::App* t = cmd->add_subcommand("train", "train the 1D ResNet and the random-forest baseline");
-  t->add_option("dataset", train->dataset, "a directory written by prepare")->required();
-  t->add_flag("--resume", train->resume, "continue from the output directory's checkpoint.pt");
-  AddPseudoLabelOption(*t, train->pseudo_labels);
+  AddTrainingOptions(*t, train->training, "classify prepare");
   AddCommonOptions(*t, train->common, "specht-out/classify-model");
   t->callback([train, &exit_code] {
     const params::Params params = LoadParams(train->common);
     exit_code = RunClassifierTraining(train->common, params, params.Get<classify::ModelOptions>("classify_model"),
-                                      train->dataset, train->resume, train->pseudo_labels, "classify train");
+                                      train->training, "classify train");
   });
 
   auto ev = std::make_shared<ClassifyArgs>();

@@ -28,13 +28,28 @@ void AddPlanCommand(CLI::App& app, int& exit_code);
 void AddRunCommand(CLI::App& app, int& exit_code);
 void AddAisCommand(CLI::App& app, int& exit_code);
 
+// What `classify train` and `ais train` train on.
+struct TrainingArgs {
+  std::string dataset;
+  bool resume = false;
+  classify::PseudoLabelOptions pseudo_labels;  // --pseudo-labels, --pseudo-label-rounds
+  std::string train_on;  // a prepared dataset of shorter windows cut from the same tracks, or empty
+  double fine_tune = 0;  // with train_on: the network's learning rate on the dataset's own windows after (0 = off)
+};
+// Registers the dataset argument, --resume, the pseudo-label options, --train-on and
+// --fine-tune; `prepare` names the command that writes a dataset.
+void AddTrainingOptions(CLI::App& cmd, TrainingArgs& args, const std::string& prepare);
+
 // Trains the 1D ResNet and the random-forest baseline on a prepared dataset;
 // shared by `classify train` and `ais train`. With pseudo-labels on, the network
 // also learns from the dataset's unlabelled windows its teacher is sure of
-// (classify::PseudoLabelOptions, SelfTrain).
+// (classify::PseudoLabelOptions, SelfTrain). With train_on both models learn from
+// the shorter windows of every object as `eval --train-on` trains them, the network
+// is then optionally fine-tuned on the dataset's windows (--fine-tune), and the
+// model classifies the dataset's windows as eval scored them
+// (classify/trajectory_classifier.h).
 int RunClassifierTraining(const CommonArgs& common, const params::Params& params, const classify::ModelOptions& o,
-                          const std::string& dataset, bool resume, const classify::PseudoLabelOptions& pseudo_labels,
-                          const std::string& label);
+                          const TrainingArgs& args, const std::string& label);
 
 // --pseudo-labels V and --pseudo-label-rounds R, for `ais eval`, `classify crossval`
 // and both train commands.

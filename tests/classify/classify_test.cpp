@@ -2,6 +2,7 @@
 // acceptance 3), scores, and the 1D ResNet: it learns a separable toy problem, saves
 // and reloads to identical predictions, trains reproducibly, refuses mismatched
 // models and inputs.
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -410,6 +411,116 @@ TEST(ModelTest, RefusesMismatchedModelsAndInputs) {
   refused("{", "{not json", "not JSON");
   EXPECT_THROW(Classifier::Load(dir + "/missing"), InputError);
   EXPECT_THROW(Classifier(Small(), 4, 32, {"only"}), InputError);
+}
+
+// Prepared windows of `trajectories` as `classify prepare` writes them (no map):
+// features, hand-crafted rows, spans, and the preprocessing in dataset.json.
+PreparedDataset Prepared(const std::vector<Trajectory>& trajectories, const PreprocessOptions& o,
+                         const std::vector<std::string>& classes) {
+  PreparedDataset d;
+  d.classes = classes;
+  d.windows.features = FeatureRows(o), d.windows.length = o.length;
+  for (const auto& w : MakeWindows(trajectories, o)) {
+    const auto f = Features(w, o, {});
+    d.windows.x.insert(d.windows.x.end(), f.begin(), f.end());
+    const auto h = HandcraftedFeatures(w, {}, o.features);
+    d.handcrafted.insert(d.handcrafted.end(), h.begin(), h.end());
+    d.AddWindow(w, static_cast<int>(std::find(classes.begin(), classes.end(), w.label) - classes.begin()));
+  }
+  d.info = {{"preprocessing", PreprocessingJson(o, {})}};
+  return d;
+}
+
+// Straight and weaving tracks of 160 points; track 0 has a 1 s gap before point 100
+// (a piece boundary), track 1 stands still over points 50–69 (stationary pieces).
+std::vector<Trajectory> StraightAndWeavingTracks() {
+  std::vector<Trajectory> tracks;
+  for (int i = 0; i < 12; ++i) {
+    const int cls = i % 2;
+    Trajectory t{"t" + std::to_string(i), cls ? "weaving" : "straight", {}};
+    double x = 0, y = 0, h = 0.3 * i;
+    for (int k = 0; k < 160; ++k) {
+      h += cls ? 0.5 * std::sin(k * 0.8) : 0.0;
+      const double v = (i == 1 && k >= 50 && k < 70) ? 0.0 : 1 + 0.1 * i;
+      x += v * 0.1 * std::cos(h), y += v * 0.1 * std::sin(h);
+      t.points.push_back({0.1 * k + (i == 0 && k >= 100 ? 1.0 : 0.0), x, y});
+    }
+    tracks.push_back(std::move(t));
+  }
+  return tracks;
+}
+
+// A model of shorter windows (train --train-on) classifies a window as eval
+// --train-on scores it: its network's and forest's probabilities averaged over the
+// shorter windows of the same track within the window's span (WindowsWithin,
+// MeanWithin), and with a network fine-tuned on the full windows, that network's own
+// answer beside the forest's mean. The windows within are found by chunking each
+// window's points at predict time and by time spans over independently cut datasets
+// in eval: equal when the length divides, which Load and ShorterWindowsProblem demand.
+TEST(TrajectoryClassifierTest, AModelOfShorterWindowsScoresAWindowAsEvalDoes) {
+  PreprocessOptions short_o;
+  short_o.length = 16;
+  short_o.max_gap_s = 0.5;
+  short_o.features = {"x", "y", "speed", "turn_rate"};
+  PreprocessOptions long_o = short_o;
+  long_o.length = 48;
+  const std::vector<std::string> classes = {"straight", "weaving"};
+  const auto tracks = StraightAndWeavingTracks();
+  const PreparedDataset shorter = Prepared(tracks, short_o, classes), windows = Prepared(tracks, long_o, classes);
+  EXPECT_EQ(ShorterWindowsProblem(windows, shorter), "");
+  const auto within = WindowsWithin(windows, shorter);
+  size_t fewer = 0;  // windows with stationary pieces left out
+  for (const auto& rows : within) fewer += rows.size() < 3;
+  EXPECT_GT(fewer, 0u);
+
+  const std::string dir = testing::TempDir("shorter_windows");
+  Classifier network(Small(), 4, 16, classes);
+  network.Train(shorter.windows, {});
+  ForestBaseline forest(21, 4, 1);
+  forest.Train(shorter.handcrafted, shorter.windows.y);
+  forest.Save(dir + "/forest.yml");
+  const nlohmann::json extra = {{"preprocessing", PreprocessingJson(long_o, {})},
+                                {"input_preprocessing", PreprocessingJson(short_o, {})}};
+  network.Save(dir + "/m", extra);
+
+  std::vector<size_t> all_short(shorter.windows.size()), all_long(windows.windows.size());
+  std::iota(all_short.begin(), all_short.end(), 0);
+  std::iota(all_long.begin(), all_long.end(), 0);
+  const auto net_mean = MeanWithin(network.Predict(shorter.windows), all_short, within, all_long, 2);
+  const auto forest_mean = MeanWithin(forest.Probabilities(shorter.handcrafted, 2), all_short, within, all_long, 2);
+  const std::vector<Window> long_windows = MakeWindows(tracks, long_o);
+  ASSERT_EQ(long_windows.size(), windows.windows.size());
+  auto expect_equal = [](const std::vector<float>& got, const std::vector<float>& want) {
+    ASSERT_EQ(got.size(), want.size());
+    for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], want[i], 1e-5) << "entry " << i;
+  };
+  const TrajectoryClassifier alone = TrajectoryClassifier::Load(dir + "/m");
+  EXPECT_EQ(alone.input_length(), 16);
+  EXPECT_EQ(alone.Windows(tracks).size(), long_windows.size());
+  expect_equal(alone.Classify(long_windows), net_mean);
+  const TrajectoryClassifier both = TrajectoryClassifier::Load(dir + "/m", dir + "/forest.yml");
+  expect_equal(both.Classify(long_windows), CombinedProbabilities(net_mean, forest_mean));
+
+  // Fine-tuned on the full windows: the network answers for the window itself.
+  network.FineTune(windows.windows, {}, 1e-4);
+  network.Save(dir + "/tuned", extra);
+  const TrajectoryClassifier tuned = TrajectoryClassifier::Load(dir + "/tuned", dir + "/forest.yml");
+  expect_equal(tuned.Classify(long_windows), CombinedProbabilities(network.Predict(windows.windows), forest_mean));
+
+  // Lengths that do not divide, other preprocessing, other classes: refused, named.
+  PreprocessOptions odd = short_o;
+  odd.length = 20;
+  Classifier other(Small(), 4, 20, classes);
+  other.Save(dir + "/odd", {{"preprocessing", PreprocessingJson(long_o, {})},
+                            {"input_preprocessing", PreprocessingJson(odd, {})}});
+  EXPECT_THROW(TrajectoryClassifier::Load(dir + "/odd"), InputError);
+  EXPECT_NE(ShorterWindowsProblem(windows, Prepared(tracks, odd, classes)).find("divide"), std::string::npos);
+  PreprocessOptions gap = short_o;
+  gap.max_gap_s = 5;
+  EXPECT_NE(ShorterWindowsProblem(windows, Prepared(tracks, gap, classes)).find("max_gap_s"), std::string::npos);
+  PreparedDataset renamed = shorter;
+  renamed.classes = {"straight", "zigzag"};
+  EXPECT_NE(ShorterWindowsProblem(windows, renamed).find("classes"), std::string::npos);
 }
 
 // The model carries its preprocessing: a model saved with non-default options

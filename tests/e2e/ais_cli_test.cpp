@@ -3,6 +3,7 @@
 // errors a user meets first.
 #include <algorithm>
 #include <filesystem>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -155,16 +156,21 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
 // A long-window dataset scored by models trained on the short windows of the same
 // tracks (--train-on): the folds are the long dataset's, so the run compares with a
 // plain one fold by fold; every long window has short ones within it.
+// A slice of the Brest tracks in <dir>/slice.csv prepared at 60 and 180 points
+// (<dir>/data60, <dir>/data180).
+void PrepareShortAndLongWindows(const std::string& dir) {
+  WriteSliceOfTracks("brest-dev", 40000, dir);
+  for (const char* length : {"60", "180"}) {
+    const auto r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' --set ais_classify.length=" + length +
+                                      " -q -o '" + dir + "/data" + length + "' --data-dir '" + testing::DataDir() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+}
+
 TEST(AisCliTest, EvalTrainsOnTheShortWindowsOfTheSameTracks) {
   if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
   const std::string dir = testing::TempDir("ais_train_on");
-  WriteSliceOfTracks("brest-dev", 40000, dir);
-  const std::string data = " --data-dir '" + testing::DataDir() + "'";
-  for (const char* length : {"60", "180"}) {
-    const auto r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' --set ais_classify.length=" + length +
-                                      " -q -o '" + dir + "/data" + length + "'" + data);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-  }
+  PrepareShortAndLongWindows(dir);
   EXPECT_THAT(testing::ReadFile(dir + "/data180/windows.csv"),
               ::testing::StartsWith("index,object_id,label,t0_s,t1_s\n"));
   const std::string eval = "ais eval '" + dir + "/data180' --folds 2 --networks tiny -q --set ais_model.epochs=1";
@@ -192,6 +198,62 @@ TEST(AisCliTest, EvalTrainsOnTheShortWindowsOfTheSameTracks) {
   r = testing::RunSpecht(eval + " --train-on '" + dir + "/nowhere' -o '" + dir + "/bad'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("nowhere/dataset.json"));
+}
+
+// `ais train --train-on`: the model eval --train-on measures, for predict. Trained on
+// the 60-point windows of every vessel (and fine-tuned on the 180-point ones, or not),
+// it classifies 180-point windows — predict cuts the same windows as with a model of
+// the 180-point windows alone — by the mean over the 60-point windows within
+// (classify_test checks that mean against eval's). Bad combinations exit 2 with why.
+TEST(AisCliTest, TrainOnTheShortWindowsOfTheSameTracks) {
+  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  const std::string dir = testing::TempDir("ais_train_short");
+  PrepareShortAndLongWindows(dir);
+  const std::string quick = " -q --set ais_model.epochs=2";
+  const std::string train = "ais train '" + dir + "/data180' --train-on '" + dir + "/data60'" + quick;
+  auto r = testing::RunSpecht(train + " --fine-tune 1e-4 -o '" + dir + "/tuned'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto tuned = Report(dir + "/tuned");
+  EXPECT_EQ(tuned["train_on"]["length"], 60);
+  EXPECT_GE(tuned["train_on"]["fine_tuning_epochs"].get<int>(), 1);
+  EXPECT_GT(tuned["train_on"]["fine_tuning_windows"].get<int>(), 0);
+  EXPECT_GT(tuned["validation"]["windows"].get<int>(), 0);
+  EXPECT_THAT(testing::ReadFile(dir + "/tuned/fine_tuning.csv"), ::testing::StartsWith("epoch,train_loss,"));
+  const auto model = nlohmann::json::parse(testing::ReadFile(dir + "/tuned/model.json"));
+  ASSERT_TRUE(model["extra"].contains("input_preprocessing")) << model.dump();
+  EXPECT_EQ(model["length"], 180);  // fine-tuned: the network takes the long windows
+  r = testing::RunSpecht(train + " -o '" + dir + "/short'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = testing::RunSpecht("ais train '" + dir + "/data180'" + quick + " -o '" + dir + "/long'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string data = " --data-dir '" + testing::DataDir() + "'";
+  std::map<std::string, std::string> windows;
+  for (const char* m : {"tuned", "short", "long"}) {
+    r = testing::RunSpecht("ais predict '" + dir + "/" + m + "' '" + dir + "/slice.csv' -q -o '" + dir + "/pred-" + m +
+                           "'" + data);
+    ASSERT_EQ(r.exit_code, 0) << m << ": " << r.err;
+    const std::string csv = testing::ReadFile(dir + "/pred-" + m + "/windows.csv");
+    std::string keys;  // each window's vessel and start: which windows were cut
+    for (size_t at = csv.find('\n') + 1; at < csv.size(); at = csv.find('\n', at) + 1) {
+      const size_t third = csv.find(',', csv.find(',', csv.find(',', at) + 1) + 1);
+      keys += csv.substr(at, third - at) + "\n";
+    }
+    windows[m] = keys;
+    EXPECT_GT(Report(dir + "/pred-" + m)["vessels"].get<int>(), 0) << m;
+  }
+  EXPECT_EQ(windows["tuned"], windows["long"]);
+  EXPECT_EQ(windows["short"], windows["long"]);
+
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"ais train '" + dir + "/data180' --fine-tune 1e-4", "--fine-tune: goes with --train-on"},
+      {"ais train '" + dir + "/data60' --train-on '" + dir + "/data180'", "must be shorter than 60"},
+      {train + " --pseudo-labels 0.6", "--train-on: not with --pseudo-labels"},
+      {train + " --set ais_model.variant=mlp --fine-tune 1e-4", "cannot be fine-tuned"}};
+  for (const auto& [command, why] : bad) {
+    r = testing::RunSpecht(command + quick + " -o '" + dir + "/bad'");
+    EXPECT_EQ(r.exit_code, 2) << command;
+    EXPECT_THAT(r.err, HasSubstr(why)) << command;
+  }
 }
 
 // Self-training on a slice of the Canadian tracks, whose first vessels report no

@@ -135,27 +135,6 @@ void ShortRowsOfFold(const PreparedDataset& d, const PreparedDataset& src,
   predict_rows.assign(predicted.begin(), predicted.end());
 }
 
-// Per scored test window, the mean of `p` (rows of predict_rows × k) over its rows
-// within; a window with none gets 1/k for every class (a miss, mostly).
-std::vector<float> MeanWithin(const std::vector<float>& p, const std::vector<size_t>& predict_rows,
-                              const std::vector<std::vector<size_t>>& within, const std::vector<size_t>& test_rows,
-                              int classes) {
-  const size_t k = static_cast<size_t>(classes);
-  std::map<size_t, size_t> at;
-  for (size_t t = 0; t < predict_rows.size(); ++t) at[predict_rows[t]] = t;
-  std::vector<float> out(test_rows.size() * k, 1.0f / static_cast<float>(k));
-  for (size_t t = 0; t < test_rows.size(); ++t) {
-    const auto& rows = within[test_rows[t]];
-    if (rows.empty()) continue;
-    for (size_t c = 0; c < k; ++c) {
-      double sum = 0;
-      for (size_t j : rows) sum += p[at.at(j) * k + c];
-      out[t * k + c] = static_cast<float>(sum / static_cast<double>(rows.size()));
-    }
-  }
-  return out;
-}
-
 // One k-fold run of CrossValidate: repeat r, every seed raised by r.
 // `within`: with o.train_on, each scored window's rows there (WindowsWithin).
 void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o, int r,
@@ -303,6 +282,25 @@ std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, co
       else if (a <= t1 && b >= t0) overlapping.push_back(j);
     }
     if (out[i].empty()) out[i] = overlapping;
+  }
+  return out;
+}
+
+std::vector<float> MeanWithin(const std::vector<float>& p, const std::vector<size_t>& predict_rows,
+                              const std::vector<std::vector<size_t>>& within, const std::vector<size_t>& test_rows,
+                              int classes) {
+  const size_t k = static_cast<size_t>(classes);
+  std::map<size_t, size_t> at;
+  for (size_t t = 0; t < predict_rows.size(); ++t) at[predict_rows[t]] = t;
+  std::vector<float> out(test_rows.size() * k, 1.0f / static_cast<float>(k));
+  for (size_t t = 0; t < test_rows.size(); ++t) {
+    const auto& rows = within[test_rows[t]];
+    if (rows.empty()) continue;
+    for (size_t c = 0; c < k; ++c) {
+      double sum = 0;
+      for (size_t j : rows) sum += p[at.at(j) * k + c];
+      out[t * k + c] = static_cast<float>(sum / static_cast<double>(rows.size()));
+    }
   }
   return out;
 }

@@ -92,6 +92,15 @@ struct PseudoLabelOptions {
 // them), those that overlap it; else none. Both datasets need spans (HasSpans).
 std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, const PreparedDataset& short_windows);
 
+// Per window of `scored_rows` (rows of the scored dataset), the mean of `p` — class
+// probabilities, one row of `classes` per entry of `short_rows`, the shorter dataset's
+// rows that were predicted — over its rows in `within` (WindowsWithin); 1/classes
+// each for a window with none (a miss, mostly). Every row of within[scored_rows[t]]
+// must be among `short_rows`.
+std::vector<float> MeanWithin(const std::vector<float>& p, const std::vector<size_t>& short_rows,
+                              const std::vector<std::vector<size_t>>& within, const std::vector<size_t>& scored_rows,
+                              int classes);
+
 // A learning curve's point: every model of a fold trains on a share of each class's
 // training objects (SubsampleObjects), tested on the same fold as with all of them,
 // so a run at 0.5 compares with a run at 1 fold by fold (--compare-to).

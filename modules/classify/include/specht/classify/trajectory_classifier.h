@@ -6,6 +6,17 @@
 // The preprocessing (section "classify" as it was at `classify prepare`, plus the
 // global position bounds) travels in the model's JSON, so a model never meets
 // windows cut or normalised differently from its training set.
+//
+// A model trained on shorter windows (`train --train-on`, as `eval --train-on`
+// scores it) carries two: "preprocessing" cuts the windows it classifies (e.g. 360
+// points) and "input_preprocessing" the shorter ones its models take (e.g. 60). A
+// window is then cut again into input windows — its points chunked at the shorter
+// length, stationary pieces dropped, which with a window length that is a multiple
+// of the input length are exactly the shorter windows of the same track that lie
+// within it (crossval.h's WindowsWithin) — and a model of input windows gives it the
+// mean of its probabilities over them, 1/classes each where none is left. The
+// forest always takes the input windows; the network too, unless it was fine-tuned
+// on windows of the full length (its own length says which).
 #pragma once
 
 #include <optional>
@@ -15,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "specht/classify/baseline.h"
+#include "specht/classify/dataset_io.h"
 #include "specht/classify/model.h"
 #include "specht/classify/preprocess.h"
 
@@ -23,6 +35,13 @@ namespace specht::classify {
 // What `classify prepare` stores with a dataset and `classify train` copies into
 // the model: the options and the fitted position bounds.
 nlohmann::json PreprocessingJson(const PreprocessOptions& o, const PositionBounds& bounds);
+
+// Why models of `shorter`'s windows cannot classify `windows`' windows as described
+// above (train --train-on): other classes, a window length that is not a multiple of
+// the shorter one, or a preprocessing that differs in more than the length (named by
+// its first differing key); empty when they can. Both from dataset.json's
+// "preprocessing".
+std::string ShorterWindowsProblem(const PreparedDataset& windows, const PreparedDataset& shorter);
 
 class TrajectoryClassifier {
  public:
@@ -42,16 +61,22 @@ class TrajectoryClassifier {
   std::vector<float> Classify(const std::vector<Window>& windows, const MapFeatures& map = {}) const;
 
   const std::vector<std::string>& classes() const { return model_.classes(); }
-  const PreprocessOptions& preprocessing() const { return options_; }
+  const PreprocessOptions& preprocessing() const { return windows_.options; }
+  // The input windows' length when the models take shorter windows (see above), else 0.
+  int input_length() const { return inputs_ ? inputs_->options.length : 0; }
   // What Classify answers with, as the reports name it: "network+forest" or "network".
   std::string combination() const { return forest_ ? "network+forest" : "network"; }
 
  private:
-  TrajectoryClassifier(Classifier model, PreprocessOptions options, PositionBounds bounds)
-      : model_(std::move(model)), options_(std::move(options)), bounds_(bounds) {}
+  struct Preprocessing {
+    PreprocessOptions options;
+    PositionBounds bounds;
+  };
+  TrajectoryClassifier(Classifier model, Preprocessing windows, std::optional<Preprocessing> inputs)
+      : model_(std::move(model)), windows_(std::move(windows)), inputs_(std::move(inputs)) {}
   Classifier model_;
-  PreprocessOptions options_;
-  PositionBounds bounds_;
+  Preprocessing windows_;                // cuts the windows Classify is given
+  std::optional<Preprocessing> inputs_;  // the shorter windows the models take, if any
   std::optional<ForestBaseline> forest_;
 };
 
