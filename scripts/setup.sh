@@ -6,6 +6,7 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   g++ cmake ninja-build pkg-config git
+  ccache             # compiler cache: unchanged sources are not compiled again (CMakeLists.txt)
   # robotics libraries
   libmrpt-dev        # observations, rawlogs, ICP, occupancy grids, poses
   mrpt-common        # the built-in default rawlog and MRPT's demo datasets
