@@ -521,6 +521,23 @@ TEST(TrajectoryClassifierTest, AModelOfShorterWindowsScoresAWindowAsEvalDoes) {
   PreparedDataset renamed = shorter;
   renamed.classes = {"straight", "zigzag"};
   EXPECT_NE(ShorterWindowsProblem(windows, renamed).find("classes"), std::string::npos);
+  // A damaged input preprocessing, or a dataset without its preprocessing: an error naming what is missing.
+  network.Save(dir + "/broken", {{"preprocessing", PreprocessingJson(long_o, {})},
+                                 {"input_preprocessing", {{"options_yaml", "length: 16\n"}}}});
+  try {
+    TrajectoryClassifier::Load(dir + "/broken");
+    ADD_FAILURE() << "a model without input position bounds loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("input_preprocessing"), std::string::npos) << e.what();
+  }
+  PreparedDataset bare = shorter;
+  bare.info = nlohmann::json::object();
+  try {
+    ShorterWindowsProblem(windows, bare);
+    ADD_FAILURE() << "a dataset without preprocessing was compared";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("shorter dataset carries no preprocessing"), std::string::npos) << e.what();
+  }
 }
 
 // The model carries its preprocessing: a model saved with non-default options

@@ -286,15 +286,15 @@ std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, co
   return out;
 }
 
-std::vector<float> MeanWithin(const std::vector<float>& p, const std::vector<size_t>& predict_rows,
-                              const std::vector<std::vector<size_t>>& within, const std::vector<size_t>& test_rows,
+std::vector<float> MeanWithin(const std::vector<float>& p, const std::vector<size_t>& short_rows,
+                              const std::vector<std::vector<size_t>>& within, const std::vector<size_t>& scored_rows,
                               int classes) {
   const size_t k = static_cast<size_t>(classes);
   std::map<size_t, size_t> at;
-  for (size_t t = 0; t < predict_rows.size(); ++t) at[predict_rows[t]] = t;
-  std::vector<float> out(test_rows.size() * k, 1.0f / static_cast<float>(k));
-  for (size_t t = 0; t < test_rows.size(); ++t) {
-    const auto& rows = within[test_rows[t]];
+  for (size_t t = 0; t < short_rows.size(); ++t) at[short_rows[t]] = t;
+  std::vector<float> out(scored_rows.size() * k, 1.0f / static_cast<float>(k));
+  for (size_t t = 0; t < scored_rows.size(); ++t) {
+    const auto& rows = within[scored_rows[t]];
     if (rows.empty()) continue;
     for (size_t c = 0; c < k; ++c) {
       double sum = 0;

@@ -13,14 +13,10 @@ nlohmann::json PreprocessingJson(const PreprocessOptions& o, const PositionBound
 
 namespace {
 
-struct ParsedPreprocessing {
-  PreprocessOptions options;
-  PositionBounds bounds;
-};
-
 // `key` of the model's extra JSON ("preprocessing", "input_preprocessing").
-ParsedPreprocessing ParsePreprocessing(const nlohmann::json& extra, const std::string& key, const std::string& where) {
-  ParsedPreprocessing p;
+TrajectoryClassifier::Preprocessing ParsePreprocessing(const nlohmann::json& extra, const std::string& key,
+                                                       const std::string& where) {
+  TrajectoryClassifier::Preprocessing p;
   try {
     const auto& j = extra.at(key);
     p.options = params::FromYaml<PreprocessOptions>(j.at("options_yaml").get<std::string>(), where + " (" + key + ")");
@@ -110,15 +106,14 @@ TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path, const s
   if (!extra.contains("preprocessing"))
     throw InputError(where + ": the model carries no preprocessing (made before it was stored; re-run classify "
                              "prepare and train)");
-  const ParsedPreprocessing windows = ParsePreprocessing(extra, "preprocessing", where);
+  Preprocessing windows = ParsePreprocessing(extra, "preprocessing", where);
   std::optional<Preprocessing> inputs;
   if (extra.contains("input_preprocessing")) {
-    const ParsedPreprocessing in = ParsePreprocessing(extra, "input_preprocessing", where);
-    if (in.options.length >= windows.options.length || windows.options.length % in.options.length != 0)
-      throw InputError(where + ": the input windows (" + std::to_string(in.options.length) +
+    inputs = ParsePreprocessing(extra, "input_preprocessing", where);
+    if (inputs->options.length >= windows.options.length || windows.options.length % inputs->options.length != 0)
+      throw InputError(where + ": the input windows (" + std::to_string(inputs->options.length) +
                        " points) must be shorter than the windows (" + std::to_string(windows.options.length) +
                        ") and divide them");
-    inputs = Preprocessing{in.options, in.bounds};
   }
   // The network takes the windows, or (trained on shorter windows, not fine-tuned) the input windows.
   const PreprocessOptions& takes =
@@ -127,7 +122,7 @@ TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path, const s
     throw InputError(where + ": the preprocessing makes windows of " + std::to_string(FeatureRows(takes)) + " × " +
                      std::to_string(takes.length) + ", the network takes " + std::to_string(model.features()) + " × " +
                      std::to_string(model.length()));
-  TrajectoryClassifier classifier(std::move(model), {windows.options, windows.bounds}, std::move(inputs));
+  TrajectoryClassifier classifier(std::move(model), std::move(windows), std::move(inputs));
   if (!forest_path.empty()) classifier.forest_ = ForestBaseline::Load(forest_path);
   return classifier;
 }

@@ -45,6 +45,12 @@ std::string ShorterWindowsProblem(const PreparedDataset& windows, const Prepared
 
 class TrajectoryClassifier {
  public:
+  // How windows are cut and normalised: the options and the fitted position bounds.
+  struct Preprocessing {
+    PreprocessOptions options;
+    PositionBounds bounds;
+  };
+
   // <path>.json/.pt as Classifier::Save writes them. Throws InputError naming the
   // file when the model carries no preprocessing or it does not fit the network.
   // With `forest_path` (the forest.yml trained beside the network on the same
@@ -68,10 +74,6 @@ class TrajectoryClassifier {
   std::string combination() const { return forest_ ? "network+forest" : "network"; }
 
  private:
-  struct Preprocessing {
-    PreprocessOptions options;
-    PositionBounds bounds;
-  };
   TrajectoryClassifier(Classifier model, Preprocessing windows, std::optional<Preprocessing> inputs)
       : model_(std::move(model)), windows_(std::move(windows)), inputs_(std::move(inputs)) {}
   Classifier model_;
