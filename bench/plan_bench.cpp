@@ -36,7 +36,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench_support.h"
-#include "specht/decide/closed_loop.h"
+#include "specht/pipeline/closed_loop.h"
 #include "specht/decide/mission.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/kinodynamic.h"
@@ -309,12 +309,12 @@ int main(int argc, char** argv) {
     const specht::sim::Scenario s = specht::sim::LoadScenario(path);
     if (s.bays.empty()) continue;
     auto map = std::make_shared<DistanceMap>(DistanceMap::FromGrid(specht::sim::World(s).TrueGrid(0.1)));
-    const CarOptions car = specht::decide::ScenarioCar(s, CarOptions{});
+    const CarOptions car = specht::pipeline::ScenarioCar(s, CarOptions{});
     const cv::Mat labels = Components(*map, car);
     std::vector<std::pair<Pose, Pose>> problems;
     std::uniform_real_distribution<double> x(map->origin_x(), map->origin_x() + map->cols() * 0.1),
         y(map->origin_y(), map->origin_y() + map->rows() * 0.1), heading(-M_PI, M_PI);
-    for (const auto& bay : s.bays) {
+    for (const auto& bay : specht::pipeline::MissionSiteOf(s).bays) {
       const Pose goal = specht::decide::BayPose(bay, car);
       if (!map->Free(car, goal)) continue;
       for (int k = 0; k < 25;) {

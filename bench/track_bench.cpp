@@ -10,15 +10,15 @@
 
 #include "bench_support.h"
 #include "specht/sim/scenario.h"
-#include "specht/track/synthetic_run.h"
+#include "specht/pipeline/synthetic_tracking.h"
 
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const specht::sim::Scenario s = specht::sim::LoadScenario(argv[i]);
     long track_frames = 0;
-    const auto run = specht::track::RunSyntheticTracking(
-        s, 1, specht::track::TrackerOptions{}, specht::track::SyntheticDetectionOptions{}, "", nullptr,
-        [&](std::vector<specht::world::Track>& tracks, double) { track_frames += static_cast<long>(tracks.size()); });
+    const auto run = specht::pipeline::RunSyntheticTracking(
+        s, 1, specht::track::TrackerOptions{}, specht::sim::SyntheticDetectionOptions{}, "", nullptr,
+        [&](std::vector<specht::types::Track>& tracks, double) { track_frames += static_cast<long>(tracks.size()); });
     specht::bench::Emit({{"name", "track/" + s.name},
                          {"frames", run.frames},
                          {"detections_per_frame", run.frames ? static_cast<double>(run.detections) / run.frames : 0.0},
@@ -41,10 +41,10 @@ int main(int argc, char** argv) {
     double seconds = 0;
     for (int k = 0; k < frames; ++k) {
       const specht::Stamp now = specht::Stamp::FromSeconds(0.1 * k);
-      std::vector<specht::world::Obstacle> detections;
+      std::vector<specht::types::Obstacle> detections;
       for (auto& a : agents) {
         a[0] += 0.1 * a[2], a[1] += 0.1 * a[3];
-        specht::world::Obstacle o;
+        specht::types::Obstacle o;
         o.cls = "pedestrian", o.stamp = now, o.score = 0.9;
         o.x_m = a[0] + noise(rng), o.y_m = a[1] + noise(rng);
         o.covariance_xy = cv::Matx22d::eye() * 0.0225;

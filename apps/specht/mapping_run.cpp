@@ -29,7 +29,7 @@
 #include <mrpt/obs/CObservationStereoImages.h>
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/localizer.h"
-#include "specht/world/stereo_perception.h"
+#include "specht/pipeline/stereo_perception.h"
 #include "specht/world/world_model.h"
 
 namespace specht::app {
@@ -283,7 +283,7 @@ class PerceptionStage {
  private:
   bool Start() {
     try {
-      perception_ = std::make_unique<world::StereoPerception>(
+      perception_ = std::make_unique<pipeline::StereoPerception>(
           params_.Get<stereo::SgmOptions>("stereo"), params_.Get<detect::DetectorOptions>("detect"),
           params_.Get<detect::FusionOptions>("fusion"), data_dir_);
     } catch (const InputError& e) {
@@ -299,7 +299,7 @@ class PerceptionStage {
   std::string data_dir_;
   std::string mode_;
   world::WorldModel world_;
-  std::unique_ptr<world::StereoPerception> perception_;
+  std::unique_ptr<pipeline::StereoPerception> perception_;
   std::map<std::string, Trajectory> seen_;
 };
 

@@ -4,7 +4,7 @@
 #include "specht/ais/nmea.h"
 #include "specht/core/transform_tree.h"
 #include "specht/io/replay.h"
-#include "specht/decide/closed_loop.h"
+#include "specht/pipeline/closed_loop.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/kinodynamic.h"
 #include "specht/plan/smoother.h"
@@ -18,7 +18,7 @@
 #include "specht/stereo/sgm.h"
 #include "specht/classify/model.h"
 #include "specht/classify/preprocess.h"
-#include "specht/track/synthetic_detections.h"
+#include "specht/sim/detections.h"
 #include "specht/track/tracker.h"
 #include "specht/world/world_model.h"
 
@@ -41,7 +41,7 @@ const params::Registry& AllOptions() {
     r.Add<detect::FusionOptions>("fusion", "box depth from stereo disparity, 3D position and covariance");
     r.Add<world::WorldModelOptions>("world", "the shared world model: obstacle lifetime, footprint, cost layer");
     r.Add<track::TrackerOptions>("track", "multi-object tracker: motion models, gating, lifecycle");
-    r.Add<track::SyntheticDetectionOptions>("synthetic_detections", "simulated detections for tracking on synthetic scenes");
+    r.Add<sim::SyntheticDetectionOptions>("synthetic_detections", "simulated detections for tracking on synthetic scenes");
     r.Add<classify::PreprocessOptions>("classify", "trajectory preprocessing: segmentation, windows, features");
     r.Add<classify::ModelOptions>("classify_model", "trajectory classifier: 1D ResNet variant and training");
     r.Add<ais::SentenceOptions>("ais_decoder", "AIS NMEA decoding: multipart reassembly");
@@ -56,7 +56,7 @@ const params::Registry& AllOptions() {
     r.Add<plan::KinodynamicOptions>("kinodynamic", "kinodynamic planner: OMPL SST / RRT / KPIECE1 over the bicycle model");
     r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
     r.Add<plan::TrackerOptions>("tracker", "path tracking: pure pursuit and speed profile");
-    r.Add<decide::ClosedLoopOptions>("closed_loop", "mission state machine: margins, waiting, tolerances");
+    r.Add<pipeline::ClosedLoopOptions>("closed_loop", "mission state machine: margins, waiting, tolerances");
     return r;
   }();
   return registry;

@@ -17,7 +17,7 @@
 #include "commands.h"
 #include "run_setup.h"
 #include "specht/core/error.h"
-#include "specht/decide/closed_loop.h"
+#include "specht/pipeline/closed_loop.h"
 #include "specht/decide/mission.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
@@ -78,17 +78,18 @@ int RunPlan(const PlanArgs& a) {
       map = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(*scenario).TrueGrid(0.1)));
     }
   }
-  if (scenario) car = decide::ScenarioCar(*scenario, car);  // plan for the scenario's own car
+  if (scenario) car = pipeline::ScenarioCar(*scenario, car);  // plan for the scenario's own car
   plan::Pose start;
   if (!a.start.empty()) start = ParsePose(a.start, "start");
-  else if (scenario) start = decide::EgoRearAxle(*scenario, scenario->ego.start);
+  else if (scenario) start = pipeline::EgoRearAxle(*scenario, scenario->ego.start);
   else throw InputError("--start is needed with a map (only a scenario has a default start)");
   plan::Pose goal;
   if (a.goal.rfind("bay:", 0) == 0) {
     if (!scenario) throw InputError("--goal bay:NAME needs a scenario as the map");
     const std::string name = a.goal.substr(4);
-    const auto bay = std::find_if(scenario->bays.begin(), scenario->bays.end(), [&](auto& b) { return b.name == name; });
-    if (bay == scenario->bays.end()) throw InputError("--goal: the scenario has no bay \"" + name + "\"");
+    const std::vector<decide::Bay> bays = pipeline::MissionSiteOf(*scenario).bays;
+    const auto bay = std::find_if(bays.begin(), bays.end(), [&](auto& b) { return b.name == name; });
+    if (bay == bays.end()) throw InputError("--goal: the scenario has no bay \"" + name + "\"");
     goal = decide::BayPose(*bay, car);
   } else {
     goal = ParsePose(a.goal, "goal");

@@ -11,7 +11,7 @@
 #include "run_setup.h"
 #include "specht/core/error.h"
 #include "specht/core/progress.h"
-#include "specht/decide/closed_loop.h"
+#include "specht/pipeline/closed_loop.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
@@ -29,16 +29,16 @@ struct RunArgs {
 int RunRun(const RunArgs& a) {
   const params::Params params = LoadParams(a.common);
   const sim::Scenario scenario = sim::LoadScenario(a.scenario);
-  decide::ClosedLoopConfig config;
-  config.car = decide::ScenarioCar(scenario, params.Get<plan::CarOptions>("car"));
+  pipeline::ClosedLoopConfig config;
+  config.car = pipeline::ScenarioCar(scenario, params.Get<plan::CarOptions>("car"));
   config.search = params.Get<plan::HybridAStarOptions>("hybrid_astar");
   config.fine_search = params.Get<plan::HybridAStarOptions>("hybrid_astar_fine");
   config.smoother = params.Get<plan::SmootherOptions>("smoother");
   config.tracker = params.Get<plan::TrackerOptions>("tracker");
-  config.loop = params.Get<decide::ClosedLoopOptions>("closed_loop");
+  config.loop = params.Get<pipeline::ClosedLoopOptions>("closed_loop");
   const std::vector<decide::Goal> mission = a.mission.empty()
-                                                ? decide::DefaultMission(scenario, config.car)
-                                                : decide::LoadMission(a.mission, scenario, config.car);
+                                                ? decide::DefaultMission(pipeline::MissionSiteOf(scenario), config.car)
+                                                : decide::LoadMission(a.mission, pipeline::MissionSiteOf(scenario), config.car);
   const auto [first, last] = ParseSeedRange(a.seeds, scenario.seed);
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
@@ -51,7 +51,7 @@ int RunRun(const RunArgs& a) {
   ProgressLine progress("run", "runs", !a.common.quiet, 0.0);
   for (uint64_t seed = first; seed <= last; ++seed) {
     std::string steps;
-    const decide::ClosedLoopResult r = decide::RunClosedLoop(
+    const pipeline::ClosedLoopResult r = pipeline::RunClosedLoop(
         scenario, seed, mission, config, [&](double t, const std::string& state, const plan::Pose& p) {
           char line[160];
           std::snprintf(line, sizeof(line), "{\"t_s\":%.2f,\"state\":\"%s\",\"x_m\":%.3f,\"y_m\":%.3f,\"theta_rad\":%.4f}\n",

@@ -32,7 +32,7 @@
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
 #include "specht/sim/world.h"
-#include "specht/track/synthetic_run.h"
+#include "specht/pipeline/synthetic_tracking.h"
 
 namespace specht::app {
 namespace {
@@ -55,10 +55,10 @@ struct OnlineClasses {
 
 // Classifies the confirmed tracks of one frame from their latest windows.
 void ClassifyOnline(const classify::TrajectoryClassifier& classifier, const classify::MapFeatures& map,
-                    const std::string& prefix, std::vector<world::Track>& tracks, double t_s, OnlineClasses& out) {
+                    const std::string& prefix, std::vector<types::Track>& tracks, double t_s, OnlineClasses& out) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<classify::Window> windows;
-  std::vector<world::Track*> owners;
+  std::vector<types::Track*> owners;
   for (auto& t : tracks) {
     if (t.state != "confirmed") continue;
     classify::Trajectory trajectory{std::to_string(t.id), "", {}};
@@ -85,7 +85,7 @@ std::array<unsigned char, 3> ClassColour(const std::string& cls) {
   return {120, 0, 160};
 }
 
-void WriteTracksPng(const sim::Scenario& scenario, const track::SyntheticRun& run, const std::string& path) {
+void WriteTracksPng(const sim::Scenario& scenario, const pipeline::SyntheticRun& run, const std::string& path) {
   std::map<std::string, Trajectory> truth, tracks;
   std::map<std::string, std::string> track_class;
   auto add = [](Trajectory& t, const io::ObjectSample& s) {
@@ -112,7 +112,7 @@ void WriteTracksPng(const sim::Scenario& scenario, const track::SyntheticRun& ru
 int RunTrack(const TrackArgs& a) {
   const params::Params params = LoadParams(a.common);
   const auto& tracker = params.Get<track::TrackerOptions>("track");
-  const auto& detection = params.Get<track::SyntheticDetectionOptions>("synthetic_detections");
+  const auto& detection = params.Get<sim::SyntheticDetectionOptions>("synthetic_detections");
   std::vector<sim::Scenario> scenarios;
   for (const auto& path : a.scenarios) scenarios.push_back(sim::LoadScenario(path));
   std::vector<std::pair<uint64_t, uint64_t>> seeds;
@@ -141,17 +141,17 @@ int RunTrack(const TrackArgs& a) {
       const std::string prefix = "s" + std::to_string(seed) + "/" + scenarios[i].name + "/";
       const classify::MapFeatures map = classifier ? ScenarioMapFeatures(scenarios[i]) : classify::MapFeatures{};
       OnlineClasses online;
-      track::SyntheticRun run = track::RunSyntheticTracking(
+      pipeline::SyntheticRun run = pipeline::RunSyntheticTracking(
           scenarios[i], seed, tracker, detection, prefix,
           [&](double f) {
             progress.Update(done_s + f * scenarios[i].duration_s, (done_s + f * scenarios[i].duration_s) / total_s);
           },
-          [&](std::vector<world::Track>& tracks, double t_s) {
+          [&](std::vector<types::Track>& tracks, double t_s) {
             if (classifier) ClassifyOnline(*classifier, map, prefix, tracks, t_s, online);
           });
       done_s += scenarios[i].duration_s;
       const eval::MotResult mot = eval::EvaluateMot(run.truth, run.tracks, a.match_threshold_m);
-      track::LabelTracksFromTruth(run.tracks, run.truth, mot.truth_of_hypothesis);
+      pipeline::LabelTracksFromTruth(run.tracks, run.truth, mot.truth_of_hypothesis);
       if (classifier) {
         const auto& classes = classifier->classes();
         const auto index = [&](const std::string& c) {

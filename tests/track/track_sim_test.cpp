@@ -4,7 +4,7 @@
 
 #include "specht/eval/mot.h"
 #include "specht/sim/scenario.h"
-#include "specht/track/synthetic_run.h"
+#include "specht/pipeline/synthetic_tracking.h"
 #include "test_support.h"
 
 namespace specht {
@@ -15,7 +15,7 @@ TEST(TrackingSimTest, ShippedScenesMeetClearMotTargets) {
   for (const char* name : {"urban-crossing", "course-loop", "parking-lot"}) {
     const sim::Scenario scenario = sim::LoadScenario(testing::SourceDir() + "/datasets/scenarios/" + name + ".yaml");
     for (uint64_t seed = 1; seed <= 10; ++seed) {
-      const auto run = track::RunSyntheticTracking(scenario, seed, {}, {}, "s" + std::to_string(seed) + "/");
+      const auto run = pipeline::RunSyntheticTracking(scenario, seed, {}, {}, "s" + std::to_string(seed) + "/");
       total.Add(eval::EvaluateMot(run.truth, run.tracks, 1.0));
     }
   }

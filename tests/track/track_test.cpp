@@ -9,8 +9,6 @@
 #include "specht/core/error.h"
 #include "specht/eval/mot.h"
 #include "specht/io/object_tracks.h"
-#include "specht/sim/scenario.h"
-#include "specht/track/synthetic_run.h"
 #include "specht/track/tracker.h"
 #include "test_support.h"
 
@@ -63,8 +61,8 @@ TEST(AssignmentTest, MatchesBruteForceOnRandomMatrices) {
   }
 }
 
-world::Obstacle Det(double x, double y, const std::string& cls = "pedestrian", double sigma = 0.1) {
-  world::Obstacle o;
+types::Obstacle Det(double x, double y, const std::string& cls = "pedestrian", double sigma = 0.1) {
+  types::Obstacle o;
   o.cls = cls;
   o.x_m = x, o.y_m = y;
   o.covariance_xy = cv::Matx22d::eye() * sigma * sigma;

@@ -12,6 +12,10 @@
 namespace specht::world {
 namespace {
 
+using types::CostGrid;
+using types::Obstacle;
+using types::Track;
+
 Stamp At(double s) { return Stamp::FromSeconds(1000 + s); }
 
 Obstacle At(double x, double y, const std::string& cls, double t, long id = 0) {

@@ -1,5 +1,6 @@
 #include "specht/decide/mission.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <yaml-cpp/yaml.h>
@@ -8,18 +9,18 @@
 
 namespace specht::decide {
 
-plan::Pose BayPose(const sim::ParkingBay& bay, const plan::CarOptions& car) {
+plan::Pose BayPose(const Bay& bay, const plan::CarOptions& car) {
   const double ahead = car.length_m / 2 - car.rear_overhang_m;  // footprint centre ahead of the reference
-  return {bay.pose.x - ahead * std::cos(bay.pose.yaw_rad), bay.pose.y - ahead * std::sin(bay.pose.yaw_rad),
-          std::remainder(bay.pose.yaw_rad, 2 * M_PI)};
+  return {bay.x_m - ahead * std::cos(bay.yaw_rad), bay.y_m - ahead * std::sin(bay.yaw_rad),
+          std::remainder(bay.yaw_rad, 2 * M_PI)};
 }
 
-std::vector<Goal> DefaultMission(const sim::Scenario& s, const plan::CarOptions& car) {
-  if (s.bays.empty()) throw InputError("scenario " + s.name + " has no parking bay: give a mission file");
+std::vector<Goal> DefaultMission(const MissionSite& s, const plan::CarOptions& car) {
+  if (s.bays.empty()) throw InputError(s.name + " has no parking bay: give a mission file");
   return {{"park " + s.bays.front().name, BayPose(s.bays.front(), car), true}};
 }
 
-std::vector<Goal> LoadMission(const std::string& path, const sim::Scenario& s, const plan::CarOptions& car) {
+std::vector<Goal> LoadMission(const std::string& path, const MissionSite& s, const plan::CarOptions& car) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -51,7 +52,7 @@ std::vector<Goal> LoadMission(const std::string& path, const sim::Scenario& s, c
     } else if (kind == "park") {
       const std::string name = v.as<std::string>();
       const auto bay = std::find_if(s.bays.begin(), s.bays.end(), [&](const auto& b) { return b.name == name; });
-      if (bay == s.bays.end()) throw InputError(at(v) + "scenario " + s.name + " has no bay '" + name + "'");
+      if (bay == s.bays.end()) throw InputError(at(v) + s.name + " has no bay '" + name + "'");
       goals.push_back({"park " + name, BayPose(*bay, car), true});
     } else {
       throw InputError(at(g) + "unknown goal '" + kind + "' (waypoint, park)");

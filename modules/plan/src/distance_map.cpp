@@ -6,7 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
-#include "specht/world/world_model.h"
+#include "specht/types/cost_grid.h"
 
 namespace specht::plan {
 
@@ -36,9 +36,9 @@ DistanceMap DistanceMap::FromGrid(const mrpt::maps::COccupancyGridMap2D& g, bool
   return DistanceMap(obstacle, g.getXMin(), g.getYMin(), g.getResolution());
 }
 
-DistanceMap DistanceMap::FromCost(const world::CostGrid& cost, bool unknown_is_obstacle) {
-  cv::Mat obstacle = cost.cost == world::CostGrid::kLethal;
-  if (unknown_is_obstacle) obstacle |= cost.cost == world::CostGrid::kUnknown;
+DistanceMap DistanceMap::FromCost(const types::CostGrid& cost, bool unknown_is_obstacle) {
+  cv::Mat obstacle = cost.cost == types::CostGrid::kLethal;
+  if (unknown_is_obstacle) obstacle |= cost.cost == types::CostGrid::kUnknown;
   return DistanceMap(obstacle / 255, cost.origin_x_m, cost.origin_y_m, cost.resolution_m);
 }
 

@@ -63,9 +63,9 @@ struct Tracker::Entry {
   std::string cls;
   Stamp last_seen;
   int cycles = 0, hits = 0;
-  std::deque<world::TrackPoint> history;
+  std::deque<types::TrackPoint> history;
 
-  void Vote(const world::Obstacle& d) {
+  void Vote(const types::Obstacle& d) {
     votes[d.cls] += std::max(d.score, 1e-3);
     cls = std::max_element(votes.begin(), votes.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
   }
@@ -86,7 +86,7 @@ double Tracker::AccelerationSigma(const std::string& cls) const {
 Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
-CycleStats Tracker::Update(const std::vector<world::Obstacle>& detections_in, Stamp now) {
+CycleStats Tracker::Update(const std::vector<types::Obstacle>& detections_in, Stamp now) {
   if (started_ && now < last_)
     throw InputError("track: detections at " + std::to_string(now.Seconds()) + " s are older than the last cycle (" +
                      std::to_string(last_.Seconds()) + " s)");
@@ -95,7 +95,7 @@ CycleStats Tracker::Update(const std::vector<world::Obstacle>& detections_in, St
   last_ = now;
   CycleStats stats;
 
-  std::vector<const world::Obstacle*> detections;
+  std::vector<const types::Obstacle*> detections;
   for (const auto& d : detections_in) {
     const bool finite = std::isfinite(d.x_m) && std::isfinite(d.y_m) && std::isfinite(d.covariance_xy(0, 0)) &&
                         std::isfinite(d.covariance_xy(1, 1)) && std::isfinite(d.covariance_xy(0, 1));
@@ -189,12 +189,12 @@ CycleStats Tracker::Update(const std::vector<world::Obstacle>& detections_in, St
   return stats;
 }
 
-std::vector<world::Track> Tracker::Tracks() const {
-  std::vector<world::Track> out;
+std::vector<types::Track> Tracker::Tracks() const {
+  std::vector<types::Track> out;
   for (const auto& t : tracks_) {
     if (t->state == TrackState::kTentative) continue;
     if (t->state == TrackState::kCoasting && SecondsBetween(t->last_seen, last_) > options_.report_coasting_s) continue;
-    world::Track w;
+    types::Track w;
     w.id = t->id;
     w.cls = t->cls;
     w.stamp = last_;

@@ -9,6 +9,11 @@
 #include "specht/core/error.h"
 
 namespace specht::world {
+
+using types::CostGrid;
+using types::Obstacle;
+using types::Track;
+
 namespace {
 
 // "class=metres" entries; problems reported by Relations().
@@ -61,16 +66,6 @@ double WorldModelOptions::MarginFor(const std::string& cls) const {
   return other;
 }
 
-bool CostGrid::Cell(double x_m, double y_m, int& col, int& row) const {
-  col = static_cast<int>(std::floor((x_m - origin_x_m) / resolution_m));
-  row = static_cast<int>(std::floor((y_m - origin_y_m) / resolution_m));
-  return col >= 0 && row >= 0 && col < cost.cols && row < cost.rows;
-}
-
-cv::Point2d CostGrid::Centre(int col, int row) const {
-  return {origin_x_m + (col + 0.5) * resolution_m, origin_y_m + (row + 0.5) * resolution_m};
-}
-
 nlohmann::json Snapshot::ToJson() const {
   nlohmann::json j;
   j["version"] = version;
@@ -82,7 +77,7 @@ nlohmann::json Snapshot::ToJson() const {
   j["obstacles"] = nlohmann::json::array();
   for (const auto& o : obstacles)
     j["obstacles"].push_back({{"id", o.id}, {"class", o.cls}, {"stamp_s", o.stamp.Seconds()},
-                              {"xyz_m", {o.x_m, o.y_m, o.z_m}}, {"radius_m", o.radius_m}, {"score", o.score},
+                              {"xyz_m", {o.x_m, o.y_m, o.z_m}}, {"radius_m", o.radius_m}, {"score", o.score}, {"range_m", o.range_m},
                               {"covariance_xy", {o.covariance_xy(0, 0), o.covariance_xy(0, 1), o.covariance_xy(1, 1)}}});
   j["tracks"] = nlohmann::json::array();
   for (const auto& t : tracks) {
@@ -105,23 +100,6 @@ nlohmann::json Snapshot::ToJson() const {
                  {"inscribed", cv::countNonZero(cost->cost == CostGrid::kInscribed)}};
   }
   return j;
-}
-
-Obstacle ToMapObstacle(const detect::Obstacle3D& o, const mrpt::poses::CPose3D& map_from_camera, Stamp stamp, long id) {
-  Obstacle out;
-  out.id = id;
-  out.cls = o.detection.cls;
-  out.stamp = stamp;
-  out.score = o.detection.score;
-  map_from_camera.composePoint(o.position_camera.x, o.position_camera.y, o.position_camera.z, out.x_m, out.y_m, out.z_m);
-  out.radius_m = std::max(0.2, o.size_m.width / 2);
-  const auto r = map_from_camera.getRotationMatrix();
-  cv::Matx33d rot;
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) rot(i, k) = r(i, k);
-  const cv::Matx33d map_cov = rot * o.covariance * rot.t();
-  out.covariance_xy = cv::Matx22d(map_cov(0, 0), map_cov(0, 1), map_cov(1, 0), map_cov(1, 1));
-  return out;
 }
 
 WorldModel::WorldModel(const WorldModelOptions& options) : options_(options) {

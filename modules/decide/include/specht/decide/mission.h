@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "specht/plan/car.h"
-#include "specht/sim/scenario.h"
 
 namespace specht::decide {
 
@@ -22,12 +21,25 @@ struct Goal {
   bool park = false; // parking: judged against the bay's tolerances at the end
 };
 
-// The pose that centres the car's footprint in `bay`, nose along the bay.
-plan::Pose BayPose(const sim::ParkingBay& bay, const plan::CarOptions& car);
+// A marked parking space of the map a mission runs on.
+struct Bay {
+  std::string name;
+  double x_m = 0, y_m = 0, yaw_rad = 0;  // centre, heading along the bay
+  double length_m = 5.0, width_m = 2.5;
+};
 
-// Throws InputError naming the file and line: unknown fields, a bay the scenario
+// What a mission file may name: the site's name (for messages) and its bays.
+struct MissionSite {
+  std::string name;
+  std::vector<Bay> bays;
+};
+
+// The pose that centres the car's footprint in `bay`, nose along the bay.
+plan::Pose BayPose(const Bay& bay, const plan::CarOptions& car);
+
+// Throws InputError naming the file and line: unknown fields, a bay the site
 // does not have, a waypoint that is not three numbers.
-std::vector<Goal> LoadMission(const std::string& path, const sim::Scenario& scenario, const plan::CarOptions& car);
-std::vector<Goal> DefaultMission(const sim::Scenario& scenario, const plan::CarOptions& car);
+std::vector<Goal> LoadMission(const std::string& path, const MissionSite& site, const plan::CarOptions& car);
+std::vector<Goal> DefaultMission(const MissionSite& site, const plan::CarOptions& car);
 
 }  // namespace specht::decide

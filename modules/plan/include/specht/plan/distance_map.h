@@ -17,7 +17,7 @@
 namespace mrpt::maps {
 class COccupancyGridMap2D;
 }
-namespace specht::world {
+namespace specht::types {
 struct CostGrid;
 }
 
@@ -28,7 +28,7 @@ class DistanceMap {
   // `obstacle`: CV_8U, non-zero on obstacle cells, row = y index.
   DistanceMap(const cv::Mat& obstacle, double origin_x, double origin_y, double resolution);
   static DistanceMap FromGrid(const mrpt::maps::COccupancyGridMap2D& grid, bool unknown_is_obstacle = true);
-  static DistanceMap FromCost(const world::CostGrid& cost, bool unknown_is_obstacle = true);
+  static DistanceMap FromCost(const types::CostGrid& cost, bool unknown_is_obstacle = true);
 
   // Metres to the nearest obstacle from the cell containing (x, y); 0 outside the map
   // (the map's edge is a wall).

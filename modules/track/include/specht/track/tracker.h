@@ -33,7 +33,8 @@
 
 #include "specht/core/params.h"
 #include "specht/core/time.h"
-#include "specht/world/world_model.h"
+#include "specht/types/obstacle.h"
+#include "specht/types/track.h"
 
 namespace specht::track {
 
@@ -99,11 +100,11 @@ class Tracker {
   // One cycle with the detections made at `now` (their own stamps are ignored;
   // stamps must not decrease: InputError otherwise). Detections with non-finite
   // positions are skipped and counted.
-  CycleStats Update(const std::vector<world::Obstacle>& detections, Stamp now);
+  CycleStats Update(const std::vector<types::Obstacle>& detections, Stamp now);
 
   // Confirmed and coasting tracks at the last cycle, with history and prediction,
   // ordered by id.
-  std::vector<world::Track> Tracks() const;
+  std::vector<types::Track> Tracks() const;
   int tentative_count() const;
   long skipped_detections() const { return skipped_; }
 

@@ -33,7 +33,9 @@
 
 #include "specht/core/params.h"
 #include "specht/core/time.h"
-#include "specht/detect/fusion.h"
+#include "specht/types/cost_grid.h"
+#include "specht/types/obstacle.h"
+#include "specht/types/track.h"
 
 namespace specht::world {
 
@@ -73,67 +75,17 @@ struct WorldModelOptions {
   double MarginFor(const std::string& cls) const;
 };
 
-struct Obstacle {
-  long id = 0;
-  std::string cls;
-  Stamp stamp;
-  double x_m = 0, y_m = 0, z_m = 0;  // map frame, centre
-  double radius_m = 0.5;             // half the larger horizontal extent
-  cv::Matx22d covariance_xy = cv::Matx22d::eye() * 0.01;
-  double score = 0;
-};
-
-struct TrackPoint {
-  Stamp stamp;
-  double x_m = 0, y_m = 0;
-};
-
-// Where a track is expected `dt_s` after its stamp, with the position covariance.
-struct PredictedPoint {
-  double dt_s = 0;
-  double x_m = 0, y_m = 0;
-  cv::Matx22d covariance = cv::Matx22d::eye();
-};
-
-struct Track {
-  long id = 0;
-  std::string cls;
-  Stamp stamp;
-  double x_m = 0, y_m = 0, vx_mps = 0, vy_mps = 0;
-  cv::Matx44d covariance = cv::Matx44d::eye();  // over (x, y, vx, vy)
-  std::string state;         // "confirmed" or "coasting" (not seen at its stamp)
-  std::string motion_model;  // "cv" or "ct"
-  std::vector<TrackPoint> history;          // filtered positions, oldest first
-  std::vector<PredictedPoint> prediction;   // short horizon, for the planner
-  std::map<std::string, double> class_probabilities;  // from the trajectory classifier
-};
-
-// The planner's cost grid (see the values above).
-struct CostGrid {
-  double origin_x_m = 0, origin_y_m = 0, resolution_m = 0.1;
-  cv::Mat cost;  // CV_8UC1, row = y index, column = x index
-  static constexpr uint8_t kLethal = 254, kInscribed = 253, kUnknown = 255, kFree = 0;
-  // The cell of a map point (false outside the grid).
-  bool Cell(double x_m, double y_m, int& col, int& row) const;
-  cv::Point2d Centre(int col, int row) const;
-};
-
 struct Snapshot {
   uint64_t version = 0;
   Stamp stamp;  // the latest time the model was advanced or written to
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> static_map;
-  std::vector<Obstacle> obstacles;
-  std::vector<Track> tracks;
+  std::vector<types::Obstacle> obstacles;
+  std::vector<types::Track> tracks;
   std::shared_ptr<const octomap::OcTree> octree;
-  std::shared_ptr<const CostGrid> cost;
+  std::shared_ptr<const types::CostGrid> cost;
 
   nlohmann::json ToJson() const;  // layers summarised, obstacles and tracks in full
 };
-
-// An obstacle from a fused detection: its camera-frame position moved into the map
-// frame (Σ_map = R Σ Rᵀ, horizontal block).
-Obstacle ToMapObstacle(const detect::Obstacle3D& o, const mrpt::poses::CPose3D& map_from_camera, Stamp stamp,
-                       long id);
 
 class WorldModel {
  public:
@@ -141,8 +93,8 @@ class WorldModel {
 
   // Writers (serialised; each publishes a new snapshot).
   void SetStaticMap(const mrpt::maps::COccupancyGridMap2D& grid, Stamp stamp);
-  void AddObstacles(const std::vector<Obstacle>& obstacles, Stamp now);
-  void SetTracks(const std::vector<Track>& tracks, Stamp now);
+  void AddObstacles(const std::vector<types::Obstacle>& obstacles, Stamp now);
+  void SetTracks(const std::vector<types::Track>& tracks, Stamp now);
   void SetOctree(std::shared_ptr<const octomap::OcTree> octree, Stamp now);
   // Drops the obstacles older than their lifetime at `now`.
   void Advance(Stamp now);
@@ -154,11 +106,11 @@ class WorldModel {
   template <class Edit>
   void Publish(Stamp now, Edit&& edit);
   struct StaticLayer {
-    CostGrid grid;    // the static map inflated
+    types::CostGrid grid;    // the static map inflated
     cv::Mat unknown;  // CV_8U, 1 on unknown static cells
   };
   StaticLayer InflateStatic(const mrpt::maps::COccupancyGridMap2D& grid) const;
-  std::shared_ptr<const CostGrid> BuildCost(const Snapshot& s) const;
+  std::shared_ptr<const types::CostGrid> BuildCost(const Snapshot& s) const;
 
   WorldModelOptions options_;
   std::map<std::string, double> margins_;  // class_margins, parsed once

@@ -1,5 +1,5 @@
-// specht/track/synthetic_run.h: a simulated scene run through synthetic detections
-// (synthetic_detections.h) and the tracker, with the truth recorded alongside —
+// specht/pipeline/synthetic_tracking.h: a simulated scene run through synthetic detections
+// (sim/detections.h) and the tracker, with the truth recorded alongside —
 // what `specht track`, the tracking tests and the classifier's robot dataset use.
 #pragma once
 
@@ -9,10 +9,10 @@
 
 #include "specht/io/object_tracks.h"
 #include "specht/sim/scenario.h"
-#include "specht/track/synthetic_detections.h"
+#include "specht/sim/detections.h"
 #include "specht/track/tracker.h"
 
-namespace specht::track {
+namespace specht::pipeline {
 
 struct SyntheticRun {
   // One row per detection frame: the agents visible then (id "<prefix><agent
@@ -28,10 +28,10 @@ struct SyntheticRun {
 // every simulated second when given; `on_tracks(tracks, now)` after every tracker
 // update with the tracks the frame records and the simulated time, as in the
 // samples (e.g. to classify them online).
-SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, const TrackerOptions& tracker,
-                                  const SyntheticDetectionOptions& detection, const std::string& id_prefix,
+SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, const track::TrackerOptions& tracker,
+                                  const sim::SyntheticDetectionOptions& detection, const std::string& id_prefix,
                                   const std::function<void(double)>& progress = nullptr,
-                                  const std::function<void(std::vector<world::Track>&, double t_s)>& on_tracks = nullptr);
+                                  const std::function<void(std::vector<types::Track>&, double t_s)>& on_tracks = nullptr);
 
 // Sets each track sample's truth_class to the class of the truth object its track
 // was matched to most often (`truth_of_hypothesis`, from eval::EvaluateMot), "none"
@@ -39,4 +39,4 @@ SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, 
 void LabelTracksFromTruth(std::vector<io::ObjectSample>& tracks, const std::vector<io::ObjectSample>& truth,
                           const std::map<std::string, std::string>& truth_of_hypothesis);
 
-}  // namespace specht::track
+}  // namespace specht::pipeline

@@ -1,8 +1,8 @@
-#include "specht/track/synthetic_detections.h"
+#include "specht/sim/detections.h"
 
 #include <cmath>
 
-namespace specht::track {
+namespace specht::sim {
 namespace {
 
 const char* kClasses[] = {"pedestrian", "cyclist", "car"};
@@ -24,15 +24,15 @@ bool SyntheticDetector::Due(const sim::Simulator& sim) const {
   return step % every == 0;
 }
 
-std::vector<world::Obstacle> SyntheticDetector::Detect(const sim::Simulator& sim) {
+std::vector<types::Obstacle> SyntheticDetector::Detect(const sim::Simulator& sim) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
   const sim::Pose2 ego = sim.ego().pose;
-  std::vector<world::Obstacle> out;
+  std::vector<types::Obstacle> out;
   visible_.clear();
   hidden_.clear();
   auto add = [&](double x, double y, std::string cls, double sigma, double score) {
-    world::Obstacle o;
+    types::Obstacle o;
     o.id = next_id_++;
     o.cls = std::move(cls);
     o.stamp = sim.stamp();
@@ -69,4 +69,4 @@ std::vector<world::Obstacle> SyntheticDetector::Detect(const sim::Simulator& sim
   return out;
 }
 
-}  // namespace specht::track
+}  // namespace specht::sim

@@ -1,4 +1,4 @@
-#include "specht/decide/closed_loop.h"
+#include "specht/pipeline/closed_loop.h"
 
 #include <chrono>
 #include <cmath>
@@ -12,7 +12,14 @@
 #include "specht/core/error.h"
 #include "specht/sim/simulator.h"
 
-namespace specht::decide {
+namespace specht::pipeline {
+
+using decide::Goal;
+using decide::MissionEvent;
+using decide::MissionState;
+using decide::MissionStateMachine;
+using decide::Transition;
+
 namespace {
 
 // A box: centre, heading, half length and half width.
@@ -398,6 +405,12 @@ plan::Pose EgoRearAxle(const sim::Scenario& s, const sim::Pose2& centre) {
   return {centre.x - back * std::cos(centre.yaw_rad), centre.y - back * std::sin(centre.yaw_rad), centre.yaw_rad};
 }
 
+decide::MissionSite MissionSiteOf(const sim::Scenario& s) {
+  decide::MissionSite site{"scenario " + s.name, {}};
+  for (const auto& b : s.bays) site.bays.push_back({b.name, b.pose.x, b.pose.y, b.pose.yaw_rad, b.length_m, b.width_m});
+  return site;
+}
+
 plan::CarOptions ScenarioCar(const sim::Scenario& s, plan::CarOptions car) {
   const sim::VehicleModel& v = s.ego.model;
   car.wheelbase_m = v.wheelbase_m, car.max_steer_deg = v.max_steer_rad * 180 / M_PI;
@@ -444,7 +457,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     const plan::Command cmd = machine.Step(t, pose, ego.speed_mps, ego.steer_rad, agents);
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     r.trajectory.push_back(pose);
-    if (on_step) on_step(t, Name(machine.state()), pose);
+    if (on_step) on_step(t, decide::Name(machine.state()), pose);
     for (int k = 0; k < substeps; ++k) {
       sim.Step(on_observation);
       const auto& e = sim.ego();
@@ -498,4 +511,4 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"transitions", states}};
 }
 
-}  // namespace specht::decide
+}  // namespace specht::pipeline

@@ -1,6 +1,6 @@
-// specht/decide/closed_loop.h: the mission state machine driving the simulated car.
+// specht/pipeline/closed_loop.h: the mission state machine driving the simulated car.
 //
-// The states and their transition table are in mission_state.h; here is when each
+// The states and their transition table are in decide/mission_state.h; here is when each
 // event fires (every transition is logged with its time and reason):
 //   path_found          hybrid A* + smoothing found a path to the current goal (the
 //                       fine search, section hybrid_astar_fine, when the default
@@ -53,8 +53,9 @@
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/smoother.h"
 #include "specht/plan/tracker.h"
+#include "specht/sim/scenario.h"
 
-namespace specht::decide {
+namespace specht::pipeline {
 
 // Section "closed_loop".
 struct ClosedLoopOptions {
@@ -135,7 +136,7 @@ struct ClosedLoopResult {
   std::vector<double> plan_ms;
   std::map<std::string, double> limited_s;  // time driven below the tracker's speed, by decision (slow, follow)
   int map_replans = 0;                      // paths given up because the map changed under them
-  std::vector<Transition> transitions;
+  std::vector<decide::Transition> transitions;
   std::vector<plan::Pose> trajectory;  // at the control rate
   std::vector<plan::Path> paths;       // every plan made
   nlohmann::json ToJson() const;
@@ -151,7 +152,7 @@ struct ClosedLoopConfig {
 };
 
 // Runs the mission; `on_step(t_s, state, pose)` (optional) after every control step.
-ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, const std::vector<Goal>& mission,
+ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, const std::vector<decide::Goal>& mission,
                                const ClosedLoopConfig& config,
                                const std::function<void(double, const std::string&, const plan::Pose&)>& on_step = nullptr);
 
@@ -160,5 +161,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
 plan::CarOptions ScenarioCar(const sim::Scenario& scenario, plan::CarOptions base);
 // The ego's rear axle (the planner's pose) from its box centre (the simulator's).
 plan::Pose EgoRearAxle(const sim::Scenario& scenario, const sim::Pose2& centre);
+// What a mission file may name in `scenario`: its bays.
+decide::MissionSite MissionSiteOf(const sim::Scenario& scenario);
 
-}  // namespace specht::decide
+}  // namespace specht::pipeline

@@ -1,4 +1,4 @@
-// specht/track/synthetic_detections.h: noisy obstacle detections of the simulator's
+// specht/sim/detections.h: noisy obstacle detections of the simulator's
 // agents, standing in for the stereo + CNN pipeline when tracking and classification
 // are evaluated on synthetic scenes (the truth is the simulator's).
 //
@@ -20,9 +20,9 @@
 
 #include "specht/core/params.h"
 #include "specht/sim/simulator.h"
-#include "specht/world/world_model.h"
+#include "specht/types/obstacle.h"
 
-namespace specht::track {
+namespace specht::sim {
 
 // Section "synthetic_detections".
 struct SyntheticDetectionOptions {
@@ -58,19 +58,19 @@ class SyntheticDetector {
  public:
   SyntheticDetector(const SyntheticDetectionOptions& options, uint64_t seed);
   // Whether a detection frame is due after the simulator's latest step.
-  bool Due(const sim::Simulator& sim) const;
+  bool Due(const Simulator& sim) const;
   // The detections of the simulator's current state (map frame, stamped now).
-  std::vector<world::Obstacle> Detect(const sim::Simulator& sim);
+  std::vector<types::Obstacle> Detect(const Simulator& sim);
   // The agents that were detectable in the last frame (the truth to score against),
   // and the others (present but out of view: don't care).
-  const std::vector<sim::AgentTruth>& visible() const { return visible_; }
-  const std::vector<sim::AgentTruth>& hidden() const { return hidden_; }
+  const std::vector<AgentTruth>& visible() const { return visible_; }
+  const std::vector<AgentTruth>& hidden() const { return hidden_; }
 
  private:
   SyntheticDetectionOptions options_;
   std::mt19937_64 rng_;
-  std::vector<sim::AgentTruth> visible_, hidden_;
+  std::vector<AgentTruth> visible_, hidden_;
   long next_id_ = 1;
 };
 
-}  // namespace specht::track
+}  // namespace specht::sim

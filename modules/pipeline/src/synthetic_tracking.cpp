@@ -1,4 +1,4 @@
-#include "specht/track/synthetic_run.h"
+#include "specht/pipeline/synthetic_tracking.h"
 
 #include <chrono>
 #include <cmath>
@@ -6,15 +6,15 @@
 
 #include "specht/sim/simulator.h"
 
-namespace specht::track {
+namespace specht::pipeline {
 
-SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, const TrackerOptions& tracker_options,
-                                  const SyntheticDetectionOptions& detection, const std::string& prefix,
+SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, const track::TrackerOptions& tracker_options,
+                                  const sim::SyntheticDetectionOptions& detection, const std::string& prefix,
                                   const std::function<void(double)>& progress,
-                                  const std::function<void(std::vector<world::Track>&, double t_s)>& on_tracks) {
+                                  const std::function<void(std::vector<types::Track>&, double t_s)>& on_tracks) {
   sim::Simulator sim(scenario, seed);
-  SyntheticDetector detector(detection, seed);
-  Tracker tracker(tracker_options);
+  sim::SyntheticDetector detector(detection, seed);
+  track::Tracker tracker(tracker_options);
   SyntheticRun run;
   const long steps = std::lround(scenario.duration_s / sim::Simulator::kStepS);
   std::map<int, std::pair<double, int>> episode;  // agent → (last seen, episode)
@@ -39,7 +39,7 @@ SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, 
     }
     for (const auto& a : detector.hidden())
       run.truth.push_back({prefix + std::to_string(a.id) + "#hidden", t, a.pose.x, a.pose.y, sim::Name(a.cls), "", true});
-    std::vector<world::Track> tracks = tracker.Tracks();
+    std::vector<types::Track> tracks = tracker.Tracks();
     if (on_tracks) on_tracks(tracks, t);
     for (const auto& tr : tracks)
       run.tracks.push_back({prefix + "t" + std::to_string(tr.id), t, tr.x_m, tr.y_m, tr.cls, ""});
@@ -58,4 +58,4 @@ void LabelTracksFromTruth(std::vector<io::ObjectSample>& tracks, const std::vect
   }
 }
 
-}  // namespace specht::track
+}  // namespace specht::pipeline

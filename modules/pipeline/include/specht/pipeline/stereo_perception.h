@@ -1,4 +1,4 @@
-// specht/world/stereo_perception.h: the perception stage of a replay. For each
+// specht/pipeline/stereo_perception.h: the stereo perception stage. For each
 // stereo observation: our SGM disparity, the CNN detector on the left image, box
 // depth fusion, and the obstacles moved into the map frame:
 //   map_from_camera = map_from_base (the SLAM pose at the observation) ⊕ cameraPose
@@ -16,9 +16,14 @@
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
 #include "specht/stereo/sgm.h"
-#include "specht/world/world_model.h"
+#include "specht/types/obstacle.h"
 
-namespace specht::world {
+namespace specht::pipeline {
+
+// An obstacle from a fused detection: its camera-frame position moved into the map
+// frame (Σ_map = R Σ Rᵀ, horizontal block); range_m is the fused depth Z.
+types::Obstacle ToMapObstacle(const detect::Obstacle3D& o, const mrpt::poses::CPose3D& map_from_camera, Stamp stamp,
+                              long id);
 
 struct PerceptionStats {
   long frames = 0, detections = 0, obstacles = 0;
@@ -32,7 +37,7 @@ class StereoPerception {
   ~StereoPerception();
 
   // The obstacles (map frame) seen in one stereo observation taken at `map_from_base`.
-  std::vector<Obstacle> Process(const mrpt::obs::CObservationStereoImages& obs, const mrpt::poses::CPose3D& map_from_base,
+  std::vector<types::Obstacle> Process(const mrpt::obs::CObservationStereoImages& obs, const mrpt::poses::CPose3D& map_from_base,
                                 Stamp stamp);
   const PerceptionStats& stats() const { return stats_; }
 
@@ -45,4 +50,4 @@ class StereoPerception {
   long next_id_ = 0;
 };
 
-}  // namespace specht::world
+}  // namespace specht::pipeline

@@ -1,12 +1,13 @@
-#include "specht/world/stereo_perception.h"
+#include "specht/pipeline/stereo_perception.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
 
-namespace specht::world {
+namespace specht::pipeline {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -23,6 +24,26 @@ cv::Mat Gray(const mrpt::img::CImage& image, const char* which) {
 
 }  // namespace
 
+types::Obstacle ToMapObstacle(const detect::Obstacle3D& o, const mrpt::poses::CPose3D& map_from_camera, Stamp stamp,
+                              long id) {
+  types::Obstacle out;
+  out.id = id;
+  out.cls = o.detection.cls;
+  out.stamp = stamp;
+  out.score = o.detection.score;
+  out.range_m = o.distance_m;
+  map_from_camera.composePoint(o.position_camera.x, o.position_camera.y, o.position_camera.z, out.x_m, out.y_m,
+                               out.z_m);
+  out.radius_m = std::max(0.2, o.size_m.width / 2);
+  const auto r = map_from_camera.getRotationMatrix();
+  cv::Matx33d rot;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) rot(i, k) = r(i, k);
+  const cv::Matx33d map_cov = rot * o.covariance * rot.t();
+  out.covariance_xy = cv::Matx22d(map_cov(0, 0), map_cov(0, 1), map_cov(1, 0), map_cov(1, 1));
+  return out;
+}
+
 StereoPerception::StereoPerception(const stereo::SgmOptions& sgm, const detect::DetectorOptions& detector,
                                    const detect::FusionOptions& fusion, const std::string& data_dir)
     : sgm_options_(sgm), detector_(detector, data_dir), fusion_(fusion),
@@ -30,7 +51,7 @@ StereoPerception::StereoPerception(const stereo::SgmOptions& sgm, const detect::
 
 StereoPerception::~StereoPerception() = default;
 
-std::vector<Obstacle> StereoPerception::Process(const mrpt::obs::CObservationStereoImages& obs,
+std::vector<types::Obstacle> StereoPerception::Process(const mrpt::obs::CObservationStereoImages& obs,
                                                 const mrpt::poses::CPose3D& map_from_base, Stamp stamp) {
   if (!obs.hasImageRight) throw InputError("stereo observation '" + obs.sensorLabel + "' has no right image");
   const cv::Mat left = Gray(obs.imageLeft, "left"), right = Gray(obs.imageRight, "right");
@@ -49,7 +70,7 @@ std::vector<Obstacle> StereoPerception::Process(const mrpt::obs::CObservationSte
   stats_.detect_ms += MsSince(t0);
   t0 = Clock::now();
   const mrpt::poses::CPose3D map_from_camera = map_from_base + mrpt::poses::CPose3D(obs.cameraPose);
-  std::vector<Obstacle> obstacles;
+  std::vector<types::Obstacle> obstacles;
   for (const auto& d : detections) {
     if (const auto o = detect::Fuse(d, disparity, camera, fusion_))
       obstacles.push_back(ToMapObstacle(*o, map_from_camera, stamp, next_id_++));
@@ -61,4 +82,4 @@ std::vector<Obstacle> StereoPerception::Process(const mrpt::obs::CObservationSte
   return obstacles;
 }
 
-}  // namespace specht::world
+}  // namespace specht::pipeline
