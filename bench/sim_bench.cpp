@@ -1,8 +1,11 @@
 // sim_bench <scenario.yaml>...: simulation speed per scenario, default seed, whole
 // duration: simulated seconds per wall second, ms per LiDAR scan (ray casting
 // included), stereo frames rendered per second (scenarios with a camera), peak memory.
-// One JSON object per scenario.
+// One JSON object per scenario. With --sprites DIR (<data>/sprites) agents are drawn
+// as photographs (sim/sprites.h), else as boxes.
 #include <chrono>
+#include <optional>
+#include <string>
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -11,9 +14,14 @@
 
 int main(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
+  std::optional<specht::sim::SpriteLibrary> sprites;
   for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--sprites" && i + 1 < argc) {
+      sprites = specht::sim::SpriteLibrary::Load(argv[++i]);
+      continue;
+    }
     const specht::sim::Scenario s = specht::sim::LoadScenario(argv[i]);
-    specht::sim::Simulator sim(s, s.seed);
+    specht::sim::Simulator sim(s, s.seed, sprites ? &*sprites : nullptr);
     long scans = 0, observations = 0, stereo_frames = 0;
     const auto t0 = Clock::now();
     const long steps = std::lround(s.duration_s / specht::sim::Simulator::kStepS);
@@ -35,6 +43,7 @@ int main(int argc, char** argv) {
                          {"observations", observations},
                          {"ms_per_simulated_second", 1000.0 * wall / s.duration_s},
                          {"agents", s.agents.size()},
+                         {"sprites", sprites ? sprites->size() : 0},
                          {"stereo_frames", stereo_frames},
                          {"stereo_frames_per_s", render > 0 ? stereo_frames / render : 0.0},
                          {"stereo_resolution", s.stereo ? std::to_string(s.stereo->width) + "x" +

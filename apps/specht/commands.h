@@ -16,6 +16,8 @@ namespace specht::app {
 void AddReplayCommand(CLI::App& app, int& exit_code);
 void AddParamsCommand(CLI::App& app, int& exit_code);
 void AddEvalCommand(CLI::App& app, int& exit_code);
+// `specht eval perception` (eval_perception_command.cpp), a subcommand of `eval`.
+void AddEvalPerceptionCommand(CLI::App& eval, int& exit_code);
 void AddSlamCommand(CLI::App& app, int& exit_code);
 void AddConvertCommand(CLI::App& app, int& exit_code);
 void AddSimCommand(CLI::App& app, int& exit_code);

@@ -174,6 +174,8 @@ void AddEvalCommand(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   tr->add_option("-o,--out", track_args->out_dir, "output directory")->capture_default_str();
   tr->callback([track_args, &exit_code] { exit_code = RunEvalTrack(*track_args); });
+
+  AddEvalPerceptionCommand(*eval, exit_code);
 }
 
 }  // namespace specht::app

@@ -1,5 +1,5 @@
-// apps/specht/mapping_run.h: the mapping pipeline shared by `specht replay` and
-// `specht slam`: dataset -> replay clock -> graph SLAM -> map artefact and report.
+// apps/specht/mapping_run.h: the flags `specht replay` and `specht slam` share, and
+// the one call they make (pipeline/replay.h runs the dataset through the stack).
 #pragma once
 
 #include <optional>

@@ -20,6 +20,7 @@
 #include "specht/classify/preprocess.h"
 #include "specht/sim/detections.h"
 #include "specht/track/tracker.h"
+#include "specht/pipeline/perception.h"
 #include "specht/world/world_model.h"
 
 namespace specht::app {
@@ -40,6 +41,8 @@ const params::Registry& AllOptions() {
     r.Add<detect::DetectorOptions>("detect", "CNN detector (cv::dnn): model, input, thresholds, class map");
     r.Add<detect::FusionOptions>("fusion", "box depth from stereo disparity, 3D position and covariance");
     r.Add<world::WorldModelOptions>("world", "the shared world model: obstacle lifetime, footprint, cost layer");
+    r.Add<pipeline::PerceptionOptions>("perception",
+                                       "the perception pipeline: stereo, detector, tracker and OctoMap into the world model");
     r.Add<track::TrackerOptions>("track", "multi-object tracker: motion models, gating, lifecycle");
     r.Add<sim::SyntheticDetectionOptions>("synthetic_detections", "simulated detections for tracking on synthetic scenes");
     r.Add<classify::PreprocessOptions>("classify", "trajectory preprocessing: segmentation, windows, features");
@@ -70,6 +73,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"stereo.yaml", {"stereo", "stereo_cloud"}},
       {"detect.yaml", {"detect", "fusion"}},
       {"world.yaml", {"world"}},
+      {"pipeline.yaml", {"perception"}},
       {"track.yaml", {"track", "synthetic_detections"}},
       {"classify.yaml", {"classify", "classify_model"}},
       {"ais.yaml", {"ais_decoder", "ais", "ais_classify", "ais_model"}},

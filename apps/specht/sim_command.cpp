@@ -10,6 +10,8 @@
 //                     observations refer to them, as MRPT's external images do)
 //   stereo/disparity/NNNNNN.png  true disparity, KITTI uint16 (value / 256, 0 = none)
 //   stereo/labels/NNNNNN.txt     KITTI object labels of the agents in view
+//   stereo/agents.csv            the same per frame with the agent's id, sprite, box
+//                                (pixels, x1 y1 exclusive), visible share and range
 //   report.json/.md   counts, per-class speed and turn-rate statistics, timing
 #include <cmath>
 #include <cstdio>
@@ -23,11 +25,13 @@
 #include "specht/core/progress.h"
 #include "specht/core/statistics.h"
 #include "specht/io/atomic_file.h"
+#include "specht/io/data_dir.h"
 #include "specht/io/map_io.h"
 #include "specht/io/rawlog_writer.h"
 #include "specht/io/report.h"
 #include "specht/io/trajectory_io.h"
 #include "specht/sim/simulator.h"
+#include "specht/sim/sprites.h"
 
 #include <filesystem>
 
@@ -42,7 +46,32 @@ struct SimArgs {
   std::optional<uint64_t> seed;
   std::optional<double> duration_s;
   bool quiet = false;
+  std::string data_dir;
+  std::string sprites = "auto";
 };
+
+// The sprites agents are drawn with: none for "none" or a scenario without camera;
+// under "auto" the library when the data directory has one (else boxes, with a
+// warning); a set's name also selects that set.
+std::optional<sim::SpriteLibrary> LoadSprites(const SimArgs& a, sim::Scenario& scenario) {
+  if (!scenario.stereo || a.sprites == "none") return std::nullopt;
+  if (a.sprites != "auto") {
+    sim::ParseSpriteSet(a.sprites, "--sprites");
+    scenario.stereo->sprites = a.sprites;
+  }
+  const auto data = io::ResolveDataDir(a.data_dir);
+  const bool named = std::any_of(scenario.agents.begin(), scenario.agents.end(), [](auto& g) { return !g.sprite.empty(); });
+  if (!data || !std::filesystem::is_directory(*data + "/sprites")) {
+    if (a.sprites != "auto" || named)
+      throw InputError("--sprites: no sprites directory in the data directory (--data-dir or $SPECHT_DATA_DIR)");
+    spdlog::warn("sim: no sprites in the data directory: agents are drawn as boxes");
+    return std::nullopt;
+  }
+  sim::SpriteLibrary library = sim::SpriteLibrary::Load(*data + "/sprites");
+  for (const auto& g : scenario.agents)
+    if (!g.sprite.empty()) library.Named(g.sprite);  // an unknown name fails before anything is written
+  return library;
+}
 
 struct ClassStats {
   std::vector<double> speed, turn_rate;
@@ -53,8 +82,8 @@ mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index,
                                               const sim::StereoFrame& f, const sim::StereoSpec& spec) {
   char name[16];
   std::snprintf(name, sizeof(name), "%06d", index);
-  io::WritePng(f.left, out + "/sim_Images/left_" + name + ".png");
-  io::WritePng(f.right, out + "/sim_Images/right_" + name + ".png");
+  io::WritePng(f.left_bgr, out + "/sim_Images/left_" + name + ".png");
+  io::WritePng(f.right_bgr, out + "/sim_Images/right_" + name + ".png");
   cv::Mat kitti(f.disparity.size(), CV_16U);
   f.disparity.convertTo(kitti, CV_16U, 256.0);
   io::WritePng(kitti, out + "/stereo/disparity/" + std::string(name) + ".png");
@@ -87,9 +116,10 @@ int RunSim(const SimArgs& a) {
     if (!(*a.duration_s > 0)) throw InputError("--duration: must be positive");
     scenario.duration_s = *a.duration_s;
   }
+  const std::optional<sim::SpriteLibrary> sprites = LoadSprites(a, scenario);
   io::MakeOutputDir(a.out_dir);
   const std::string out = a.out_dir;
-  sim::Simulator simulator(scenario, scenario.seed);
+  sim::Simulator simulator(scenario, scenario.seed, sprites ? &*sprites : nullptr);
 
   io::RawlogWriter rawlog(out + "/sim.rawlog");
   if (scenario.stereo) {
@@ -97,6 +127,7 @@ int RunSim(const SimArgs& a) {
   }
   int stereo_frames = 0;
   long labelled_boxes = 0;
+  std::string views = "frame,t_s,id,class,sprite,x0_px,y0_px,x1_px,y1_px,visible,truncated,range_m\n";
   Trajectory truth;
   std::map<int, Trajectory> agent_paths;
   std::map<std::string, ClassStats> stats;
@@ -116,6 +147,13 @@ int RunSim(const SimArgs& a) {
           [&](Stamp stamp, const sim::StereoFrame& frame) {
             rawlog.Write(*WriteStereoFrame(out, stereo_frames++, stamp, frame, *scenario.stereo));
             labelled_boxes += static_cast<long>(frame.kitti_labels.size());
+            for (const auto& v : frame.agents) {
+              char row[320];
+              std::snprintf(row, sizeof(row), "%d,%.3f,%d,%s,%s,%.0f,%.0f,%.0f,%.0f,%.3f,%.3f,%.3f\n", stereo_frames - 1,
+                            simulator.time_s(), v.id, v.cls.c_str(), v.sprite.c_str(), v.box.x, v.box.y, v.box.br().x,
+                            v.box.br().y, v.visible, v.truncated, v.range_m);
+              views += row;
+            }
             ++counts["mrpt::obs::CObservationStereoImages"];
           });
       const double t_s = simulator.time_s();
@@ -144,6 +182,7 @@ int RunSim(const SimArgs& a) {
     auto t = timer.Time("write");
     io::WriteTum(truth, out + "/ground_truth.tum");
     io::WriteTextAtomically(out + "/agents.csv", csv);
+    if (scenario.stereo) io::WriteTextAtomically(out + "/stereo/agents.csv", views);
     const auto grid = simulator.world().TrueGrid(0.05);
     io::WriteRosMap(grid, out + "/true_map.yaml");
     io::WriteMrptGridmap(grid, out + "/true_map.gridmap");
@@ -154,6 +193,7 @@ int RunSim(const SimArgs& a) {
   io::RunReport report("sim");
   auto& j = report.json();
   j["inputs"] = {{"scenario", a.scenario}, {"name", scenario.name}, {"seed", scenario.seed},
+                 {"sprites", sprites ? scenario.stereo->sprites + " (" + std::to_string(sprites->size()) + ")" : "none"},
                  {"duration_s", scenario.duration_s}};
   j["counts"] = {{"observations", counts},
                  {"scans", truth.size()},
@@ -195,6 +235,10 @@ void AddSimCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", args->seed, "random seed (default: the scenario's)");
   cmd->add_option("--duration", args->duration_s, "seconds to simulate (default: the scenario's)");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress line");
+  cmd->add_option("--data-dir", args->data_dir, "data directory with sprites/ (default: $SPECHT_DATA_DIR)");
+  cmd->add_option("--sprites", args->sprites,
+                  "agents in the camera: auto (photographs when the data has them), tuning, held_out, all, none (boxes)")
+      ->capture_default_str();
   cmd->callback([args, &exit_code] { exit_code = RunSim(*args); });
 }
 

@@ -1,7 +1,8 @@
-// `specht replay` with the perception stage: a simulated drive whose stereo frames at
-// one time step are replaced by the real KITTI object pair, so the detector has cars
-// to find; they land in the report, the world model and the map picture.
+// `specht replay` with the perception pipeline: a simulated drive whose stereo frames
+// are replaced by the real KITTI object pair, so the detector has cars to find; they
+// land in the report, the tracker, the world model's snapshots and the map picture.
 #include <filesystem>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -12,12 +13,23 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The urban crossing with a camera like KITTI's (1242×375, f = 721.5 px, 0.54 m), so
+// KITTI's frames can stand in for the rendered ones.
+std::string KittiCameraScenario(const std::string& dir) {
+  std::string yaml = testing::ReadFile(testing::SourceDir() + "/datasets/scenarios/urban-crossing.yaml");
+  const std::string from = "stereo: {rate_hz: 1, width: 640, height: 240, focal_px: 400, baseline_m: 0.4,";
+  const auto at = yaml.find(from);
+  EXPECT_NE(at, std::string::npos) << "the scenario's camera line changed";
+  yaml.replace(at, from.size(), "stereo: {rate_hz: 1, width: 1242, height: 375, focal_px: 721.5, baseline_m: 0.54,");
+  testing::WriteFile(dir + "/urban-crossing-kitti.yaml", yaml);
+  return dir + "/urban-crossing-kitti.yaml";
+}
+
 TEST(PerceptionReplayTest, StereoFramesBecomeObstaclesInTheWorldModel) {
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data.empty() || !fs::exists(data + "/models") ? std::string() : data);
   const std::string base = testing::TempDir(), sim = base + "/sim", out = base + "/replay";
-  ASSERT_EQ(testing::RunSpecht("sim -q '" + testing::SourceDir() + "/datasets/scenarios/urban-crossing.yaml' --duration 6 -o '" +
-                               sim + "'").exit_code, 0);
+  ASSERT_EQ(testing::RunSpecht("sim -q '" + KittiCameraScenario(base) + "' --duration 6 -o '" + sim + "'").exit_code, 0);
   for (const char* side : {"left", "right"})
     fs::copy_file(data + "/stereo/kitti_object/" + side + ".png", sim + "/sim_Images/" + side + "_000003.png",
                   fs::copy_options::overwrite_existing);
@@ -33,11 +45,69 @@ TEST(PerceptionReplayTest, StereoFramesBecomeObstaclesInTheWorldModel) {
   EXPECT_TRUE(world.contains("static_map"));
   EXPECT_GT(world["cost"]["lethal"].get<int>(), 0);
 
-  // perception: off leaves it out.
+  // Every snapshot holds the layers of one frame: obstacles, tracks and OctoMap of
+  // its stamp, a static map not newer than it; snapshots every 0.5 s of data time.
+  std::istringstream lines(testing::ReadFile(out + "/snapshots.jsonl"));
+  int snapshots = 0;
+  for (std::string line; std::getline(lines, line); ++snapshots) {
+    const auto snap = nlohmann::json::parse(line);
+    const double t = snap["stamp_s"], static_t = snap["layer_stamps_s"]["static"];
+    EXPECT_EQ(snap["layer_stamps_s"]["obstacles"].get<double>(), t) << line.substr(0, 300);
+    EXPECT_EQ(snap["layer_stamps_s"]["tracks"].get<double>(), t);
+    EXPECT_EQ(snap["layer_stamps_s"]["octree"].get<double>(), t);
+    EXPECT_LE(static_t, t);
+    if (snapshots > 0) EXPECT_GT(static_t, 0);  // the first frame may come before the first map
+    EXPECT_GT(snap["octree"]["leaves"].get<int>(), 100);
+    for (const auto& o : snap["obstacles"]) EXPECT_LE(o["stamp_s"].get<double>(), t);
+  }
+  EXPECT_EQ(snapshots, 6);
+  EXPECT_EQ(report["perception"]["frames_at_held_pose"], 0);
+
+  // perception.mode off leaves it out.
   const auto off = testing::RunSpecht("replay -q '" + sim + "/sim.rawlog' --data-dir '" + data +
-                                      "' --set replay.perception=off -o '" + out + "-off'");
+                                      "' --set perception.mode=off -o '" + out + "-off'");
   ASSERT_EQ(off.exit_code, 0) << off.err;
   EXPECT_FALSE(nlohmann::json::parse(testing::ReadFile(out + "-off/report.json")).contains("perception"));
+  EXPECT_FALSE(fs::exists(out + "-off/tracks.csv"));
+}
+
+// The same KITTI pair in five frames in a row: the detector's cars become confirmed
+// tracks of class car in tracks.csv and in the world model's track layer; the
+// replay is deterministic to the byte.
+TEST(PerceptionReplayTest, DetectionsBecomeTracksInTheWorldModel) {
+  const std::string data = testing::DataDir();
+  SPECHT_REQUIRE_FILE(data.empty() || !fs::exists(data + "/models") ? std::string() : data);
+  const std::string base = testing::TempDir(), sim = base + "/sim", out = base + "/replay";
+  ASSERT_EQ(testing::RunSpecht("sim -q '" + KittiCameraScenario(base) + "' --duration 8 -o '" + sim + "'").exit_code, 0);
+  for (int k = 2; k <= 6; ++k)
+    for (const char* side : {"left", "right"})
+      fs::copy_file(data + "/stereo/kitti_object/" + side + ".png",
+                    sim + "/sim_Images/" + side + "_00000" + std::to_string(k) + ".png",
+                    fs::copy_options::overwrite_existing);
+  const std::string replay = "replay -q '" + sim + "/sim.rawlog' --data-dir '" + data + "' --set perception.octree=false -o '";
+  const auto r = testing::RunSpecht(replay + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  EXPECT_GE(report["perception"]["tracks_confirmed"].get<int>(), 2) << report["perception"].dump();
+
+  const std::string csv = testing::ReadFile(out + "/tracks.csv");
+  EXPECT_THAT(csv, ::testing::StartsWith("id,t_s,x_m,y_m,class\n"));
+  EXPECT_THAT(csv, ::testing::HasSubstr(",car\n"));
+  bool tracks_in_world = false;
+  std::istringstream lines(testing::ReadFile(out + "/snapshots.jsonl"));
+  for (std::string line; std::getline(lines, line);) {
+    const auto snap = nlohmann::json::parse(line);
+    for (const auto& t : snap["tracks"]) {
+      if (t["state"] == "confirmed" && t["class"] == "car") tracks_in_world = true;
+      EXPECT_FALSE(t["prediction"].empty());
+    }
+    EXPECT_FALSE(snap.contains("octree"));
+  }
+  EXPECT_TRUE(tracks_in_world);
+
+  ASSERT_EQ(testing::RunSpecht(replay + out + "-again'").exit_code, 0);
+  EXPECT_EQ(testing::ReadFile(out + "-again/tracks.csv"), csv);
+  EXPECT_EQ(testing::ReadFile(out + "-again/snapshots.jsonl"), testing::ReadFile(out + "/snapshots.jsonl"));
 }
 
 }  // namespace

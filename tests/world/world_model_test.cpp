@@ -157,6 +157,56 @@ TEST(WorldModelTest, ConcurrentWritersAndReadersNeverSeeATornSnapshot) {
   EXPECT_EQ(world.snapshot()->version, 120u);
 }
 
+// A perception cycle writes obstacles, tracks, the OctoMap and (now and then) the
+// static map in one update; readers on other threads check that every snapshot's
+// per-frame layers are of one stamp and that the static layer is not newer.
+TEST(WorldModelTest, OneUpdatesLayersAreSeenTogetherOrNotAtAll) {
+  WorldModelOptions options;
+  options.obstacle_lifetime_s = 1e3;
+  WorldModel world(options);
+  mrpt::maps::COccupancyGridMap2D grid(-5, 5, -5, 5, 0.1);
+  std::atomic<bool> stop{false};
+  std::atomic<long> snapshots{0}, problems{0};
+  auto writer = [&] {
+    for (int i = 1; i <= 80; ++i) {
+      WorldUpdate u;
+      u.stamp = At(0.1 * i);
+      u.obstacles = std::vector<Obstacle>{At(1, 0, "car", 0.1 * i, i)};
+      Track t;
+      t.id = i;
+      t.stamp = u.stamp;
+      u.tracks = std::vector<Track>{t};
+      auto tree = std::make_shared<octomap::OcTree>(0.5);
+      tree->updateNode(octomap::point3d(0.1f * i, 0, 0), true);
+      u.octree = tree;
+      if (i % 10 == 0) u.static_map = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(grid);
+      world.Apply(u);
+    }
+  };
+  auto reader = [&] {
+    while (!stop) {
+      const auto s = world.snapshot();
+      ++snapshots;
+      if (!s->octree) continue;  // before the first update
+      const bool same = s->obstacles_stamp == s->stamp && s->tracks_stamp == s->stamp && s->octree_stamp == s->stamp;
+      const bool of_it = s->obstacles.back().stamp == s->stamp && s->tracks.size() == 1 &&
+                         s->tracks[0].stamp == s->stamp && s->octree->getNumLeafNodes() == 1;
+      if (!same || !of_it || s->static_stamp > s->stamp || (s->static_map && s->static_stamp.ns == 0)) ++problems;
+    }
+  };
+  std::thread r1(reader), r2(reader), w(writer);
+  w.join();
+  stop = true;
+  r1.join();
+  r2.join();
+  EXPECT_EQ(problems.load(), 0);
+  EXPECT_GT(snapshots.load(), 10);
+  const auto last = world.snapshot();
+  EXPECT_EQ(last->version, 80u);
+  EXPECT_EQ(last->static_stamp, At(8.0));
+  EXPECT_EQ(last->obstacles.size(), 80u);
+}
+
 TEST(WorldModelTest, BadMarginsAreRejected) {
   WorldModelOptions options;
   options.class_margins = {"car=-1"};

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
+#include <mrpt/core/Clock.h>
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
@@ -44,6 +46,28 @@ types::Obstacle ToMapObstacle(const detect::Obstacle3D& o, const mrpt::poses::CP
   return out;
 }
 
+stereo::RectifiedCamera CameraOf(const mrpt::obs::CObservationStereoImages& obs, const cv::Size& size) {
+  const std::string what = "stereo observation '" + obs.sensorLabel + "' at " +
+                           std::to_string(mrpt::Clock::toDouble(obs.timestamp)) + " s: ";
+  const mrpt::img::TCamera& left = obs.leftCamera;
+  stereo::RectifiedCamera camera;
+  camera.size = size;
+  camera.focal_px = left.fx();
+  camera.cx_px = left.cx();
+  camera.cy_px = left.cy();
+  camera.baseline_m = mrpt::poses::CPose3D(obs.rightCameraPose).x();
+  if (!(camera.focal_px > 0)) throw InputError(what + "leftCamera: no focal length (fx = " + std::to_string(camera.focal_px) + "): the stereo pair has no calibration");
+  if (!(std::abs(camera.baseline_m) > 1e-6))
+    throw InputError(what + "rightCameraPose: no baseline (the right camera sits on the left one): the stereo pair has no calibration");
+  if (static_cast<int>(left.ncols) != size.width || static_cast<int>(left.nrows) != size.height)
+    throw InputError(what + "leftCamera: intrinsics for " + std::to_string(left.ncols) + "x" + std::to_string(left.nrows) +
+                     " but the image is " + std::to_string(size.width) + "x" + std::to_string(size.height));
+  if (camera.cx_px < 0 || camera.cx_px > size.width || camera.cy_px < 0 || camera.cy_px > size.height)
+    throw InputError(what + "leftCamera: principal point (" + std::to_string(camera.cx_px) + ", " + std::to_string(camera.cy_px) +
+                     ") outside the " + std::to_string(size.width) + "x" + std::to_string(size.height) + " image");
+  return camera;
+}
+
 StereoPerception::StereoPerception(const stereo::SgmOptions& sgm, const detect::DetectorOptions& detector,
                                    const detect::FusionOptions& fusion, const std::string& data_dir)
     : sgm_options_(sgm), detector_(detector, data_dir), fusion_(fusion),
@@ -51,35 +75,31 @@ StereoPerception::StereoPerception(const stereo::SgmOptions& sgm, const detect::
 
 StereoPerception::~StereoPerception() = default;
 
-std::vector<types::Obstacle> StereoPerception::Process(const mrpt::obs::CObservationStereoImages& obs,
-                                                const mrpt::poses::CPose3D& map_from_base, Stamp stamp) {
+PerceivedFrame StereoPerception::Process(const mrpt::obs::CObservationStereoImages& obs,
+                                         const mrpt::poses::CPose3D& map_from_base, Stamp stamp) {
   if (!obs.hasImageRight) throw InputError("stereo observation '" + obs.sensorLabel + "' has no right image");
   const cv::Mat left = Gray(obs.imageLeft, "left"), right = Gray(obs.imageRight, "right");
-  stereo::RectifiedCamera camera;
-  camera.size = left.size();
-  camera.focal_px = obs.leftCamera.fx();
-  camera.cx_px = obs.leftCamera.cx();
-  camera.cy_px = obs.leftCamera.cy();
-  camera.baseline_m = mrpt::poses::CPose3D(obs.rightCameraPose).x();
+  PerceivedFrame frame;
+  frame.camera = CameraOf(obs, left.size());
 
   auto t0 = Clock::now();
-  const cv::Mat disparity = matcher_->Compute(left, right);
+  frame.disparity = matcher_->Compute(left, right);
   stats_.stereo_ms += MsSince(t0);
   t0 = Clock::now();
-  const auto detections = detector_.Detect(obs.imageLeft.asCvMatRef());
+  frame.detections = detector_.Detect(obs.imageLeft.asCvMatRef());
   stats_.detect_ms += MsSince(t0);
   t0 = Clock::now();
-  const mrpt::poses::CPose3D map_from_camera = map_from_base + mrpt::poses::CPose3D(obs.cameraPose);
-  std::vector<types::Obstacle> obstacles;
-  for (const auto& d : detections) {
-    if (const auto o = detect::Fuse(d, disparity, camera, fusion_))
-      obstacles.push_back(ToMapObstacle(*o, map_from_camera, stamp, next_id_++));
+  frame.map_from_camera = map_from_base + mrpt::poses::CPose3D(obs.cameraPose);
+  for (const auto& d : frame.detections) {
+    const auto o = detect::Fuse(d, frame.disparity, frame.camera, fusion_);
+    frame.obstacle_of.push_back(o ? static_cast<int>(frame.obstacles.size()) : -1);
+    if (o) frame.obstacles.push_back(ToMapObstacle(*o, frame.map_from_camera, stamp, next_id_++));
   }
   stats_.fusion_ms += MsSince(t0);
   ++stats_.frames;
-  stats_.detections += static_cast<long>(detections.size());
-  stats_.obstacles += static_cast<long>(obstacles.size());
-  return obstacles;
+  stats_.detections += static_cast<long>(frame.detections.size());
+  stats_.obstacles += static_cast<long>(frame.obstacles.size());
+  return frame;
 }
 
 }  // namespace specht::pipeline

@@ -331,7 +331,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
     for (size_t i = 0; i < agents.size(); ++i) {
       const YAML::Node a = agents[i];
       const std::string ctx = "agents[" + std::to_string(i) + "]";
-      if (!r.Map(a, ctx, {"id", "class", "route", "start_s", "loop", "max_speed_mps"})) continue;
+      if (!r.Map(a, ctx, {"id", "class", "route", "start_s", "loop", "max_speed_mps", "sprite"})) continue;
       AgentSpec spec;
       spec.id = static_cast<int>(r.Number(a, ctx, "id", static_cast<double>(i + 1), 0, 1e6));
       if (!ids.insert(spec.id).second) r.Error(a["id"], ctx + ".id", "id " + std::to_string(spec.id) + " is used twice");
@@ -347,6 +347,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
       spec.start_s = r.Number(a, ctx, "start_s", 0, 0, 86400);
       spec.loop = r.Bool(a, ctx, "loop", false);
       spec.max_speed_mps = r.Number(a, ctx, "max_speed_mps", 0, 0, 60);
+      spec.sprite = r.String(a, ctx, "sprite", "");
       if (a["route"]) CheckRouteClear(r, a["route"], ctx + ".route", spec.route, spec.loop, s.objects);
       s.agents.push_back(std::move(spec));
     }
@@ -355,7 +356,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
   // sensors
   if (const YAML::Node sn = root["sensors"]; sn && r.Map(sn, "sensors", {"lidar", "odometry", "imu", "stereo"})) {
     if (const YAML::Node st = sn["stereo"];
-        st && r.Map(st, "sensors.stereo", {"rate_hz", "width", "height", "focal_px", "baseline_m", "mount"})) {
+        st && r.Map(st, "sensors.stereo", {"rate_hz", "width", "height", "focal_px", "baseline_m", "mount", "sprites"})) {
       StereoSpec x;
       const std::string ctx = "sensors.stereo";
       x.rate_hz = r.Number(st, ctx, "rate_hz", x.rate_hz, 0.1, 60);
@@ -363,6 +364,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
       x.height = static_cast<int>(r.Number(st, ctx, "height", x.height, 16, 4096));
       x.focal_px = r.Number(st, ctx, "focal_px", x.focal_px, 10, 10000);
       x.baseline_m = r.Number(st, ctx, "baseline_m", x.baseline_m, 0.01, 5);
+      x.sprites = r.String(st, ctx, "sprites", x.sprites, {"tuning", "held_out", "all"});
       if (const YAML::Node m = st["mount"]) {
         if (!m.IsSequence() || m.size() != 5) {
           r.Error(m, ctx + ".mount", "expected [x_m, y_m, z_m, yaw_deg, pitch_deg]");

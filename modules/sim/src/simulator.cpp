@@ -32,7 +32,7 @@ Pose2 Compose(const Pose2& a, const Pose2& d) {
 
 }  // namespace
 
-Simulator::Simulator(const Scenario& scenario, uint64_t seed)
+Simulator::Simulator(const Scenario& scenario, uint64_t seed, const SpriteLibrary* sprites)
     : scenario_(scenario),
       world_(scenario),
       ego_(scenario.ego.route, scenario.ego.loop, EgoMotion(scenario.ego), scenario.ego.start),
@@ -45,7 +45,7 @@ Simulator::Simulator(const Scenario& scenario, uint64_t seed)
       imu_every_(Every(scenario.imu.rate_hz)),
       stereo_every_(scenario.stereo ? Every(scenario.stereo->rate_hz) : 0),
       ego_at_last_odometry_(scenario.ego.start) {
-  if (scenario.stereo) stereo_.emplace(scenario, world_, *scenario.stereo);
+  if (scenario.stereo) stereo_.emplace(scenario, world_, *scenario.stereo, sprites);
   for (const auto& a : scenario.agents) {
     const Waypoint& first = a.route.front();
     const Waypoint& second = a.route[1];
@@ -73,7 +73,10 @@ std::vector<Box3> Simulator::AgentBoxes() const {
   for (const auto& a : agents()) {
     const double height = a.cls == AgentClass::kCar ? 1.5 : a.cls == AgentClass::kCyclist ? 1.7 : 1.75;
     const char* name = a.cls == AgentClass::kCar ? "Car" : a.cls == AgentClass::kCyclist ? "Cyclist" : "Pedestrian";
-    boxes.push_back({a.pose, a.length_m, a.width_m, height, a.id, name});
+    std::string sprite;
+    for (const auto& spec : scenario_.agents)
+      if (spec.id == a.id) sprite = spec.sprite;
+    boxes.push_back({a.pose, a.length_m, a.width_m, height, a.id, name, sprite});
   }
   return boxes;
 }

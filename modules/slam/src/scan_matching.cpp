@@ -208,6 +208,12 @@ Trajectory ScanMatchingMapper::trajectory() const {
   return t;
 }
 
+std::optional<StampedPose> ScanMatchingMapper::LatestPose() const {
+  if (scans_.empty()) return std::nullopt;
+  const ScanPose& s = scans_.back();
+  return StampedPose{s.stamp, CPose3D(keyframes_[s.keyframe].pose + s.from_keyframe)};
+}
+
 void ScanMatchingMapper::CorrectKeyframes(const std::vector<CPose2D>& poses) {
   for (size_t i = 0; i < poses.size() && i < keyframes_.size(); ++i) keyframes_[i].pose = poses[i];
   impl_->recheck_maps.clear();

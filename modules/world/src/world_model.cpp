@@ -70,6 +70,10 @@ nlohmann::json Snapshot::ToJson() const {
   nlohmann::json j;
   j["version"] = version;
   j["stamp_s"] = stamp.Seconds();
+  j["layer_stamps_s"] = {{"static", static_stamp.Seconds()},
+                         {"obstacles", obstacles_stamp.Seconds()},
+                         {"tracks", tracks_stamp.Seconds()},
+                         {"octree", octree_stamp.Seconds()}};
   if (static_map)
     j["static_map"] = {{"cells", {static_map->getSizeX(), static_map->getSizeY()}},
                        {"resolution_m", static_map->getResolution()},
@@ -132,24 +136,56 @@ void WorldModel::Publish(Stamp now, Edit&& edit) {
 }
 
 void WorldModel::SetStaticMap(const mrpt::maps::COccupancyGridMap2D& grid, Stamp stamp) {
-  auto map = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(grid);
-  auto layer = std::make_shared<const StaticLayer>(InflateStatic(grid));
-  Publish(stamp, [&](Snapshot& s) {
-    s.static_map = map;
-    static_layer_ = layer;  // under the writer lock, read by BuildCost below
-  });
+  WorldUpdate u;
+  u.stamp = stamp;
+  u.static_map = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(grid);
+  Apply(u);
 }
 
 void WorldModel::AddObstacles(const std::vector<Obstacle>& obstacles, Stamp now) {
-  Publish(now, [&](Snapshot& s) { s.obstacles.insert(s.obstacles.end(), obstacles.begin(), obstacles.end()); });
+  WorldUpdate u;
+  u.stamp = now;
+  u.obstacles = obstacles;
+  Apply(u);
 }
 
 void WorldModel::SetTracks(const std::vector<Track>& tracks, Stamp now) {
-  Publish(now, [&](Snapshot& s) { s.tracks = tracks; });
+  WorldUpdate u;
+  u.stamp = now;
+  u.tracks = tracks;
+  Apply(u);
 }
 
 void WorldModel::SetOctree(std::shared_ptr<const octomap::OcTree> octree, Stamp now) {
-  Publish(now, [&](Snapshot& s) { s.octree = std::move(octree); });
+  WorldUpdate u;
+  u.stamp = now;
+  u.octree = std::move(octree);
+  Apply(u);
+}
+
+void WorldModel::Apply(const WorldUpdate& u) {
+  // The static layer is inflated before the lock: writers of other layers need not wait.
+  std::shared_ptr<const StaticLayer> layer;
+  if (u.static_map) layer = std::make_shared<const StaticLayer>(InflateStatic(*u.static_map));
+  Publish(u.stamp, [&](Snapshot& s) {
+    if (u.static_map) {
+      s.static_map = u.static_map;
+      s.static_stamp = u.stamp;
+      static_layer_ = layer;  // under the writer lock, read by BuildCost
+    }
+    if (u.obstacles) {
+      s.obstacles.insert(s.obstacles.end(), u.obstacles->begin(), u.obstacles->end());
+      s.obstacles_stamp = u.stamp;
+    }
+    if (u.tracks) {
+      s.tracks = *u.tracks;
+      s.tracks_stamp = u.stamp;
+    }
+    if (u.octree) {
+      s.octree = u.octree;
+      s.octree_stamp = u.stamp;
+    }
+  });
 }
 
 void WorldModel::Advance(Stamp now) {

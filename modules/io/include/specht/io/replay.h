@@ -20,7 +20,6 @@ struct ReplayOptions {
   double from_s = 0.0;     // seconds after the first observation
   double to_s = 0.0;       // 0 = to the end
   std::string on_bad_record = "stop";
-  std::string perception = "auto";
 
   template <class V>
   void Visit(V& v) {
@@ -32,9 +31,6 @@ struct ReplayOptions {
             Range::AtLeast(0));
     v.Choice("on_bad_record", on_bad_record, {"stop", "skip"},
              "on a corrupt record: stop (write what was computed, mark the report incomplete) or skip it");
-    v.Choice("perception", perception, {"auto", "on", "off"},
-             "stereo observations through SGM + detector + fusion into the world model: auto = when the "
-             "dataset has stereo and the models load, on = required, off = never");
   }
   std::vector<std::string> Relations() const;
 };

@@ -1,7 +1,7 @@
-// specht/pipeline/stereo_perception.h: the stereo perception stage. For each
-// stereo observation: our SGM disparity, the CNN detector on the left image, box
-// depth fusion, and the obstacles moved into the map frame:
-//   map_from_camera = map_from_base (the SLAM pose at the observation) ⊕ cameraPose
+// specht/pipeline/stereo_perception.h: the stereo perception stage. For each stereo
+// observation: our SGM disparity, the CNN detector on the left image, box depth
+// fusion, and the obstacles moved into the map frame:
+//   map_from_camera = map_from_base (the car's pose at the observation's stamp) ⊕ cameraPose
 // (the observation's mount, optical frame: x right, y down, z forward). Images stored
 // outside the rawlog are read from MRPT's images directory (<rawlog>_Images).
 #pragma once
@@ -15,6 +15,7 @@
 
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
+#include "specht/stereo/calibration.h"
 #include "specht/stereo/sgm.h"
 #include "specht/types/obstacle.h"
 
@@ -25,9 +26,24 @@ namespace specht::pipeline {
 types::Obstacle ToMapObstacle(const detect::Obstacle3D& o, const mrpt::poses::CPose3D& map_from_camera, Stamp stamp,
                               long id);
 
+// The rectified camera of a stereo observation. Throws InputError naming the sensor
+// and the stamp when the calibration is missing (no focal length, no baseline) or
+// contradicts the image (intrinsics for another size, a principal point outside it).
+stereo::RectifiedCamera CameraOf(const mrpt::obs::CObservationStereoImages& obs, const cv::Size& image_size);
+
 struct PerceptionStats {
   long frames = 0, detections = 0, obstacles = 0;
   double stereo_ms = 0, detect_ms = 0, fusion_ms = 0;
+};
+
+// What one stereo frame gave.
+struct PerceivedFrame {
+  std::vector<types::Obstacle> obstacles;  // map frame
+  std::vector<detect::Detection> detections;  // left image, with or without depth
+  std::vector<int> obstacle_of;               // per detection: its obstacle's index, −1 without depth
+  cv::Mat disparity;                       // CV_32F, left image, 0 = none
+  stereo::RectifiedCamera camera;
+  mrpt::poses::CPose3D map_from_camera;
 };
 
 class StereoPerception {
@@ -36,9 +52,9 @@ class StereoPerception {
                    const detect::FusionOptions& fusion, const std::string& data_dir);
   ~StereoPerception();
 
-  // The obstacles (map frame) seen in one stereo observation taken at `map_from_base`.
-  std::vector<types::Obstacle> Process(const mrpt::obs::CObservationStereoImages& obs, const mrpt::poses::CPose3D& map_from_base,
-                                Stamp stamp);
+  // One stereo observation taken at `map_from_base`.
+  PerceivedFrame Process(const mrpt::obs::CObservationStereoImages& obs, const mrpt::poses::CPose3D& map_from_base,
+                         Stamp stamp);
   const PerceptionStats& stats() const { return stats_; }
 
  private:

@@ -86,6 +86,7 @@ struct AgentSpec {
   double start_s = 0;
   bool loop = false;  // closed route; otherwise back and forth along it
   double max_speed_mps = 0;  // caps the class's sampled cruise speed (0 = no cap)
+  std::string sprite;        // the sprite the camera shows (sprites.h names); "" = chosen by the view
 };
 
 struct LidarSpec {
@@ -119,6 +120,7 @@ struct StereoSpec {
   double focal_px = 400;
   double baseline_m = 0.4;
   double x_m = 0.5, y_m = 0, z_m = 1.3, yaw_rad = 0, pitch_rad = 0;  // mount on base_link
+  std::string sprites = "all";  // the sprite set agents are drawn from: tuning, held_out, all
 };
 
 struct Scenario {

@@ -43,7 +43,8 @@ class Simulator {
   static constexpr double kStepS = 0.01;
   static constexpr int64_t kEpochNs = 1767225600LL * 1000000000LL;  // 2026-01-01T00:00:00Z
 
-  Simulator(const Scenario& scenario, uint64_t seed);
+  // With `sprites` the camera shows agents as photographs (sprites.h), else as boxes.
+  Simulator(const Scenario& scenario, uint64_t seed, const SpriteLibrary* sprites = nullptr);
 
   using Sink = std::function<void(Stamp, const mrpt::obs::CObservation::Ptr&)>;
   using StereoSink = std::function<void(Stamp, const StereoFrame&)>;

@@ -132,6 +132,7 @@ class GraphSlam {
   void Finish();
 
   Trajectory trajectory() const { return front_end_.trajectory(); }
+  std::optional<StampedPose> LatestPose() const { return front_end_.LatestPose(); }
   const std::vector<Keyframe>& keyframes() const { return front_end_.keyframes(); }
   const MappingStats& front_end_stats() const { return front_end_.stats(); }
   const GraphSlamStats& stats() const { return stats_; }

@@ -229,6 +229,8 @@ class ScanMatchingMapper {
 
   // One pose per scan: its keyframe's pose composed with the scan's offset from it.
   Trajectory trajectory() const;
+  // The latest scan's pose (what trajectory().back() would be, without the copy).
+  std::optional<StampedPose> LatestPose() const;
   const std::vector<Keyframe>& keyframes() const { return keyframes_; }
   // The first keyframe a recheck moved (with every later one) since the last call, if any.
   std::optional<size_t> TakeMovedKeyframes();

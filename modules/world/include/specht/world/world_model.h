@@ -22,6 +22,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,8 @@ struct WorldModelOptions {
 struct Snapshot {
   uint64_t version = 0;
   Stamp stamp;  // the latest time the model was advanced or written to
+  // When each layer was last written: the data it holds is of that time.
+  Stamp static_stamp, obstacles_stamp, tracks_stamp, octree_stamp;
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> static_map;
   std::vector<types::Obstacle> obstacles;
   std::vector<types::Track> tracks;
@@ -85,6 +88,16 @@ struct Snapshot {
   std::shared_ptr<const types::CostGrid> cost;
 
   nlohmann::json ToJson() const;  // layers summarised, obstacles and tracks in full
+};
+
+// One perception cycle's layers, written together: a reader sees all of them or none.
+// Unset members leave their layer as it is.
+struct WorldUpdate {
+  Stamp stamp;
+  std::optional<std::vector<types::Obstacle>> obstacles;  // added to the obstacle layer
+  std::optional<std::vector<types::Track>> tracks;        // replace the track layer
+  std::shared_ptr<const octomap::OcTree> octree;          // replaces the 3D layer
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> static_map;  // replaces the static layer
 };
 
 class WorldModel {
@@ -96,6 +109,8 @@ class WorldModel {
   void AddObstacles(const std::vector<types::Obstacle>& obstacles, Stamp now);
   void SetTracks(const std::vector<types::Track>& tracks, Stamp now);
   void SetOctree(std::shared_ptr<const octomap::OcTree> octree, Stamp now);
+  // Every layer `update` carries, in one snapshot stamped update.stamp.
+  void Apply(const WorldUpdate& update);
   // Drops the obstacles older than their lifetime at `now`.
   void Advance(Stamp now);
 

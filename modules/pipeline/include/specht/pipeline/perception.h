@@ -1,0 +1,119 @@
+// specht/pipeline/perception.h: everything the car perceives, into the world model.
+//
+// For every stereo frame of a replay (or a drive), in stamp order:
+//   the car's pose at the frame's own stamp (pose_history.h: interpolated between the
+//   scans SLAM placed before and after it; a frame waits for the scan after it)
+//   → our SGM → the CNN detector → box fusion → obstacles in the map frame
+//   → the multi-object tracker (per-class motion models, track/tracker.h)
+//   → the stereo points into the OctoMap (every octree_decimation-th pixel)
+//   → one world-model update holding that frame's obstacles, tracks and OctoMap, so
+//     a reader never sees the layers of two different frames.
+// The static layer comes from SLAM (SetStaticMap, as the map grows and after loop
+// closures). Snapshots of the world model are kept every snapshot_period_s of data
+// time; tracks.csv holds every reported track at every frame (io/object_tracks.h).
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation.h>
+#include <nlohmann/json.hpp>
+
+#include "specht/core/params.h"
+#include "specht/core/trajectory.h"
+#include "specht/io/object_tracks.h"
+#include "specht/world/world_model.h"
+
+namespace specht::pipeline {
+
+// Section "perception".
+struct PerceptionOptions {
+  std::string mode = "auto";
+  double map_update_s = 2.0;
+  double snapshot_period_s = 0.5;
+  bool octree = true;
+  int octree_decimation = 4;
+  double max_pose_wait_s = 1.0;
+
+  template <class V>
+  void Visit(V& v) {
+    using params::Range;
+    v.Choice("mode", mode, {"auto", "on", "off"},
+             "stereo frames through SGM + detector + fusion + tracker into the world model: auto = when the "
+             "dataset has stereo and the models load, on = required, off = never");
+    v.Param("map_update_s", map_update_s,
+            "the world model's static layer is rebuilt from SLAM's keyframes this often (data time) and after "
+            "every loop closure",
+            Range::Of(0.1, 3600.0).Log());
+    v.Param("snapshot_period_s", snapshot_period_s, "a world-model snapshot is kept this often (data time)",
+            Range::Of(0.05, 3600.0).Log());
+    v.Param("octree", octree, "stereo points into the world model's OctoMap");
+    v.Param("octree_decimation", octree_decimation, "every N-th pixel in each direction enters the OctoMap",
+            Range::Of(1, 32));
+    v.Param("max_pose_wait_s", max_pose_wait_s,
+            "a frame waits at most this long (data time) for the scan after it, then takes the latest pose",
+            Range::Of(0.0, 60.0));
+  }
+};
+
+struct PerceptionSummary {
+  long frames = 0, detections = 0, obstacles = 0, track_updates = 0, tracks_confirmed = 0;
+  long frames_at_held_pose = 0;  // no later scan came in time: placed at the latest pose
+  double stereo_ms = 0, detect_ms = 0, fusion_ms = 0, track_ms = 0, octree_ms = 0, world_ms = 0;
+  nlohmann::json ToJson() const;
+};
+
+class PerceptionPipeline {
+ public:
+  // Loads nothing until the first stereo frame; a detector that cannot load (no
+  // models in `data_dir`) turns perception off with a warning under mode auto and
+  // throws InputError under mode on.
+  PerceptionPipeline(const params::Params& params, std::string data_dir);
+  ~PerceptionPipeline();
+  PerceptionPipeline(const PerceptionPipeline&) = delete;
+  PerceptionPipeline& operator=(const PerceptionPipeline&) = delete;
+
+  // Every observation, in stamp order: stereo frames are queued for their pose.
+  void Add(Stamp t, const mrpt::obs::CObservation::Ptr& observation);
+  // The car's pose (base_link in the map frame) at `t`, e.g. each scan SLAM placed;
+  // processes every queued frame it covers.
+  void AddPose(Stamp t, const mrpt::poses::CPose3D& map_from_base);
+  // The static layer (SLAM's grid) as of `t`.
+  void SetStaticMap(const mrpt::maps::COccupancyGridMap2D& grid, Stamp t);
+  // Whether the static layer should be rebuilt at `t` (map_update_s since the last).
+  bool StaticMapDue(Stamp t) const;
+  // The frames still queued, at the latest pose; call once after the last observation.
+  void Finish();
+
+  bool active() const;
+  const world::WorldModel& world() const { return world_; }
+  PerceptionSummary summary() const;
+  // Every reported track at every frame (id "t<track id>", class = the track's).
+  const std::vector<io::ObjectSample>& track_samples() const { return track_samples_; }
+  // The snapshots kept, one JSON object each (Snapshot::ToJson).
+  const std::vector<nlohmann::json>& snapshots() const { return snapshots_; }
+  // Obstacles seen, per class, as map markers.
+  const std::map<std::string, Trajectory>& seen() const { return seen_; }
+
+ private:
+  struct Stages;
+  void ProcessQueued(bool flush);
+  void ProcessFrame(const mrpt::obs::CObservation::Ptr& frame, Stamp t, const mrpt::poses::CPose3D& pose);
+  void KeepSnapshot();
+  bool Start();
+
+  const params::Params& params_;
+  PerceptionOptions options_;
+  std::string data_dir_;
+  world::WorldModel world_;
+  std::unique_ptr<Stages> stages_;
+  std::vector<io::ObjectSample> track_samples_;
+  std::vector<nlohmann::json> snapshots_;
+  std::map<std::string, Trajectory> seen_;
+  std::optional<Stamp> last_map_, last_snapshot_;
+};
+
+}  // namespace specht::pipeline

@@ -1,0 +1,49 @@
+// specht/pipeline/replay.h: a dataset replayed through the stack — what `specht replay`
+// and `specht slam` run:
+//   dataset → replay clock → graph SLAM (mapping, continuing a saved map, or
+//   localization on one) → the pose of every scan → perception (perception.h: stereo,
+//   detector, fusion, tracker, OctoMap) → the world model, whose static layer follows
+//   SLAM's grid as it grows and after every loop closure.
+// Writes into the output directory: trajectory.tum, map.png, report.json; when
+// mapping, the map artefact (map.yaml/.pgm, map.gridmap, graph.g2o, keyframes.rawlog)
+// and loops.png; when perception ran, tracks.csv (io/object_tracks.h, map frame),
+// snapshots.jsonl (world-model snapshots, one JSON object a line) and world.json (the
+// last snapshot).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "specht/core/params.h"
+
+namespace specht::pipeline {
+
+struct ReplayInputs {
+  std::string dataset;       // "" = the rawlog shipped by Debian's mrpt-common
+  std::string ground_truth;  // "" = the dataset's own reference, when it has one
+  std::string map_dir;       // localize on this saved map instead of mapping
+  std::string continue_dir;  // continue this saved map
+  std::string data_dir;      // the detector's models
+  std::vector<std::string> param_files, overrides;  // recorded in the report
+};
+
+class Replay {
+ public:
+  // Opens the dataset, the reference and a saved map: throws InputError (file and
+  // reason) before anything is written.
+  Replay(const params::Params& params, ReplayInputs inputs, std::string command);
+  ~Replay();
+  Replay(const Replay&) = delete;
+  Replay& operator=(const Replay&) = delete;
+
+  // Runs to the end of the data, or to where it breaks off, and writes everything
+  // computed into `out_dir` (which exists). Returns 0, or 2 when the input broke off.
+  int Run(const std::string& out_dir, bool quiet);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace specht::pipeline

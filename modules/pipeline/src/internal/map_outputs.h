@@ -1,0 +1,45 @@
+// Replay's outputs beside the map: reference metrics, map entropy, the map artefact
+// (what `--map` and `--continue` read back) and the loop report.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <nlohmann/json.hpp>
+
+#include "specht/core/trajectory.h"
+#include "specht/slam/graph_slam.h"
+#include "specht/slam/pose_graph_optimizer.h"
+
+namespace specht::pipeline::internal {
+
+// Metrics against the reference, when there is one; returns the reference moved into
+// the map frame for the picture.
+Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& reference, nlohmann::json& metrics);
+
+// Mean map entropy of the keyframe scans at the estimated poses and, with a
+// reference, of the same scans at the estimate's and at the reference's poses
+// (eval/map_quality.h): whether the reference's map is sharper than ours.
+void AddMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Trajectory& reference, nlohmann::json& metrics);
+
+// The map artefact: grid (ROS + MRPT), pose graph (g2o; node i = keyframe i) and the
+// keyframe scans (rawlog, in node order): what localization and continuing need.
+void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyGridMap2D& grid, const std::string& out);
+
+// The loop closures as the final graph holds them, their weights and errors, and
+// loops.png (see replay.cpp's report).
+void ReportLoops(const slam::GraphSlam& slam, const slam::PoseGraphOptions& options,
+                 const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& trajectory, const std::string& out,
+                 nlohmann::json& metrics);
+
+struct SavedMap {
+  std::vector<slam::Keyframe> keyframes;  // poses from the graph
+  PoseGraph2D graph;
+  mrpt::maps::COccupancyGridMap2D grid;
+};
+
+// Throws InputError naming the directory and what is missing or inconsistent.
+SavedMap ReadMapArtefact(const std::string& dir);
+
+}  // namespace specht::pipeline::internal

@@ -1,0 +1,147 @@
+#include "internal/map_outputs.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include "specht/core/error.h"
+#include "specht/core/log.h"
+#include "specht/eval/map_quality.h"
+#include "specht/eval/relation_error.h"
+#include "specht/eval/trajectory_error.h"
+#include "specht/io/dataset.h"
+#include "specht/io/g2o.h"
+#include "specht/io/map_io.h"
+#include "specht/io/rawlog_writer.h"
+#include "specht/slam/localizer.h"
+
+namespace specht::pipeline::internal {
+
+// Metrics against the reference, when there is one; returns the reference moved into
+// the map frame for the picture.
+Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& reference, nlohmann::json& metrics) {
+  if (reference.empty() || trajectory.size() < 2) return {};
+  try {
+    const auto ate = eval::AbsoluteTrajectoryError2D(trajectory, reference, 0.05);
+    metrics["ate"] = eval::ToJson(ate);
+    eval::RelationOptions rel_options;
+    rel_options.max_dt_s = 0.05;
+    const auto rel = eval::ComputeRelationError(trajectory, reference, rel_options);
+    metrics["relation"] = eval::ToJson(rel);
+    spdlog::info("against the reference: ATE RMSE {:.3f} m; relation error {:.4f} ± {:.4f} m (max {:.3f}), "
+                 "{:.3f} ± {:.3f} deg over {} relations",
+                 ate.rmse_m, rel.all.mean_m, rel.all.std_m, rel.all.max_m, rel.all.mean_deg, rel.all.std_deg,
+                 rel.all.count);
+    return eval::Transform(reference, -ate.alignment);
+  } catch (const InputError& e) {
+    spdlog::warn("reference not used: {}", e.what());
+    return {};
+  }
+}
+
+// Mean map entropy of the keyframe scans at the estimated poses and, with a
+// reference, of the same scans at the estimate's and at the reference's poses
+// (eval/map_quality.h): whether the reference's map is sharper than ours.
+void AddMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Trajectory& reference,
+                   nlohmann::json& metrics) {
+  const eval::MapEntropy ours = eval::MeanMapEntropy(keyframes);
+  metrics["map_entropy"] = {{"mean_nats", ours.mean_nats}, {"points", ours.points}};
+  if (reference.empty()) return;
+  const auto [at_estimate, at_reference] = eval::KeyframesAtReference(keyframes, reference, 0.05);
+  if (at_estimate.size() < 2) return;
+  const eval::MapEntropy a = at_estimate.size() == keyframes.size() ? ours : eval::MeanMapEntropy(at_estimate);
+  const eval::MapEntropy b = eval::MeanMapEntropy(at_reference);
+  metrics["map_entropy_vs_reference"] = {
+      {"keyframes", at_estimate.size()}, {"estimate_nats", a.mean_nats}, {"reference_nats", b.mean_nats}};
+  spdlog::info("map entropy: {:.3f} nats at the estimated poses, {:.3f} at the reference's ({} keyframes; lower is "
+               "sharper)",
+               a.mean_nats, b.mean_nats, at_estimate.size());
+}
+
+// The map artefact: grid (ROS + MRPT), pose graph (g2o; node i = keyframe i) and the
+// keyframe scans (rawlog, in node order): what localization and continuing need.
+void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyGridMap2D& grid,
+                      const std::string& out) {
+  io::WriteRosMap(grid, out + "/map.yaml");
+  io::WriteMrptGridmap(grid, out + "/map.gridmap");
+  io::WriteG2o(slam.graph(), out + "/graph.g2o");
+  io::RawlogWriter keyframes(out + "/keyframes.rawlog");
+  for (const auto& kf : slam.keyframes()) keyframes.Write(*kf.scan);
+  keyframes.Close();
+}
+
+// The loop closures as the final graph holds them (slam/pose_graph_optimizer.h's
+// LoopResiduals): how many the robust loss keeps (weight ≥ 0.5), weakens, or sets
+// aside (< 0.1: aliases, or matches off by far more than their noise); their errors;
+// the worst by χ², named by their keyframes' scans; and loops.png, every loop drawn on
+// the map in the colour of its weight.
+void ReportLoops(const slam::GraphSlam& slam, const slam::PoseGraphOptions& options,
+                 const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& trajectory, const std::string& out,
+                 nlohmann::json& metrics) {
+  std::vector<slam::LoopResidual> loops = slam::LoopResiduals(slam.graph(), options);
+  const auto& keyframes = slam.keyframes();
+  const auto& nodes = slam.graph().nodes;
+  constexpr double kKeptWeight = 0.5, kSetAsideWeight = 0.1;
+  Trajectory kept, weakened, set_aside;  // the loops' end poses in pairs, as PathOverlay segments
+  std::vector<double> kept_m;
+  for (const auto& l : loops) {
+    Trajectory& group = l.weight >= kKeptWeight ? kept : l.weight >= kSetAsideWeight ? weakened : set_aside;
+    for (int id : {l.from, l.to}) {
+      const mrpt::poses::CPose2D& p = nodes.at(id);
+      group.push_back({Stamp{}, mrpt::poses::CPose3D(p.x(), p.y(), 0, p.phi(), 0, 0)});
+    }
+    if (&group == &kept) kept_m.push_back(l.error_m);
+  }
+  std::sort(kept_m.begin(), kept_m.end());
+  auto quantile = [&](double q) { return kept_m.empty() ? 0.0 : kept_m[static_cast<size_t>(q * (kept_m.size() - 1))]; };
+  nlohmann::json j = {{"edges", loops.size()},
+                      {"kept", kept.size() / 2},
+                      {"weakened", weakened.size() / 2},
+                      {"set_aside", set_aside.size() / 2},
+                      {"kept_error_m", {{"p50", quantile(0.5)}, {"p95", quantile(0.95)}, {"max", quantile(1.0)}}}};
+  std::sort(loops.begin(), loops.end(), [](const auto& a, const auto& b) { return a.chi2 > b.chi2; });
+  nlohmann::json worst = nlohmann::json::array();
+  for (size_t i = 0; i < std::min<size_t>(5, loops.size()); ++i) {
+    const auto& l = loops[i];
+    const auto scan = [&](int id) { return keyframes.at(static_cast<size_t>(id)).scan_index; };
+    const auto t = [&](int id) { return keyframes.at(static_cast<size_t>(id)).stamp.Seconds(); };
+    worst.push_back({{"from_scan", scan(l.from)}, {"to_scan", scan(l.to)}, {"t_from", t(l.from)}, {"t_to", t(l.to)},
+                     {"error_m", l.error_m}, {"error_deg", l.error_deg}, {"weight", l.weight}});
+  }
+  j["worst"] = worst;
+  metrics["loops"] = j;
+  spdlog::info("loops in the final graph: {} kept, {} weakened, {} set aside by the robust loss (kept: error p50 "
+               "{:.3f} m, p95 {:.3f} m)",
+               kept.size() / 2, weakened.size() / 2, set_aside.size() / 2, quantile(0.5), quantile(0.95));
+  const std::vector<io::PathOverlay> paths = {
+      {&trajectory, {30, 90, 220}, "estimate"},
+      {&kept, {40, 170, 60}, "loop kept (" + std::to_string(kept.size() / 2) + ")", false, true},
+      {&weakened, {240, 150, 0}, "loop weakened (" + std::to_string(weakened.size() / 2) + ")", false, true},
+      {&set_aside, {220, 30, 30}, "loop set aside (" + std::to_string(set_aside.size() / 2) + ")", false, true}};
+  io::WriteMapPng(grid, paths, out + "/loops.png");
+}
+
+SavedMap ReadMapArtefact(const std::string& dir) {
+  for (const char* f : {"graph.g2o", "keyframes.rawlog", "map.gridmap"}) {
+    if (!std::filesystem::is_regular_file(dir + "/" + f)) {
+      throw InputError(dir + ": not a specht map (missing " + f + "; write one with `specht slam -o DIR`)");
+    }
+  }
+  const io::G2oReadResult graph = io::ReadG2o(dir + "/graph.g2o");
+  std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> scans;
+  auto rawlog = io::OpenRawlog(dir + "/keyframes.rawlog");
+  while (auto obs = rawlog->Next()) {
+    if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data)) scans.push_back(scan);
+  }
+  std::vector<mrpt::poses::CPose2D> poses;
+  for (const auto& [id, pose] : graph.graph.nodes) poses.push_back(pose);
+  if (scans.size() != poses.size() || scans.empty()) {
+    throw InputError(dir + ": map artefact is inconsistent: " + std::to_string(scans.size()) +
+                     " keyframe scans in keyframes.rawlog but " + std::to_string(poses.size()) +
+                     " nodes in graph.g2o");
+  }
+  return {slam::KeyframesFromGraph(scans, poses), graph.graph, io::ReadMrptGridmap(dir + "/map.gridmap")};
+}
+
+}  // namespace specht::pipeline::internal

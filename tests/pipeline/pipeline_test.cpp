@@ -1,0 +1,91 @@
+// The pipeline's own pieces: the pose at a camera frame's stamp between two scans,
+// and the checks on a stereo observation's calibration.
+#include <cmath>
+
+#include <mrpt/obs/CObservationStereoImages.h>
+
+#include "specht/core/error.h"
+#include "specht/pipeline/pose_history.h"
+#include "specht/pipeline/stereo_perception.h"
+#include "test_support.h"
+
+namespace specht::pipeline {
+namespace {
+
+using mrpt::poses::CPose3D;
+using ::testing::HasSubstr;
+
+Stamp At(double s) { return Stamp::FromSeconds(100 + s); }
+
+TEST(PoseHistoryTest, AFrameBetweenTwoScansGetsThePoseInterpolatedAtItsStamp) {
+  PoseHistory h;
+  EXPECT_FALSE(h.At(At(0)).has_value());
+  h.Add(At(0.0), CPose3D(0, 0, 0, 0, 0, 0));
+  h.Add(At(0.1), CPose3D(1.0, 2.0, 0, 0.2, 0, 0));
+  EXPECT_FALSE(h.Covers(At(0.15)));
+  EXPECT_TRUE(h.Covers(At(0.1)));
+  const CPose3D p = *h.At(At(0.025));  // a quarter of the way
+  EXPECT_NEAR(p.x(), 0.25, 1e-9);
+  EXPECT_NEAR(p.y(), 0.5, 1e-9);
+  EXPECT_NEAR(p.yaw(), 0.05, 1e-9);
+  // Before the first and after the last: held, not extrapolated.
+  EXPECT_NEAR(h.At(At(-1))->x(), 0.0, 1e-12);
+  EXPECT_NEAR(h.At(At(5))->x(), 1.0, 1e-12);
+  EXPECT_THROW(h.Add(At(0.05), CPose3D()), RuntimeError);
+}
+
+TEST(PoseHistoryTest, HeadingIsInterpolatedTheShortWayRoundThePi) {
+  const CPose3D a(0, 0, 0, 170 * M_PI / 180, 0, 0), b(0, 0, 0, -170 * M_PI / 180, 0, 0);
+  EXPECT_NEAR(std::abs(Interpolate(a, b, 0.5).yaw()), M_PI, 1e-9);
+  EXPECT_NEAR(Interpolate(a, b, 0.25).yaw(), 175 * M_PI / 180, 1e-9);
+}
+
+TEST(PoseHistoryTest, OldPosesAreDropped) {
+  PoseHistory h(1.0);
+  for (int k = 0; k <= 50; ++k) h.Add(At(0.1 * k), CPose3D(k, 0, 0, 0, 0, 0));
+  EXPECT_NEAR(h.At(At(0))->x(), 40.0, 1e-9);  // the oldest kept: 1 s before the newest
+}
+
+mrpt::obs::CObservationStereoImages Calibrated(int width, int height) {
+  mrpt::obs::CObservationStereoImages obs;
+  obs.sensorLabel = "STEREO";
+  for (auto* cam : {&obs.leftCamera, &obs.rightCamera}) {
+    cam->ncols = width, cam->nrows = height;
+    cam->setIntrinsicParamsFromValues(400, 400, width / 2.0, height / 2.0);
+  }
+  obs.rightCameraPose = mrpt::poses::CPose3DQuat(CPose3D(0.4, 0, 0, 0, 0, 0));
+  return obs;
+}
+
+TEST(StereoPerceptionTest, TheCameraComesFromTheObservationsCalibration) {
+  const stereo::RectifiedCamera c = CameraOf(Calibrated(640, 240), {640, 240});
+  EXPECT_EQ(c.focal_px, 400);
+  EXPECT_EQ(c.cx_px, 320);
+  EXPECT_NEAR(c.baseline_m, 0.4, 1e-12);
+}
+
+TEST(StereoPerceptionTest, AMissingOrContradictoryCalibrationIsNamed) {
+  const auto message = [](const mrpt::obs::CObservationStereoImages& obs, cv::Size size) {
+    try {
+      CameraOf(obs, size);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  auto no_focal = Calibrated(640, 240);
+  no_focal.leftCamera.setIntrinsicParamsFromValues(0, 0, 320, 120);
+  EXPECT_THAT(message(no_focal, {640, 240}), HasSubstr("'STEREO'"));
+  EXPECT_THAT(message(no_focal, {640, 240}), HasSubstr("leftCamera: no focal length"));
+  auto no_baseline = Calibrated(640, 240);
+  no_baseline.rightCameraPose = mrpt::poses::CPose3DQuat(CPose3D());
+  EXPECT_THAT(message(no_baseline, {640, 240}), HasSubstr("rightCameraPose: no baseline"));
+  EXPECT_THAT(message(Calibrated(640, 240), {1242, 375}),
+              HasSubstr("leftCamera: intrinsics for 640x240 but the image is 1242x375"));
+  auto off_centre = Calibrated(640, 240);
+  off_centre.leftCamera.setIntrinsicParamsFromValues(400, 400, 900, 120);
+  EXPECT_THAT(message(off_centre, {640, 240}), HasSubstr("principal point (900"));
+}
+
+}  // namespace
+}  // namespace specht::pipeline
