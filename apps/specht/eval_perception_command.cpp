@@ -15,7 +15,7 @@ namespace {
 
 struct EvalPerceptionArgs {
   CommonArgs common;
-  std::string sim_dir;
+  std::string sim_dir, replay_dir;
   pipeline::PerceptionEvalOptions options;
 };
 
@@ -28,8 +28,17 @@ int RunEvalPerception(const EvalPerceptionArgs& a) {
       a.sim_dir, params, data_dir, a.options, [&](double f) { progress.Update(100 * f, f); });
   progress.Finish();
   io::RunReport report("eval perception");
-  report.json()["inputs"] = {{"sim_dir", a.sim_dir}, {"models", a.options.models}};
+  report.json()["inputs"] = {{"sim_dir", a.sim_dir}, {"replay_dir", a.replay_dir}, {"models", a.options.models}};
   report.json()["metrics"] = result;
+  if (!a.replay_dir.empty()) {
+    const nlohmann::json tracks = pipeline::EvaluatePerceivedTracks(a.sim_dir, a.replay_dir, a.options);
+    report.json()["metrics"]["tracks"] = tracks;
+    std::printf("perceived tracks: MOTA %.3f, %.2f ID switches per 100 track-seconds, class macro F1 (detector vote) "
+                "%.3f over %d tracks; SLAM ATE %.3f m\n",
+                tracks["mot"]["mota"].get<double>(), tracks["mot"]["id_switches_per_100s"].get<double>(),
+                tracks["class_detector_vote"]["macro_f1"].get<double>(),
+                tracks["class_detector_vote"]["tracks"].get<int>(), tracks["slam_ate_rmse_m"].get<double>());
+  }
   report.Write(a.common.out_dir);
   for (const auto& [model, m] : result["detection"].items())
     std::printf("%s: recall %.3f, precision %.3f, %.3f false positives/frame over %ld frames; distance error p50 %.2f m\n",
@@ -48,6 +57,10 @@ void AddEvalPerceptionCommand(CLI::App& eval, int& exit_code) {
   AddCommonOptions(*cmd, args->common, "specht-out/eval-perception");
   cmd->add_option("--models", args->options.models, "shipped detectors to score (yolo-fastest, fastestdet)")
       ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--replay", args->replay_dir,
+                  "a `specht replay` output of this drive: score its perceived tracks (CLEAR MOT, class F1)");
+  cmd->add_option("--max-range", args->options.max_range_m, "tracks: agents farther than this are don't-care (m)")
       ->capture_default_str();
   cmd->add_option("--min-visible", args->options.min_visible, "an agent counts when this share of it shows")
       ->capture_default_str();

@@ -48,6 +48,7 @@ struct SimArgs {
   bool quiet = false;
   std::string data_dir;
   std::string sprites = "auto";
+  bool no_camera = false;
 };
 
 // The sprites agents are drawn with: none for "none" or a scenario without camera;
@@ -116,6 +117,7 @@ int RunSim(const SimArgs& a) {
     if (!(*a.duration_s > 0)) throw InputError("--duration: must be positive");
     scenario.duration_s = *a.duration_s;
   }
+  if (a.no_camera) scenario.stereo.reset();
   const std::optional<sim::SpriteLibrary> sprites = LoadSprites(a, scenario);
   io::MakeOutputDir(a.out_dir);
   const std::string out = a.out_dir;
@@ -239,6 +241,7 @@ void AddSimCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--sprites", args->sprites,
                   "agents in the camera: auto (photographs when the data has them), tuning, held_out, all, none (boxes)")
       ->capture_default_str();
+  cmd->add_flag("--no-camera", args->no_camera, "leave the scenario's stereo camera out (LiDAR, odometry and IMU only)");
   cmd->callback([args, &exit_code] { exit_code = RunSim(*args); });
 }
 

@@ -173,6 +173,23 @@ TEST(FusionTest, BoxDistanceAgreesWithLidar) {
 }
 
 // Acceptance 5: bad input names what and where.
+// A person on a bicycle is one cyclist (the union box); a person beside one is not.
+TEST(DetectorTest, ARiderAndHerBicycleBecomeOneCyclist) {
+  using detect::Detection;
+  const std::vector<Detection> in = {{{100, 100, 40, 80}, "pedestrian", "person", 0.9},
+                                     {{95, 140, 55, 50}, "cyclist", "bicycle", 0.4},
+                                     {{300, 100, 30, 80}, "pedestrian", "person", 0.8},
+                                     {{340, 150, 50, 40}, "cyclist", "bicycle", 0.6}};
+  const auto out = detect::MergeRiders(in, 0.5);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0].cls, "cyclist");
+  EXPECT_EQ(out[0].box, cv::Rect2d(95, 100, 55, 90));
+  EXPECT_DOUBLE_EQ(out[0].score, 0.9);
+  EXPECT_EQ(out[1].cls, "pedestrian");  // beside the other bicycle: not on it
+  EXPECT_EQ(out[2].box, in[3].box);
+  EXPECT_EQ(detect::MergeRiders(in, 0.99).size(), 4u);
+}
+
 TEST(DetectorTest, BadInputIsReportedClearly) {
   SPECHT_REQUIRE_FILE(ModelsDir());
   auto error_of = [](const DetectorOptions& o, const cv::Mat& image = cv::Mat(64, 64, CV_8UC3)) {

@@ -13,11 +13,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The urban crossing with a camera like KITTI's (1242×375, f = 721.5 px, 0.54 m), so
-// KITTI's frames can stand in for the rendered ones.
+// The urban crossing, whose camera is like KITTI's (1242×375, f = 721.5 px, 0.54 m)
+// so that KITTI's frames can stand in for the rendered ones, at 1 Hz.
 std::string KittiCameraScenario(const std::string& dir) {
   std::string yaml = testing::ReadFile(testing::SourceDir() + "/datasets/scenarios/urban-crossing.yaml");
-  const std::string from = "stereo: {rate_hz: 1, width: 640, height: 240, focal_px: 400, baseline_m: 0.4,";
+  const std::string from = "stereo: {rate_hz: 10, width: 1242, height: 375, focal_px: 721.5, baseline_m: 0.54,";
   const auto at = yaml.find(from);
   EXPECT_NE(at, std::string::npos) << "the scenario's camera line changed";
   yaml.replace(at, from.size(), "stereo: {rate_hz: 1, width: 1242, height: 375, focal_px: 721.5, baseline_m: 0.54,");

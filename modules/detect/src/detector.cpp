@@ -213,10 +213,33 @@ std::vector<Detection> Detector::Detect(const cv::Mat& image) {
     cv::dnn::NMSBoxes(boxes, scores, 0.0f, static_cast<float>(options_.nms_iou), keep);
     for (int i : keep) detections.push_back(list[static_cast<size_t>(i)]);
   }
+  if (options_.rider_overlap > 0) detections = MergeRiders(std::move(detections), options_.rider_overlap);
   std::sort(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) {
     return a.score != b.score ? a.score > b.score : a.box.x < b.box.x;
   });
   return detections;
+}
+
+std::vector<Detection> MergeRiders(std::vector<Detection> d, double overlap) {
+  std::vector<bool> rider(d.size(), false);
+  for (auto& vehicle : d) {
+    if (vehicle.cls != "cyclist") continue;
+    int best = -1;
+    double best_share = overlap;
+    for (size_t k = 0; k < d.size(); ++k) {
+      if (d[k].cls != "pedestrian" || rider[k]) continue;
+      const double share = (d[k].box & vehicle.box).area() / vehicle.box.area();
+      if (share >= best_share) best = static_cast<int>(k), best_share = share;
+    }
+    if (best < 0) continue;
+    rider[static_cast<size_t>(best)] = true;
+    vehicle.box |= d[static_cast<size_t>(best)].box;
+    vehicle.score = std::max(vehicle.score, d[static_cast<size_t>(best)].score);
+  }
+  std::vector<Detection> out;
+  for (size_t k = 0; k < d.size(); ++k)
+    if (!rider[k]) out.push_back(std::move(d[k]));
+  return out;
 }
 
 double IoU(const cv::Rect2d& a, const cv::Rect2d& b) {

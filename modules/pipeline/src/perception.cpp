@@ -142,6 +142,10 @@ void PerceptionPipeline::ProcessFrame(const mrpt::obs::CObservation::Ptr& o, Sta
   update.stamp = t;
   update.obstacles = frame.obstacles;
   update.tracks = tracks;
+  // The OctoMap grows every frame but is published (copied) with the snapshots only:
+  // a kept snapshot holds all its layers of one frame.
+  const bool snapshot_due =
+      !last_snapshot_ || SecondsBetween(*last_snapshot_, t) >= options_.snapshot_period_s - 1e-9;
   if (s.octree) {
     t0 = Clock::now();
     const auto [disparity, camera] = Decimated(frame.disparity, frame.camera, options_.octree_decimation);
@@ -150,7 +154,7 @@ void PerceptionPipeline::ProcessFrame(const mrpt::obs::CObservation::Ptr& o, Sta
     const cv::Point3f origin(static_cast<float>(frame.map_from_camera.x()), static_cast<float>(frame.map_from_camera.y()),
                              static_cast<float>(frame.map_from_camera.z()));
     stereo::InsertIntoOctree(*s.octree, points, origin, s.cloud);
-    update.octree = std::make_shared<const octomap::OcTree>(*s.octree);
+    if (snapshot_due) update.octree = std::make_shared<const octomap::OcTree>(*s.octree);
     s.summary.octree_ms += MsSince(t0);
   }
   t0 = Clock::now();
@@ -164,7 +168,7 @@ void PerceptionPipeline::ProcessFrame(const mrpt::obs::CObservation::Ptr& o, Sta
   for (const auto& ob : frame.obstacles)
     seen_[ob.cls].push_back({ob.stamp, mrpt::poses::CPose3D(ob.x_m, ob.y_m, 0, 0, 0, 0)});
   ++s.summary.track_updates;
-  if (!last_snapshot_ || SecondsBetween(*last_snapshot_, t) >= options_.snapshot_period_s - 1e-9) KeepSnapshot();
+  if (snapshot_due) KeepSnapshot();
 }
 
 void PerceptionPipeline::KeepSnapshot() {

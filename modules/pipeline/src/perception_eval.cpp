@@ -4,14 +4,21 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/poses/CPoint2D.h>
 
 #include "specht/core/error.h"
 #include "specht/core/statistics.h"
 #include "specht/eval/detection.h"
+#include "specht/eval/mot.h"
+#include "specht/eval/trajectory_error.h"
 #include "specht/io/dataset.h"
+#include "specht/io/object_tracks.h"
+#include "specht/io/trajectory_io.h"
+#include "specht/sim/simulator.h"
 #include "specht/pipeline/stereo_perception.h"
 
 namespace specht::pipeline {
@@ -19,6 +26,7 @@ namespace {
 
 struct AgentInView {
   int id = 0;
+  double t_s = 0;
   std::string cls;  // driving class
   cv::Rect2d box;
   double visible = 0, range_m = 0;
@@ -28,6 +36,13 @@ std::string DrivingClass(const std::string& kitti) {
   std::string c = kitti;
   std::transform(c.begin(), c.end(), c.begin(), [](unsigned char ch) { return std::tolower(ch); });
   return c;
+}
+
+std::vector<std::string> Fields(const std::string& csv_line) {
+  std::vector<std::string> f;
+  std::stringstream ss(csv_line);
+  for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
+  return f;
 }
 
 // stereo/agents.csv: frame,t_s,id,class,sprite,x0_px,y0_px,x1_px,y1_px,visible,truncated,range_m
@@ -40,13 +55,12 @@ std::map<int, std::vector<AgentInView>> ReadAgentsInView(const std::string& path
     throw InputError(path + ":1: not the header of stereo/agents.csv");
   std::map<int, std::vector<AgentInView>> out;
   for (int n = 2; std::getline(in, line); ++n) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
+    const std::vector<std::string> f = Fields(line);
     if (f.size() != 12) throw InputError(path + ":" + std::to_string(n) + ": expected 12 fields, found " + std::to_string(f.size()));
     try {
       AgentInView a;
       a.id = std::stoi(f[2]);
+      a.t_s = std::stod(f[1]);
       a.cls = DrivingClass(f[3]);
       const double x0 = std::stod(f[5]), y0 = std::stod(f[6]), x1 = std::stod(f[7]), y1 = std::stod(f[8]);
       a.box = cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
@@ -81,7 +95,7 @@ nlohmann::json EvaluateModel(const std::string& sim_dir, const params::Params& p
     detector.input_width = shipped.input_width, detector.input_height = shipped.input_height;
   StereoPerception perception(params.Get<stereo::SgmOptions>("stereo"), detector,
                               params.Get<detect::FusionOptions>("fusion"), data_dir);
-  eval::DetectionScorer scorer(o.iou);
+  eval::DetectionScorer scorer(o.iou), any_class(o.iou);  // the second: found whatever the class
   std::vector<double> abs_error_m, rel_error;
   auto source = io::OpenDataset(sim_dir + "/sim.rawlog");
   int frame = 0;
@@ -98,6 +112,9 @@ nlohmann::json EvaluateModel(const std::string& sim_dir, const params::Params& p
     std::vector<eval::DetectedBox> detections;
     for (const auto& d : f.detections) detections.push_back({d.cls, d.box, d.score});
     const std::vector<int> found = scorer.AddFrame(boxes, detections);
+    for (auto& b : boxes) b.cls = "object";
+    for (auto& d : detections) d.cls = "object";
+    any_class.AddFrame(boxes, detections);
     for (size_t i = 0; i < found.size(); ++i) {
       if (found[i] < 0 || f.obstacle_of[i] < 0) continue;
       const double truth_m = boxes[static_cast<size_t>(found[i])].range_m;
@@ -110,6 +127,7 @@ nlohmann::json EvaluateModel(const std::string& sim_dir, const params::Params& p
   }
   nlohmann::json j = scorer.ToJson();
   j["model"] = model;
+  j["any_class"] = any_class.ToJson()["all"];
   j["distance_abs_error_m"] = Quantiles(abs_error_m);
   j["distance_rel_error"] = Quantiles(rel_error);
   const auto& s = perception.stats();
@@ -117,7 +135,105 @@ nlohmann::json EvaluateModel(const std::string& sim_dir, const params::Params& p
   return j;
 }
 
+// The key of a 10 Hz time: agents.csv and the camera frames share them.
+long Tenth(double t_s) { return std::lround(t_s * 10); }
+
+struct AgentAt {
+  std::string cls;
+  double x_m = 0, y_m = 0;
+};
+
+// agents.csv: time_s,id,class,x_m,y_m,… at 10 Hz.
+std::map<long, std::map<int, AgentAt>> ReadAgentPositions(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the agents' truth");
+  std::string line;
+  std::getline(in, line);
+  std::map<long, std::map<int, AgentAt>> out;
+  for (int n = 2; std::getline(in, line); ++n) {
+    const std::vector<std::string> f = Fields(line);
+    if (f.size() < 5) throw InputError(path + ":" + std::to_string(n) + ": expected at least 5 fields");
+    try {
+      out[Tenth(std::stod(f[0]))][std::stoi(f[1])] = {f[2], std::stod(f[3]), std::stod(f[4])};
+    } catch (const std::exception&) {
+      throw InputError(path + ":" + std::to_string(n) + ": a field is not a number");
+    }
+  }
+  return out;
+}
+
+// Macro F1 over the classes that occur, of (predicted, true) pairs.
+nlohmann::json ClassF1(const std::vector<std::pair<std::string, std::string>>& pairs) {
+  std::map<std::string, long> tp, fp, fn;
+  for (const auto& [p, t] : pairs) {
+    if (p == t) ++tp[t];
+    else ++fp[p], ++fn[t];
+  }
+  std::set<std::string> classes;
+  for (const auto& [p, t] : pairs) classes.insert(t);
+  nlohmann::json j;
+  double sum = 0;
+  for (const auto& c : classes) {
+    const double precision = tp[c] + fp[c] ? static_cast<double>(tp[c]) / (tp[c] + fp[c]) : 0.0;
+    const double recall = tp[c] + fn[c] ? static_cast<double>(tp[c]) / (tp[c] + fn[c]) : 0.0;
+    const double f1 = precision + recall > 0 ? 2 * precision * recall / (precision + recall) : 0.0;
+    j["per_class"][c] = {{"f1", f1}, {"tracks", tp[c] + fn[c]}};
+    sum += f1;
+  }
+  j["macro_f1"] = classes.empty() ? 0.0 : sum / classes.size();
+  j["tracks"] = pairs.size();
+  return j;
+}
+
 }  // namespace
+
+nlohmann::json EvaluatePerceivedTracks(const std::string& sim_dir, const std::string& replay_dir,
+                                       const PerceptionEvalOptions& o) {
+  const auto in_view = ReadAgentsInView(sim_dir + "/stereo/agents.csv");
+  const auto positions = ReadAgentPositions(sim_dir + "/agents.csv");
+  const Trajectory estimate = io::ReadTum(replay_dir + "/trajectory.tum");
+  const Trajectory reference = io::ReadTum(sim_dir + "/ground_truth.tum");
+  const eval::AteResult ate = eval::AbsoluteTrajectoryError2D(estimate, reference, 0.05);
+  const double epoch_s = sim::Simulator::kEpochNs * 1e-9;
+
+  // Truth at every camera frame: each agent present, care when it shows as the
+  // detection's care boxes do and is within range.
+  std::vector<io::ObjectSample> truth;
+  for (const auto& [frame, agents] : in_view) {
+    const double t = agents.front().t_s;
+    const auto present = positions.find(Tenth(t));
+    if (present == positions.end()) continue;
+    std::map<int, bool> care;
+    for (const auto& a : agents)
+      care[a.id] = a.visible >= o.min_visible && a.box.height >= o.min_height_px && a.range_m <= o.max_range_m;
+    for (const auto& [id, p] : present->second)
+      truth.push_back({std::to_string(id), t, p.x_m, p.y_m, p.cls, "", !care[id]});
+  }
+  // Tracks into the truth's frame, at the camera frames' times.
+  std::vector<io::ObjectSample> tracks = io::ReadObjectTracks(replay_dir + "/tracks.csv");
+  for (auto& s : tracks) {
+    const mrpt::poses::CPoint2D p = ate.alignment + mrpt::poses::CPoint2D(s.x_m, s.y_m);
+    s.x_m = p.x(), s.y_m = p.y();
+    s.t_s = Tenth(s.t_s - epoch_s) / 10.0;
+  }
+  const eval::MotResult mot = eval::EvaluateMot(truth, tracks, o.match_threshold_m);
+  // Each track's class (its detections' vote, the class of most of its rows) against
+  // the class of the agent it followed most.
+  std::map<std::string, std::map<std::string, int>> votes;
+  for (const auto& s : tracks) ++votes[s.id][s.cls];
+  std::map<std::string, std::string> truth_class;
+  for (const auto& s : truth) truth_class[s.id] = s.cls;
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (const auto& [hyp, agent] : mot.truth_of_hypothesis) {
+    const auto& v = votes[hyp];
+    const auto best = std::max_element(v.begin(), v.end(), [](auto& a, auto& b) { return a.second < b.second; });
+    if (best != v.end()) pairs.push_back({best->first, truth_class[agent]});
+  }
+  return {{"mot", mot.ToJson()},
+          {"class_detector_vote", ClassF1(pairs)},
+          {"slam_ate_rmse_m", ate.rmse_m},
+          {"care", {{"max_range_m", o.max_range_m}, {"match_threshold_m", o.match_threshold_m}}}};
+}
 
 nlohmann::json EvaluatePerception(const std::string& sim_dir, const params::Params& params,
                                   const std::string& data_dir, const PerceptionEvalOptions& options,

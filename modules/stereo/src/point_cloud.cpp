@@ -69,7 +69,10 @@ void InsertIntoOctree(octomap::OcTree& tree, const std::vector<ColouredPoint>& p
   octomap::Pointcloud cloud;
   cloud.reserve(points.size());
   for (const auto& p : points) cloud.push_back(p.xyz.x, p.xyz.y, p.xyz.z);
-  tree.insertPointCloud(cloud, octomap::point3d(origin.x, origin.y, origin.z), options.octree_max_range_m);
+  // discretize: one ray per end voxel, not per point (dense stereo clouds put many
+  // points in each voxel; the occupied and free voxels are the same).
+  tree.insertPointCloud(cloud, octomap::point3d(origin.x, origin.y, origin.z), options.octree_max_range_m,
+                        /*lazy_eval=*/false, /*discretize=*/true);
 }
 
 void WriteOctree(const octomap::OcTree& tree, const std::string& path) {

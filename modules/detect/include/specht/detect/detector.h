@@ -35,11 +35,12 @@ struct DetectorOptions {
   std::string model = "models/yolo-fastest-1.1.weights";  // relative paths: to the data directory
   std::string config = "models/yolo-fastest-1.1.cfg";
   std::string labels = "models/coco.names";
-  int input_width = 320, input_height = 320;
+  int input_width = 960, input_height = 288;
   bool letterbox = false;
   double score_threshold = 0.3;
   std::vector<std::string> class_thresholds;  // "car=0.25": per driving class
   double nms_iou = 0.45;
+  double rider_overlap = 0.5;
   int threads = 1;
   std::string backend = "opencv";  // opencv | default
   // "model label=driving class"; labels not listed are dropped.
@@ -62,6 +63,10 @@ struct DetectorOptions {
             "per driving class score thresholds overriding score_threshold, as \"class=threshold\"");
     v.Param("nms_iou", nms_iou, "suppress a box overlapping a better one of its class by more than this IoU",
             Range::Of(0.1, 0.9));
+    v.Param("rider_overlap", rider_overlap,
+            "a pedestrian box covering at least this share of a cyclist (bicycle, motorbike) box is its rider: "
+            "the two become one cyclist; 0 = never",
+            Range::Of(0.0, 1.0));
     v.Param("threads", threads, "OpenCV threads for inference", Range::Of(1, 64).Fixed());
     v.Choice("backend", backend, {"opencv", "default"}, "cv::dnn backend");
     v.Param("class_map", class_map, "\"model label=driving class\" (pedestrian, cyclist, car, truck, bus, "
@@ -104,5 +109,10 @@ class Detector {
 };
 
 double IoU(const cv::Rect2d& a, const cv::Rect2d& b);
+
+// COCO models see a rider and the bicycle apart: each cyclist box (the vehicle) takes
+// the pedestrian box covering the largest share of it, if at least `overlap`, and
+// becomes one cyclist with the union of both boxes and the higher score.
+std::vector<Detection> MergeRiders(std::vector<Detection> detections, double overlap);
 
 }  // namespace specht::detect

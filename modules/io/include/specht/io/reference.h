@@ -12,7 +12,8 @@ namespace specht::io {
 Trajectory ReadReference(const std::string& path);
 
 // A dataset's own reference, or "" when it has none: the corrected poses of a CARMEN
-// log (the log itself) or MRPT's `<dataset>.GT.txt` beside a rawlog.
+// log (the log itself), MRPT's `<dataset>.GT.txt` beside a rawlog, or the
+// ground_truth.tum that `specht sim` writes beside its sim.rawlog.
 std::string DefaultReferencePath(const std::string& dataset, const std::string& format);
 
 }  // namespace specht::io

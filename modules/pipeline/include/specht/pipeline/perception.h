@@ -6,8 +6,9 @@
 //   → our SGM → the CNN detector → box fusion → obstacles in the map frame
 //   → the multi-object tracker (per-class motion models, track/tracker.h)
 //   → the stereo points into the OctoMap (every octree_decimation-th pixel)
-//   → one world-model update holding that frame's obstacles, tracks and OctoMap, so
-//     a reader never sees the layers of two different frames.
+//   → one world-model update holding that frame's obstacles and tracks (and, every
+//     snapshot_period_s, the OctoMap: copying it every frame would cost more than
+//     building it), so a reader never sees the layers of two different frames.
 // The static layer comes from SLAM (SetStaticMap, as the map grows and after loop
 // closures). Snapshots of the world model are kept every snapshot_period_s of data
 // time; tracks.csv holds every reported track at every frame (io/object_tracks.h).
@@ -35,7 +36,7 @@ struct PerceptionOptions {
   double map_update_s = 2.0;
   double snapshot_period_s = 0.5;
   bool octree = true;
-  int octree_decimation = 4;
+  int octree_decimation = 8;
   double max_pose_wait_s = 1.0;
 
   template <class V>
