@@ -69,8 +69,15 @@ std::optional<sim::SpriteLibrary> LoadSprites(const SimArgs& a, sim::Scenario& s
     return std::nullopt;
   }
   sim::SpriteLibrary library = sim::SpriteLibrary::Load(*data + "/sprites");
-  for (const auto& g : scenario.agents)
-    if (!g.sprite.empty()) library.Named(g.sprite);  // an unknown name fails before anything is written
+  // An unknown name fails before anything is written.
+  for (size_t i = 0; i < scenario.agents.size(); ++i) {
+    if (scenario.agents[i].sprite.empty()) continue;
+    try {
+      library.Named(scenario.agents[i].sprite);
+    } catch (const InputError& e) {
+      throw InputError(scenario.path + ": agents[" + std::to_string(i) + "].sprite: " + e.what());
+    }
+  }
   return library;
 }
 

@@ -404,6 +404,27 @@ TEST(SpriteTest, TheLibraryCutsOutEveryClassAndHoldsSomeOut) {
   }
 }
 
+// A scenario naming a sprite the library does not have, and a sprite set that does
+// not exist, stop `specht sim` before it writes anything, naming file, key and reason.
+TEST(SpriteTest, AnUnknownSpriteIsNamedBeforeAnythingIsWritten) {
+  const std::string data = testing::DataDir();
+  SPECHT_REQUIRE_FILE(data.empty() || !std::filesystem::exists(data + "/sprites") ? std::string() : data);
+  const std::string dir = testing::TempDir();
+  std::string yaml = testing::ReadFile(ScenarioPath("urban-crossing"));
+  const std::string agent = "{id: 1, class: pedestrian, route: [[33, 20], [47, 20]], start_s: 0}";
+  ASSERT_NE(yaml.find(agent), std::string::npos);
+  yaml.replace(yaml.find(agent), agent.size(),
+               "{id: 1, class: pedestrian, route: [[33, 20], [47, 20]], start_s: 0, sprite: coco/1/2}");
+  testing::WriteFile(dir + "/named.yaml", yaml);
+  const auto r = testing::RunSpecht("sim -q '" + dir + "/named.yaml' --duration 1 --data-dir '" + data + "' -o '" + dir + "/out'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, ::testing::HasSubstr("named.yaml: agents[0].sprite: no sprite named \"coco/1/2\""));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
+  const auto set = testing::RunSpecht("sim -q '" + ScenarioPath("urban-crossing") + "' --sprites best -o '" + dir + "/out'");
+  EXPECT_EQ(set.exit_code, 2);
+  EXPECT_THAT(set.err, ::testing::HasSubstr("--sprites: \"best\" is not a sprite set"));
+}
+
 // With sprites the camera shows each agent as a photograph on its plane: the label's
 // box is the sprite's and the depth inside it is the agent's range.
 TEST(StereoRenderTest, SpritesStandAtTheirAgentsRange) {
