@@ -39,17 +39,18 @@ std::pair<cv::Mat, stereo::RectifiedCamera> Decimated(const cv::Mat& disparity, 
 }  // namespace
 
 nlohmann::json PerceptionSummary::ToJson() const {
+  const long frames = stereo.frames;
   const auto per_frame = [&](double ms) { return frames > 0 ? ms / frames : 0.0; };
   return {{"frames", frames},
-          {"detections", detections},
-          {"obstacles", obstacles},
+          {"detections", stereo.detections},
+          {"obstacles", stereo.obstacles},
           {"track_updates", track_updates},
           {"tracks_confirmed", tracks_confirmed},
           {"frames_at_held_pose", frames_at_held_pose},
           {"ms_per_frame",
-           {{"stereo", per_frame(stereo_ms)},
-            {"detect", per_frame(detect_ms)},
-            {"fusion", per_frame(fusion_ms)},
+           {{"stereo", per_frame(stereo.stereo_ms)},
+            {"detect", per_frame(stereo.detect_ms)},
+            {"fusion", per_frame(stereo.fusion_ms)},
             {"track", per_frame(track_ms)},
             {"octree", per_frame(octree_ms)},
             {"world", per_frame(world_ms)}}}};
@@ -190,13 +191,7 @@ bool PerceptionPipeline::StaticMapDue(Stamp t) const {
 PerceptionSummary PerceptionPipeline::summary() const {
   if (!stages_) return {};
   PerceptionSummary out = stages_->summary;
-  const PerceptionStats& p = stages_->perception.stats();
-  out.frames = p.frames;
-  out.detections = p.detections;
-  out.obstacles = p.obstacles;
-  out.stereo_ms = p.stereo_ms;
-  out.detect_ms = p.detect_ms;
-  out.fusion_ms = p.fusion_ms;
+  out.stereo = stages_->perception.stats();
   out.tracks_confirmed = static_cast<long>(stages_->confirmed.size());
   return out;
 }

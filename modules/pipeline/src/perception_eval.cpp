@@ -10,6 +10,7 @@
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/poses/CPoint2D.h>
 
+#include "specht/classify/metrics.h"
 #include "specht/core/error.h"
 #include "specht/core/statistics.h"
 #include "specht/eval/detection.h"
@@ -18,6 +19,7 @@
 #include "specht/io/dataset.h"
 #include "specht/io/object_tracks.h"
 #include "specht/io/trajectory_io.h"
+#include "specht/sim/camera.h"
 #include "specht/sim/simulator.h"
 #include "specht/pipeline/stereo_perception.h"
 
@@ -31,12 +33,6 @@ struct AgentInView {
   cv::Rect2d box;
   double visible = 0, range_m = 0;
 };
-
-std::string DrivingClass(const std::string& kitti) {
-  std::string c = kitti;
-  std::transform(c.begin(), c.end(), c.begin(), [](unsigned char ch) { return std::tolower(ch); });
-  return c;
-}
 
 std::vector<std::string> Fields(const std::string& csv_line) {
   std::vector<std::string> f;
@@ -61,7 +57,7 @@ std::map<int, std::vector<AgentInView>> ReadAgentsInView(const std::string& path
       AgentInView a;
       a.id = std::stoi(f[2]);
       a.t_s = std::stod(f[1]);
-      a.cls = DrivingClass(f[3]);
+      a.cls = sim::DrivingClassOf(f[3]);
       const double x0 = std::stod(f[5]), y0 = std::stod(f[6]), x1 = std::stod(f[7]), y1 = std::stod(f[8]);
       a.box = cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
       a.visible = std::stod(f[9]);
@@ -74,11 +70,10 @@ std::map<int, std::vector<AgentInView>> ReadAgentsInView(const std::string& path
   return out;
 }
 
-nlohmann::json Quantiles(std::vector<double> v) {
+nlohmann::json Quantiles(const std::vector<double>& v) {
   if (v.empty()) return {{"count", 0}};
-  std::sort(v.begin(), v.end());
-  const auto q = [&](double p) { return v[static_cast<size_t>(p * (v.size() - 1))]; };
-  return {{"count", v.size()}, {"p50", q(0.5)}, {"p90", q(0.9)}, {"max", v.back()}, {"mean", Mean(v)}};
+  return {{"count", v.size()}, {"p50", Percentile(v, 0.5)}, {"p90", Percentile(v, 0.9)}, {"max", Percentile(v, 1.0)},
+          {"mean", Mean(v)}};
 }
 
 // One model over every stereo frame of the drive.
@@ -162,25 +157,18 @@ std::map<long, std::map<int, AgentAt>> ReadAgentPositions(const std::string& pat
   return out;
 }
 
-// Macro F1 over the classes that occur, of (predicted, true) pairs.
-nlohmann::json ClassF1(const std::vector<std::pair<std::string, std::string>>& pairs) {
-  std::map<std::string, long> tp, fp, fn;
-  for (const auto& [p, t] : pairs) {
-    if (p == t) ++tp[t];
-    else ++fp[p], ++fn[t];
-  }
-  std::set<std::string> classes;
-  for (const auto& [p, t] : pairs) classes.insert(t);
-  nlohmann::json j;
-  double sum = 0;
-  for (const auto& c : classes) {
-    const double precision = tp[c] + fp[c] ? static_cast<double>(tp[c]) / (tp[c] + fp[c]) : 0.0;
-    const double recall = tp[c] + fn[c] ? static_cast<double>(tp[c]) / (tp[c] + fn[c]) : 0.0;
-    const double f1 = precision + recall > 0 ? 2 * precision * recall / (precision + recall) : 0.0;
-    j["per_class"][c] = {{"f1", f1}, {"tracks", tp[c] + fn[c]}};
-    sum += f1;
-  }
-  j["macro_f1"] = classes.empty() ? 0.0 : sum / classes.size();
+// classify/metrics.h's scores (macro F1 over the classes in the truth) of
+// (predicted, true) class pairs.
+nlohmann::json ClassScores(const std::vector<std::pair<std::string, std::string>>& pairs) {
+  std::set<std::string> names;
+  for (const auto& [p, t] : pairs) names.insert(p), names.insert(t);
+  const std::vector<std::string> classes(names.begin(), names.end());
+  const auto index = [&](const std::string& c) {
+    return static_cast<int>(std::lower_bound(classes.begin(), classes.end(), c) - classes.begin());
+  };
+  std::vector<int> truth, predicted;
+  for (const auto& [p, t] : pairs) predicted.push_back(index(p)), truth.push_back(index(t));
+  nlohmann::json j = classify::Score(truth, predicted, static_cast<int>(classes.size())).ToJson(classes);
   j["tracks"] = pairs.size();
   return j;
 }
@@ -230,7 +218,7 @@ nlohmann::json EvaluatePerceivedTracks(const std::string& sim_dir, const std::st
     if (best != v.end()) pairs.push_back({best->first, truth_class[agent]});
   }
   return {{"mot", mot.ToJson()},
-          {"class_detector_vote", ClassF1(pairs)},
+          {"class_detector_vote", ClassScores(pairs)},
           {"slam_ate_rmse_m", ate.rmse_m},
           {"care", {{"max_range_m", o.max_range_m}, {"match_threshold_m", o.match_threshold_m}}}};
 }

@@ -146,7 +146,8 @@ Estimate Replay::State::Localize(io::ReplayClock& clock, PerceptionPipeline& per
                 }
                 auto timing = timer.Time("perception");
                 perception.Add(t, o);
-                if (perception.active() && perception.StaticMapDue(t) && !perception.world().snapshot()->static_map)
+                // The saved grid is the static layer, once perception has started.
+                if (perception.active() && !perception.world().snapshot()->static_map)
                   perception.SetStaticMap(saved.grid, t);
                 for (const auto& p = localizer.trajectory(); placed < p.size(); ++placed)
                   perception.AddPose(p[placed].stamp, p[placed].pose);

@@ -108,10 +108,6 @@ struct Affine {
   double At(double u, double v) const { return du * u + dv * v + c; }
 };
 
-std::string DrivingClass(const std::string& kitti) {
-  return kitti == "Car" ? "car" : kitti == "Cyclist" ? "cyclist" : "pedestrian";
-}
-
 // A planar patch: the points c + s·e + z·ẑ (s ∈ [s0, s1], z ∈ [0, height]) of a
 // vertical plane with normal n.
 struct Patch {
@@ -192,6 +188,10 @@ struct StereoRenderer::View {
   }
 };
 
+std::string DrivingClassOf(const std::string& kitti) {
+  return kitti == "Car" ? "car" : kitti == "Cyclist" ? "cyclist" : "pedestrian";
+}
+
 StereoRenderer::StereoRenderer(const Scenario& scenario, const World& world, StereoSpec spec,
                                const SpriteLibrary* sprites)
     : scenario_(scenario), world_(world), spec_(std::move(spec)), sprites_(sprites) {
@@ -202,7 +202,7 @@ StereoRenderer::StereoRenderer(const Scenario& scenario, const World& world, Ste
 const Sprite* StereoRenderer::SpriteFor(const Box3& box, const cv::Vec3d& camera) const {
   if (!sprites_) return nullptr;
   if (!box.sprite.empty()) return &sprites_->Named(box.sprite);
-  const auto candidates = sprites_->Of(DrivingClass(box.cls), set_);
+  const auto candidates = sprites_->Of(DrivingClassOf(box.cls), set_);
   if (candidates.empty()) return nullptr;
   // The width the box shows the camera: its footprint's extent across the view.
   const double bx = box.pose.x - camera[0], by = box.pose.y - camera[1], r = std::hypot(bx, by);
@@ -271,8 +271,10 @@ StereoFrame StereoRenderer::Render(const Pose2& ego, const std::vector<Box3>& bo
     }
   }
 
-  // A vertical face from a to b up to height h, textured from `offset` into its tile.
-  const auto face = [&](View& v, Vec2 a, Vec2 b, double height, const std::string& kind, double offset, int agent) {
+  // A vertical face from a to b up to height h, textured from `offset` into the tile
+  // of `kind`, coloured by `colour` and lit by the sun; `on_pixel` as in View::Draw.
+  const auto face = [&](View& v, Vec2 a, Vec2 b, double height, const std::string& kind, const cv::Vec3d& colour,
+                        double offset, auto&& on_pixel) {
     const double len = std::hypot(b.x - a.x, b.y - a.y);
     if (len < 1e-9) return;
     Patch p;
@@ -280,8 +282,7 @@ StereoFrame StereoRenderer::Render(const Pose2& ego, const std::vector<Box3>& bo
     p.e = {(b.x - a.x) / len, (b.y - a.y) / len, 0};
     p.n = {p.e[1], -p.e[0], 0};
     p.s1 = len, p.height = height;
-    const double light = 0.45 + 0.55 * std::abs(p.n.dot(sun));
-    const cv::Vec3d tint = Tint(kind) * light;
+    const cv::Vec3d tint = colour * (0.45 + 0.55 * std::abs(p.n.dot(sun)));
     const cv::Mat& tile = tiles.faces.count(kind) ? tiles.faces.at(kind) : tiles.faces.at("noise");
     v.Draw(
         p,
@@ -291,9 +292,7 @@ StereoFrame StereoRenderer::Render(const Pose2& ego, const std::vector<Box3>& bo
                           cv::saturate_cast<uint8_t>(tint[2] * g));
           return true;
         },
-        [&](int u, int row, bool nearer) {
-          if (nearer && !v.agent.empty()) v.agent(row, u) = agent;
-        });
+        on_pixel);
   };
   for (View& v : views) {
     uint32_t salt = 100;
@@ -302,7 +301,9 @@ StereoFrame StereoRenderer::Render(const Pose2& ego, const std::vector<Box3>& bo
       double s0 = 0;
       for (size_t i = 0; i < edges; ++i, ++salt) {
         const Vec2 a = obj.polygon[i], b = obj.polygon[(i + 1) % n];
-        face(v, a, b, obj.height_m, obj.texture, s0 + 3.7 * (salt % 3), 0);
+        face(v, a, b, obj.height_m, obj.texture, Tint(obj.texture), s0 + 3.7 * (salt % 3), [&](int u, int row, bool nearer) {
+          if (nearer && !v.agent.empty()) v.agent(row, u) = 0;  // hides any agent drawn there
+        });
         s0 += std::hypot(b.x - a.x, b.y - a.y);
       }
     }
@@ -349,26 +350,11 @@ StereoFrame StereoRenderer::Render(const Pose2& ego, const std::vector<Box3>& bo
         if (nearer) v.agent(row, u) = agent;
       };
       if (!sprite) {
-        const auto outline = BoxOutline(box.pose, box.length_m, box.width_m);
         double s0 = 0;
-        for (const auto& seg : outline) {
-          const double len = std::hypot(seg.b.x - seg.a.x, seg.b.y - seg.a.y);
-          Patch p;
-          p.c = {seg.a.x, seg.a.y, 0};
-          p.e = {(seg.b.x - seg.a.x) / len, (seg.b.y - seg.a.y) / len, 0};
-          p.n = {p.e[1], -p.e[0], 0};
-          p.s1 = len, p.height = box.height_m;
-          const cv::Mat& tile = tiles.faces.at(box.cls == "Car" ? "checker" : "noise");
-          const double light = 0.45 + 0.55 * std::abs(p.n.dot(sun)), offset = s0 + 1.3 * (box.id % 7);
-          v.Draw(
-              p,
-              [&](double ss, double z, cv::Vec3b& bgr) {
-                const uint8_t g = cv::saturate_cast<uint8_t>(light * tile.at<uint8_t>(Wrap(z, kTileZ), Wrap(ss + offset, kTileS)));
-                bgr = cv::Vec3b(g, g, g);
-                return true;
-              },
-              covered);
-          s0 += len;
+        for (const auto& seg : BoxOutline(box.pose, box.length_m, box.width_m)) {
+          face(v, seg.a, seg.b, box.height_m, box.cls == "Car" ? "checker" : "noise", cv::Vec3d(1, 1, 1),
+               s0 + 1.3 * (box.id % 7), covered);
+          s0 += std::hypot(seg.b.x - seg.a.x, seg.b.y - seg.a.y);
         }
         continue;
       }

@@ -26,6 +26,7 @@
 #include "specht/core/params.h"
 #include "specht/core/trajectory.h"
 #include "specht/io/object_tracks.h"
+#include "specht/pipeline/stereo_perception.h"
 #include "specht/world/world_model.h"
 
 namespace specht::pipeline {
@@ -61,9 +62,10 @@ struct PerceptionOptions {
 };
 
 struct PerceptionSummary {
-  long frames = 0, detections = 0, obstacles = 0, track_updates = 0, tracks_confirmed = 0;
+  PerceptionStats stereo;  // frames, detections, obstacles; SGM, detector and fusion time
+  long track_updates = 0, tracks_confirmed = 0;
   long frames_at_held_pose = 0;  // no later scan came in time: placed at the latest pose
-  double stereo_ms = 0, detect_ms = 0, fusion_ms = 0, track_ms = 0, octree_ms = 0, world_ms = 0;
+  double track_ms = 0, octree_ms = 0, world_ms = 0;
   nlohmann::json ToJson() const;
 };
 

@@ -39,6 +39,10 @@ struct Box3 {
   std::string sprite;  // a sprite by name; "" = chosen by the view (see Render)
 };
 
+// The driving class (sprites.h, detect/) of a KITTI class name: "Car" → "car",
+// "Cyclist" → "cyclist", "Pedestrian" → "pedestrian".
+std::string DrivingClassOf(const std::string& kitti_name);
+
 // One agent in the left image.
 struct AgentView {
   int id = 0;
