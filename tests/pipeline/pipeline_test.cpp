@@ -1,10 +1,12 @@
 // The pipeline's own pieces: the pose at a camera frame's stamp between two scans,
 // and the checks on a stereo observation's calibration.
 #include <cmath>
+#include <filesystem>
 
 #include <mrpt/obs/CObservationStereoImages.h>
 
 #include "specht/core/error.h"
+#include "specht/pipeline/perception_eval.h"
 #include "specht/pipeline/pose_history.h"
 #include "specht/pipeline/stereo_perception.h"
 #include "test_support.h"
@@ -85,6 +87,27 @@ TEST(StereoPerceptionTest, AMissingOrContradictoryCalibrationIsNamed) {
   auto off_centre = Calibrated(640, 240);
   off_centre.leftCamera.setIntrinsicParamsFromValues(400, 400, 900, 120);
   EXPECT_THAT(message(off_centre, {640, 240}), HasSubstr("principal point (900"));
+}
+
+// A drive's truth files that are not what `specht sim` writes are refused with the
+// file and line: a wrong header, a short row, a field that is not a number.
+TEST(PerceptionEvalTest, MalformedTruthFilesNameFileAndLine) {
+  const std::string dir = testing::TempDir();
+  std::filesystem::create_directories(dir + "/stereo");
+  const auto message = [&](const std::string& agents_csv) {
+    testing::WriteFile(dir + "/stereo/agents.csv", agents_csv);
+    try {
+      EvaluatePerceivedTracks(dir, dir, {});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string header = "frame,t_s,id,class,sprite,x0_px,y0_px,x1_px,y1_px,visible,truncated,range_m\n";
+  EXPECT_THAT(message("frame,id\n"), HasSubstr("agents.csv:1: not the header of stereo/agents.csv"));
+  EXPECT_THAT(message(header + "0,0.1,3,Car,,1,2,3\n"), HasSubstr("agents.csv:2: expected 12 fields, found 8"));
+  EXPECT_THAT(message(header + "0,0.1,3,Car,,1,2,3,4,x,0,5\n"), HasSubstr("agents.csv:2: a field is not a number"));
+  EXPECT_THAT(message(header), HasSubstr(dir + "/agents.csv: cannot open"));
 }
 
 }  // namespace
