@@ -74,8 +74,9 @@ TEST(WorldModelTest, CostLayerMarksEveryCellWithinTheInflationRadius) {
 
 TEST(WorldModelTest, StaticMapIsInflatedByTheFootprint) {
   mrpt::maps::COccupancyGridMap2D grid(-5, 5, -5, 5, 0.1);
-  grid.fill(0.1f);  // free
-  for (float y = -5; y < 5; y += 0.05f) grid.setCell(grid.x2idx(0.0), grid.y2idx(y), 0.95f);  // a wall at x = 0
+  // MRPT's cells hold the probability of being free, as every map MRPT builds or loads.
+  grid.fill(0.9f);  // free
+  for (float y = -5; y < 5; y += 0.05f) grid.setCell(grid.x2idx(0.0), grid.y2idx(y), 0.05f);  // a wall at x = 0
   grid.setCell(grid.x2idx(4.0), grid.y2idx(4.0), 0.5f);                                    // one unknown cell
   WorldModelOptions options;
   WorldModel world(options);

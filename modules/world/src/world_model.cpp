@@ -205,7 +205,7 @@ WorldModel::StaticLayer WorldModel::InflateStatic(const mrpt::maps::COccupancyGr
   cv::Mat free_space(grid.cost.size(), CV_8UC1, cv::Scalar(255));  // 0 where occupied
   for (int r = 0; r < grid.cost.rows; ++r)
     for (int c = 0; c < grid.cost.cols; ++c) {
-      const float p = m.getCell(c, r);
+      const float p = 1.0f - m.getCell(c, r);  // MRPT stores p(free)
       if (p > options_.occupied_probability) free_space.at<uint8_t>(r, c) = 0;
       else if (p >= options_.free_probability) layer.unknown.at<uint8_t>(r, c) = 1;
     }
