@@ -1,11 +1,16 @@
-// Output formats: ROS map_server, MRPT gridmap, TUM, PNG, reports; all atomic.
+// Output formats: ROS map_server, MRPT gridmap, TUM, PNG, reports, videos; all atomic.
 #include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "specht/core/error.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
 #include "specht/io/trajectory_io.h"
+#include "specht/io/video.h"
 #include "test_support.h"
 
 namespace specht::io {
@@ -144,6 +149,48 @@ TEST(ReportTest, WritesJsonAndMarkdownWithStatus) {
   const std::string md = testing::ReadFile(dir + "/report.md");
   EXPECT_THAT(md, ::testing::HasSubstr("Status: **incomplete** — x.rawlog: record 7"));
   EXPECT_THAT(md, ::testing::HasSubstr("![map.png](map.png)"));
+}
+
+
+cv::Mat Frame(int i) {
+  cv::Mat m(120, 161, CV_8UC3, cv::Scalar(0, 0, 0));  // an odd width: encoders want even sizes
+  cv::rectangle(m, cv::Rect(5 * i, 20, 30, 30), cv::Scalar(0, 0, 255), cv::FILLED);
+  return m;
+}
+
+// The MP4 reads back with OpenCV's own decoder: every frame, at the first frame's
+// (even) size, the moving square where it was drawn; only the final name is left.
+TEST(VideoSinkTest, Mp4HoldsEveryFrameAndIsRenamedWhenClosed) {
+  const std::string dir = testing::TempDir("video");
+  io::VideoSink video(dir + "/run.mp4", 10);
+  EXPECT_EQ(video.Close(), "");  // nothing yet: nothing written
+  io::VideoSink sink(dir + "/run.mp4", 10);
+  for (int i = 0; i < 12; ++i) sink.Write(Frame(i));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/run.mp4"));
+  ASSERT_EQ(sink.Close(), "run.mp4");
+  EXPECT_EQ(sink.Close(), "run.mp4");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/run.tmp.mp4"));
+  cv::VideoCapture capture(dir + "/run.mp4");
+  ASSERT_TRUE(capture.isOpened());
+  int frames = 0;
+  for (cv::Mat f; capture.read(f); ++frames) {
+    ASSERT_EQ(f.size(), cv::Size(160, 120));
+    const cv::Vec3b inside = f.at<cv::Vec3b>(35, 5 * frames + 15), outside = f.at<cv::Vec3b>(100, 80);
+    EXPECT_GT(inside[2], 180) << "frame " << frames;
+    EXPECT_LT(outside[2], 60) << "frame " << frames;
+  }
+  EXPECT_EQ(frames, 12);
+  EXPECT_THROW(sink.Write(Frame(0)), RuntimeError);
+}
+
+TEST(VideoSinkTest, PngFramesAreNumberedBesideTheVideosName) {
+  const std::string dir = testing::TempDir("video_png");
+  io::VideoSink sink(dir + "/birds_eye.mp4", 10, io::VideoSink::Format::kPng);
+  for (int i = 0; i < 3; ++i) sink.Write(Frame(i));
+  EXPECT_EQ(sink.Close(), "birds_eye_frames/");
+  for (const char* f : {"000000.png", "000001.png", "000002.png"})
+    EXPECT_EQ(cv::imread(dir + "/birds_eye_frames/" + f).size(), cv::Size(160, 120)) << f;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/birds_eye_frames/000003.png"));
 }
 
 }  // namespace
