@@ -216,7 +216,7 @@ int RunPrepare(const AisArgs& a) {
 int RunPredict(const AisArgs& a) {
   const params::Params params = LoadParams(a.common);
   const auto& ais_o = params.Get<ais::AisOptions>("ais");
-  const classify::TrajectoryClassifier classifier = LoadTrainedClassifier(a.model_dir, a.network_only);
+  const classify::TrajectoryClassifier classifier = classify::TrajectoryClassifier::LoadDirectory(a.model_dir, a.network_only);
   const ais::Geography geo = ais::Geography::Load(ais_o, DataDirOr(a.common));
   PrepareOutputDir(a.common, params);
   const auto& classes = classifier.classes();

@@ -35,7 +35,7 @@
 #include "commands.h"
 #include "probability_csv.h"
 #include "run_setup.h"
-#include "scenario_map_features.h"
+#include "specht/pipeline/map_features.h"
 #include "specht/classify/baseline.h"
 #include "specht/classify/crossval.h"
 #include "specht/classify/dataset_io.h"
@@ -64,7 +64,7 @@ std::map<std::string, classify::MapFeatures> ScenarioMaps(const std::vector<std:
   std::map<std::string, classify::MapFeatures> maps;
   for (const auto& path : paths) {
     const sim::Scenario s = sim::LoadScenario(path);
-    maps[s.name] = ScenarioMapFeatures(s);
+    maps[s.name] = pipeline::ScenarioMapFeatures(s);
   }
   return maps;
 }
@@ -187,7 +187,7 @@ int RunEval(const ClassifyArgs& a) {
 }
 
 int RunPredict(const ClassifyArgs& a) {
-  const classify::TrajectoryClassifier classifier = LoadTrainedClassifier(a.model_dir, a.network_only);
+  const classify::TrajectoryClassifier classifier = classify::TrajectoryClassifier::LoadDirectory(a.model_dir, a.network_only);
   const auto maps = ScenarioMaps(a.scenarios);
   const std::vector<classify::Trajectory> trajectories = ReadTrajectories(a.inputs, false);
   const std::vector<classify::Window> windows = classifier.Windows(trajectories);
@@ -454,12 +454,6 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
               label.c_str(), epochs, tuned.c_str(), train_s, trained_windows / train_s, long_val.size(),
               resnet.macro_f1, rf.macro_f1);
   return 0;
-}
-
-classify::TrajectoryClassifier LoadTrainedClassifier(const std::string& model_dir, bool network_only) {
-  const std::string forest = model_dir + "/forest.yml";
-  const bool combine = !network_only && std::filesystem::exists(forest);
-  return classify::TrajectoryClassifier::Load(model_dir + "/model", combine ? forest : "");
 }
 
 void AddClassifyCommand(CLI::App& app, int& exit_code) {

@@ -57,12 +57,6 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
 // and both train commands.
 void AddPseudoLabelOption(CLI::App& cmd, classify::PseudoLabelOptions& o);
 
-// The classifier a train run wrote to `model_dir`: the network combined with the
-// forest beside it (forest.yml), or the network alone when `network_only` is set
-// or the directory holds no forest. Shared by `classify predict`, `ais predict` and
-// `track --model`.
-classify::TrajectoryClassifier LoadTrainedClassifier(const std::string& model_dir, bool network_only);
-
 // Cross-validation with folds disjoint by object on a prepared dataset
 // (crossval_command.cpp); shared by `ais eval` and `classify crossval`.
 struct CrossValidationArgs {

@@ -31,6 +31,9 @@ void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& defa
                  "continue the map artefact in this directory: localize the first scan on it, then map on, "
                  "closing loops against it (writes the extended map)")
       ->excludes("--map");
+  cmd.add_option("--model", args.model_dir,
+                 "classify the perceived tracks online with this `specht classify train` output "
+                 "(same as --set perception.classifier_model=DIR)");
   cmd.add_option("--rate", args.rate, "pace at R x real time (same as --set replay.rate=R)");
   cmd.add_option("--from", args.from_s, "start S seconds into the data (replay.from_s)");
   cmd.add_option("--to", args.to_s, "stop S seconds into the data (replay.to_s)");
@@ -41,6 +44,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
   if (a.rate) common.overrides.push_back("replay.rate=" + Real(*a.rate));
   if (a.from_s) common.overrides.push_back("replay.from_s=" + Real(*a.from_s));
   if (a.to_s) common.overrides.push_back("replay.to_s=" + Real(*a.to_s));
+  if (!a.model_dir.empty()) common.overrides.push_back("perception.classifier_model=" + a.model_dir);
   // Everything that can be wrong with the input is checked before anything is written.
   const params::Params params = LoadParams(common);
   pipeline::Replay replay(params,

@@ -15,14 +15,13 @@
 // --network-only); its probabilities go into the track's
 // class_probabilities, and report.json scores its class per track-frame against the
 // class of the agent the track followed, next to the tracker's own detection vote.
-#include <chrono>
 #include <cstdio>
 #include <map>
 #include <optional>
 
 #include "commands.h"
 #include "run_setup.h"
-#include "scenario_map_features.h"
+#include "specht/pipeline/map_features.h"
 #include "specht/classify/metrics.h"
 #include "specht/classify/trajectory_classifier.h"
 #include "specht/core/error.h"
@@ -32,6 +31,7 @@
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
 #include "specht/sim/world.h"
+#include "specht/pipeline/online_classifier.h"
 #include "specht/pipeline/synthetic_tracking.h"
 
 namespace specht::app {
@@ -46,36 +46,18 @@ struct TrackArgs {
   double match_threshold_m = 1.0;
 };
 
-// The online classifier's answers of one run, by (track sample id, time).
-struct OnlineClasses {
-  std::map<std::pair<std::string, double>, std::string> cls;
-  long classified = 0;
-  double seconds = 0;
-};
+// The online classifier's class per (track sample id, time) of one run: the most
+// probable class of the track's latest window.
+using OnlineClasses = std::map<std::pair<std::string, double>, std::string>;
 
-// Classifies the confirmed tracks of one frame from their latest windows.
-void ClassifyOnline(const classify::TrajectoryClassifier& classifier, const classify::MapFeatures& map,
-                    const std::string& prefix, std::vector<types::Track>& tracks, double t_s, OnlineClasses& out) {
-  const auto t0 = std::chrono::steady_clock::now();
-  std::vector<classify::Window> windows;
-  std::vector<types::Track*> owners;
-  for (auto& t : tracks) {
-    if (t.state != "confirmed") continue;
-    classify::Trajectory trajectory{std::to_string(t.id), "", {}};
-    for (const auto& p : t.history) trajectory.points.push_back({p.stamp.Seconds(), p.x_m, p.y_m});
-    if (auto w = classifier.LatestWindow(trajectory)) windows.push_back(std::move(*w)), owners.push_back(&t);
+void RecordOnlineClasses(const std::vector<types::Track>& tracks, const std::string& prefix, double t_s,
+                         OnlineClasses& out) {
+  for (const auto& t : tracks) {
+    if (t.state != "confirmed" || t.class_probabilities.empty()) continue;
+    const auto best = std::max_element(t.class_probabilities.begin(), t.class_probabilities.end(),
+                                       [](auto& a, auto& b) { return a.second < b.second; });
+    out[{prefix + "t" + std::to_string(t.id), t_s}] = best->first;
   }
-  if (windows.empty()) return;
-  const std::vector<float> p = classifier.Classify(windows, map);
-  const auto& classes = classifier.classes();
-  for (size_t i = 0; i < owners.size(); ++i) {
-    const float* row = p.data() + i * classes.size();
-    for (size_t c = 0; c < classes.size(); ++c) owners[i]->class_probabilities[classes[c]] = row[c];
-    const size_t best = std::max_element(row, row + classes.size()) - row;
-    out.cls[{prefix + "t" + std::to_string(owners[i]->id), t_s}] = classes[best];
-  }
-  out.classified += static_cast<long>(owners.size());
-  out.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 std::array<unsigned char, 3> ClassColour(const std::string& cls) {
@@ -117,12 +99,15 @@ int RunTrack(const TrackArgs& a) {
   for (const auto& path : a.scenarios) scenarios.push_back(sim::LoadScenario(path));
   std::vector<std::pair<uint64_t, uint64_t>> seeds;
   for (const auto& s : scenarios) seeds.push_back(ParseSeedRange(a.seeds, s.seed));
-  std::optional<classify::TrajectoryClassifier> classifier;
-  if (!a.model_dir.empty()) classifier = LoadTrainedClassifier(a.model_dir, a.network_only);
+  std::shared_ptr<const classify::TrajectoryClassifier> classifier;
+  if (!a.model_dir.empty())
+    classifier = std::make_shared<classify::TrajectoryClassifier>(
+        classify::TrajectoryClassifier::LoadDirectory(a.model_dir, a.network_only));
+  const auto latest = pipeline::OnlineClassifier::Averaging::kLatest;
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
   // Per labelled track-frame the classifier saw: truth, classifier, tracker vote.
-  std::vector<int> online_truth, online_classifier, online_vote;
+  std::vector<int> online_truth, online_predicted, online_vote;
   double online_s = 0;
   long online_classified = 0;
 
@@ -139,7 +124,9 @@ int RunTrack(const TrackArgs& a) {
   for (size_t i = 0; i < scenarios.size(); ++i) {
     for (uint64_t seed = seeds[i].first; seed <= seeds[i].second; ++seed) {
       const std::string prefix = "s" + std::to_string(seed) + "/" + scenarios[i].name + "/";
-      const classify::MapFeatures map = classifier ? ScenarioMapFeatures(scenarios[i]) : classify::MapFeatures{};
+      const classify::MapFeatures map = classifier ? pipeline::ScenarioMapFeatures(scenarios[i]) : classify::MapFeatures{};
+      std::optional<pipeline::OnlineClassifier> online_classifier;
+      if (classifier) online_classifier.emplace(classifier, latest);
       OnlineClasses online;
       pipeline::SyntheticRun run = pipeline::RunSyntheticTracking(
           scenarios[i], seed, tracker, detection, prefix,
@@ -147,7 +134,9 @@ int RunTrack(const TrackArgs& a) {
             progress.Update(done_s + f * scenarios[i].duration_s, (done_s + f * scenarios[i].duration_s) / total_s);
           },
           [&](std::vector<types::Track>& tracks, double t_s) {
-            if (classifier) ClassifyOnline(*classifier, map, prefix, tracks, t_s, online);
+            if (!online_classifier) return;
+            online_classifier->Update(tracks, map);
+            RecordOnlineClasses(tracks, prefix, t_s, online);
           });
       done_s += scenarios[i].duration_s;
       const eval::MotResult mot = eval::EvaluateMot(run.truth, run.tracks, a.match_threshold_m);
@@ -158,14 +147,14 @@ int RunTrack(const TrackArgs& a) {
           return static_cast<int>(std::find(classes.begin(), classes.end(), c) - classes.begin());
         };
         for (const auto& sample : run.tracks) {
-          const auto it = online.cls.find({sample.id, sample.t_s});
-          if (it == online.cls.end() || index(sample.truth_cls) == static_cast<int>(classes.size())) continue;
+          const auto it = online.find({sample.id, sample.t_s});
+          if (it == online.end() || index(sample.truth_cls) == static_cast<int>(classes.size())) continue;
           online_truth.push_back(index(sample.truth_cls));
-          online_classifier.push_back(index(it->second));
+          online_predicted.push_back(index(it->second));
           online_vote.push_back(index(sample.cls));
         }
-        online_s += online.seconds;
-        online_classified += online.classified;
+        online_s += online_classifier->seconds();
+        online_classified += online_classifier->windows();
       }
       if (all_truth.empty()) WriteTracksPng(scenarios[i], run, out + "/tracks.png");
       nlohmann::json j = mot.ToJson();
@@ -188,7 +177,7 @@ int RunTrack(const TrackArgs& a) {
   j["timing"] = {{"frames", frames}, {"tracker_ms_per_frame", frames ? 1000.0 * tracker_s / frames : 0.0}};
   if (classifier) {
     const int k = static_cast<int>(classifier->classes().size());
-    const auto by_classifier = classify::Score(online_truth, online_classifier, k);
+    const auto by_classifier = classify::Score(online_truth, online_predicted, k);
     const auto by_vote = classify::Score(online_truth, online_vote, k);
     j["online_classification"] = {
         {"model", a.model_dir},

@@ -2,9 +2,13 @@
 // are replaced by the real KITTI object pair, so the detector has cars to find; they
 // land in the report, the tracker, the world model's snapshots and the map picture.
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "specht/io/object_tracks.h"
 
 #include "test_support.h"
 
@@ -56,7 +60,9 @@ TEST(PerceptionReplayTest, StereoFramesBecomeObstaclesInTheWorldModel) {
     EXPECT_EQ(snap["layer_stamps_s"]["tracks"].get<double>(), t);
     EXPECT_EQ(snap["layer_stamps_s"]["octree"].get<double>(), t);
     EXPECT_LE(static_t, t);
-    if (snapshots > 0) EXPECT_GT(static_t, 0);  // the first frame may come before the first map
+    if (snapshots > 0) {
+      EXPECT_GT(static_t, 0);  // the first frame may come before the first map
+    }
     EXPECT_GT(snap["octree"]["leaves"].get<int>(), 100);
     for (const auto& o : snap["obstacles"]) EXPECT_LE(o["stamp_s"].get<double>(), t);
   }
@@ -108,6 +114,70 @@ TEST(PerceptionReplayTest, DetectionsBecomeTracksInTheWorldModel) {
   ASSERT_EQ(testing::RunSpecht(replay + out + "-again'").exit_code, 0);
   EXPECT_EQ(testing::ReadFile(out + "-again/tracks.csv"), csv);
   EXPECT_EQ(testing::ReadFile(out + "-again/snapshots.jsonl"), testing::ReadFile(out + "/snapshots.jsonl"));
+}
+
+// A drive with the photographed agents at the camera's 10 Hz, replayed with a
+// trajectory classifier trained on simulated tracker output (windows of 16 points):
+// each confirmed track old enough gets class probabilities — in tracks.csv, summing
+// to one, kept once it has them (the mean over its windows) — and both videos hold
+// one frame per stereo frame. A model directory that holds no model is refused
+// before anything is written.
+TEST(PerceptionReplayTest, TheClassifierLabelsTracksAndTheVideosShowTheDrive) {
+  const std::string data = testing::DataDir();
+  SPECHT_REQUIRE_FILE(data.empty() || !fs::exists(data + "/models") || !fs::exists(data + "/sprites") ? std::string()
+                                                                                                       : data);
+  const std::string base = testing::TempDir(), scenarios = testing::SourceDir() + "/datasets/scenarios";
+  const std::string course = scenarios + "/course-loop.yaml";
+  ASSERT_EQ(testing::RunSpecht("track '" + course + "' --seeds 1-2 -q -o '" + base + "/tracks'").exit_code, 0);
+  ASSERT_EQ(testing::RunSpecht("classify prepare '" + base + "/tracks/tracks.csv' --scenario '" + course +
+                               "' --set classify.length=16 --set 'classify.features=[x,y,dt,speed,course,accel,turn_rate,"
+                               "dist_static]' -q -o '" + base + "/data'")
+                .exit_code,
+            0);
+  ASSERT_EQ(testing::RunSpecht("classify train '" + base + "/data' --set classify_model.epochs=1 -q -o '" + base +
+                               "/model'")
+                .exit_code,
+            0);
+  ASSERT_EQ(testing::RunSpecht("sim -q '" + course + "' --duration 5 --data-dir '" + data + "' --sprites tuning -o '" +
+                               base + "/sim'")
+                .exit_code,
+            0);
+  const std::string replay = "replay -q '" + base + "/sim/sim.rawlog' --data-dir '" + data + "' --model '";
+  const auto r = testing::RunSpecht(replay + base + "/model' -o '" + base + "/replay'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = nlohmann::json::parse(testing::ReadFile(base + "/replay/report.json"));
+  EXPECT_GT(report["perception"]["windows_classified"].get<int>(), 0) << report["perception"].dump();
+
+  const auto tracks = io::ReadObjectTracks(base + "/replay/tracks.csv");
+  EXPECT_THAT(testing::ReadFile(base + "/replay/tracks.csv"),
+              ::testing::StartsWith("id,t_s,x_m,y_m,class,p_car,p_cyclist,p_pedestrian\n"));
+  std::set<std::string> classified;
+  for (const auto& s : tracks) {
+    if (s.class_probabilities.empty()) {
+      EXPECT_FALSE(classified.count(s.id)) << s.id << " lost its probabilities at " << s.t_s;
+      continue;
+    }
+    classified.insert(s.id);
+    double sum = 0;
+    for (const auto& [cls, p] : s.class_probabilities) sum += p;
+    EXPECT_NEAR(sum, 1.0, 2e-4) << s.id << " at " << s.t_s;
+  }
+  EXPECT_FALSE(classified.empty());
+
+  const int frames = report["perception"]["frames"].get<int>();
+  for (const auto& [name, size] : {std::pair{"camera.mp4", cv::Size(1242, 374)}, {"birds_eye.mp4", cv::Size(600, 600)}}) {
+    cv::VideoCapture video(base + "/replay/" + name);
+    ASSERT_TRUE(video.isOpened()) << name;
+    int n = 0;
+    for (cv::Mat f; video.read(f); ++n) ASSERT_EQ(f.size(), size) << name;
+    EXPECT_EQ(n, frames) << name;
+  }
+
+  fs::create_directories(base + "/empty");
+  const auto bad = testing::RunSpecht(replay + base + "/empty' -o '" + base + "/bad'");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_THAT(bad.err, ::testing::HasSubstr(base + "/empty/model.json: cannot open"));
+  EXPECT_FALSE(fs::exists(base + "/bad/params.yaml"));
 }
 
 }  // namespace

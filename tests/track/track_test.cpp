@@ -250,6 +250,26 @@ TEST(ObjectTracksTest, RoundTripAndErrors) {
   ExpectInputError([] { io::ParseObjectTracks("", "f.csv"); }, "empty file");
 }
 
+// A classifier's probabilities travel as p_<class> columns: every class any row has,
+// an empty cell where a row has none (a track too young to classify).
+TEST(ObjectTracksTest, ClassProbabilitiesRoundTripAsPColumns) {
+  const std::string dir = testing::TempDir("object_tracks_p");
+  std::vector<io::ObjectSample> samples = {S("t1", 0.1, 1, 2), S("t1", 0.2, 1, 2), S("t2", 0.2, 3, 4)};
+  samples[1].class_probabilities = {{"pedestrian", 0.75}, {"car", 0.25}};
+  samples[2].class_probabilities = {{"cyclist", 1.0}};
+  io::WriteObjectTracks(samples, dir + "/p.csv");
+  const std::string text = testing::ReadFile(dir + "/p.csv");
+  EXPECT_THAT(text, ::testing::StartsWith("id,t_s,x_m,y_m,class,p_car,p_cyclist,p_pedestrian\nt1,0.100,1.000,2.000,,,,\n"));
+  EXPECT_THAT(text, ::testing::HasSubstr("t1,0.200,1.000,2.000,,0.2500,,0.7500\n"));
+  const auto back = io::ReadObjectTracks(dir + "/p.csv");
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_TRUE(back[0].class_probabilities.empty());
+  EXPECT_EQ(back[1].class_probabilities, samples[1].class_probabilities);
+  EXPECT_EQ(back[2].class_probabilities, samples[2].class_probabilities);
+  ExpectInputError([] { io::ParseObjectTracks("id,t_s,x_m,y_m,p_car\na,0,1,2,high\n", "f.csv"); },
+                   "f.csv:2: p_car: \"high\" is not a finite number");
+}
+
 TEST(ObjectTracksTest, TruncatedAndCorruptedInputNeverCrashes) {
   std::string text = "id,t_s,x_m,y_m,class,truth_class,ignore\n";
   for (int i = 0; i < 40; ++i) text += "o" + std::to_string(i % 3) + "," + std::to_string(0.1 * i) + ",1.5,-2,car,car,0\n";

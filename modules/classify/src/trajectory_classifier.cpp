@@ -1,5 +1,6 @@
 #include "specht/classify/trajectory_classifier.h"
 
+#include <filesystem>
 #include <functional>
 #include <sstream>
 
@@ -125,6 +126,12 @@ TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path, const s
   TrajectoryClassifier classifier(std::move(model), std::move(windows), std::move(inputs));
   if (!forest_path.empty()) classifier.forest_ = ForestBaseline::Load(forest_path);
   return classifier;
+}
+
+TrajectoryClassifier TrajectoryClassifier::LoadDirectory(const std::string& dir, bool network_only) {
+  const std::string forest = dir + "/forest.yml";
+  const bool combine = !network_only && std::filesystem::exists(forest);
+  return Load(dir + "/model", combine ? forest : "");
 }
 
 std::optional<Window> TrajectoryClassifier::LatestWindow(const Trajectory& t) const {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "specht/core/csv.h"
@@ -33,6 +34,9 @@ std::vector<ObjectSample> ParseObjectTracks(const std::string& text, const std::
   const int cls = column.count("class") ? column["class"] : -1;
   const int truth = column.count("truth_class") ? column["truth_class"] : -1;
   const int ignore = column.count("ignore") ? column["ignore"] : -1;
+  std::vector<std::pair<std::string, int>> probability;  // (class, column) of each p_<class>
+  for (const auto& [name, i] : column)
+    if (name.size() > 2 && name.rfind("p_", 0) == 0) probability.push_back({name.substr(2), i});
   std::vector<ObjectSample> out;
   while (std::getline(in, line)) {
     ++line_no;
@@ -45,14 +49,15 @@ std::vector<ObjectSample> ParseObjectTracks(const std::string& text, const std::
     ObjectSample s;
     s.id = cells[column["id"]];
     if (s.id.empty()) throw InputError(where + "id: empty");
-    auto number = [&](const char* name) {
-      const std::string& cell = cells[column[name]];
+    auto number_at = [&](int index, const std::string& name) {
+      const std::string& cell = cells[index];
       char* end = nullptr;
       const double v = std::strtod(cell.c_str(), &end);
       if (cell.empty() || *end != '\0' || !std::isfinite(v))
         throw InputError(where + name + ": \"" + cell + "\" is not a finite number");
       return v;
     };
+    auto number = [&](const char* name) { return number_at(column[name], name); };
     s.t_s = number("t_s");
     s.x_m = number("x_m");
     s.y_m = number("y_m");
@@ -63,6 +68,8 @@ std::vector<ObjectSample> ParseObjectTracks(const std::string& text, const std::
         throw InputError(where + "ignore: \"" + cells[ignore] + "\" is not 0 or 1");
       s.ignore = cells[ignore] == "1";
     }
+    for (const auto& [cls, i] : probability)
+      if (!cells[i].empty()) s.class_probabilities[cls] = number_at(i, "p_" + cls);
     out.push_back(std::move(s));
   }
   return out;
@@ -78,14 +85,29 @@ std::vector<ObjectSample> ReadObjectTracks(const std::string& path) {
 
 void WriteObjectTracks(const std::vector<ObjectSample>& samples, const std::string& path) {
   bool with_truth = false, with_ignore = false;
-  for (const auto& s : samples) with_truth |= !s.truth_cls.empty(), with_ignore |= s.ignore;
+  std::set<std::string> classes;  // of the p_<class> columns
+  for (const auto& s : samples) {
+    with_truth |= !s.truth_cls.empty(), with_ignore |= s.ignore;
+    for (const auto& [cls, p] : s.class_probabilities) classes.insert(cls);
+  }
   std::string text = std::string("id,t_s,x_m,y_m,class") + (with_truth ? ",truth_class" : "") +
-                     (with_ignore ? ",ignore" : "") + "\n";
+                     (with_ignore ? ",ignore" : "");
+  for (const auto& c : classes) text += ",p_" + c;
+  text += "\n";
   char row[160];
   for (const auto& s : samples) {
     std::snprintf(row, sizeof(row), ",%.3f,%.3f,%.3f,", s.t_s, s.x_m, s.y_m);
-    text += s.id + row + s.cls + (with_truth ? "," + s.truth_cls : "") + (with_ignore ? (s.ignore ? ",1" : ",0") : "") +
-            "\n";
+    text += s.id + row + s.cls + (with_truth ? "," + s.truth_cls : "") + (with_ignore ? (s.ignore ? ",1" : ",0") : "");
+    for (const auto& c : classes) {
+      const auto p = s.class_probabilities.find(c);
+      if (p == s.class_probabilities.end()) {
+        text += ",";
+        continue;
+      }
+      std::snprintf(row, sizeof(row), ",%.4f", p->second);
+      text += row;
+    }
+    text += "\n";
   }
   WriteTextAtomically(path, text);
 }

@@ -10,6 +10,8 @@
 
 #include "specht/core/error.h"
 #include "specht/core/log.h"
+#include "internal/perception_video.h"
+#include "specht/pipeline/map_features.h"
 #include "specht/pipeline/pose_history.h"
 #include "specht/pipeline/stereo_perception.h"
 #include "specht/stereo/point_cloud.h"
@@ -47,13 +49,16 @@ nlohmann::json PerceptionSummary::ToJson() const {
           {"track_updates", track_updates},
           {"tracks_confirmed", tracks_confirmed},
           {"frames_at_held_pose", frames_at_held_pose},
+          {"windows_classified", windows_classified},
           {"ms_per_frame",
            {{"stereo", per_frame(stereo.stereo_ms)},
             {"detect", per_frame(stereo.detect_ms)},
             {"fusion", per_frame(stereo.fusion_ms)},
             {"track", per_frame(track_ms)},
+            {"classify", per_frame(classify_ms)},
             {"octree", per_frame(octree_ms)},
-            {"world", per_frame(world_ms)}}}};
+            {"world", per_frame(world_ms)},
+            {"video", per_frame(video_ms)}}}};
 }
 
 struct PerceptionPipeline::Stages {
@@ -77,7 +82,13 @@ struct PerceptionPipeline::Stages {
 
 PerceptionPipeline::PerceptionPipeline(const params::Params& params, std::string data_dir)
     : params_(params), options_(params.Get<PerceptionOptions>("perception")), data_dir_(std::move(data_dir)),
-      world_(params.Get<world::WorldModelOptions>("world")) {}
+      world_(params.Get<world::WorldModelOptions>("world")) {
+  if (options_.mode == "off" || options_.classifier_model.empty()) return;
+  classifier_ = std::make_unique<OnlineClassifier>(
+      std::make_shared<classify::TrajectoryClassifier>(
+          classify::TrajectoryClassifier::LoadDirectory(options_.classifier_model, options_.classifier_network_only)),
+      OnlineClassifier::Averaging::kTrack);
+}
 
 PerceptionPipeline::~PerceptionPipeline() = default;
 
@@ -138,6 +149,11 @@ void PerceptionPipeline::ProcessFrame(const mrpt::obs::CObservation::Ptr& o, Sta
   s.tracker.Update(frame.obstacles, t);
   std::vector<types::Track> tracks = s.tracker.Tracks();
   s.summary.track_ms += MsSince(t0);
+  if (classifier_) {
+    t0 = Clock::now();
+    classifier_->Update(tracks, map_features_);
+    s.summary.classify_ms += MsSince(t0);
+  }
 
   world::WorldUpdate update;
   update.stamp = t;
@@ -163,13 +179,43 @@ void PerceptionPipeline::ProcessFrame(const mrpt::obs::CObservation::Ptr& o, Sta
   s.summary.world_ms += MsSince(t0);
 
   for (const auto& tr : tracks) {
-    track_samples_.push_back({"t" + std::to_string(tr.id), t.Seconds(), tr.x_m, tr.y_m, tr.cls, ""});
+    track_samples_.push_back({"t" + std::to_string(tr.id), t.Seconds(), tr.x_m, tr.y_m, tr.cls, "", false,
+                              tr.class_probabilities});
     if (tr.state == "confirmed") s.confirmed.insert(tr.id);
   }
   for (const auto& ob : frame.obstacles)
     seen_[ob.cls].push_back({ob.stamp, mrpt::poses::CPose3D(ob.x_m, ob.y_m, 0, 0, 0, 0)});
   ++s.summary.track_updates;
   if (snapshot_due) KeepSnapshot();
+  if (camera_video_) {
+    t0 = Clock::now();
+    WriteVideoFrames(frame, tracks, pose);
+    s.summary.video_ms += MsSince(t0);
+  }
+}
+
+void PerceptionPipeline::WriteVideosTo(const std::string& dir) {
+  if (options_.mode == "off" || options_.video == "off") return;
+  const auto format = options_.video == "png" ? io::VideoSink::Format::kPng : io::VideoSink::Format::kMp4;
+  camera_video_ = std::make_unique<io::VideoSink>(dir + "/camera.mp4", options_.video_fps, format);
+  birds_eye_video_ = std::make_unique<io::VideoSink>(dir + "/birds_eye.mp4", options_.video_fps, format);
+}
+
+void PerceptionPipeline::WriteVideoFrames(const PerceivedFrame& frame, const std::vector<types::Track>& tracks,
+                                          const mrpt::poses::CPose3D& pose) {
+  const auto snapshot = world_.snapshot();
+  if (!first_frame_) first_frame_ = snapshot->stamp;
+  camera_video_->Write(internal::AnnotatedCamera(frame, tracks));
+  birds_eye_video_->Write(internal::BirdsEye(*snapshot, pose, SecondsBetween(*first_frame_, snapshot->stamp),
+                                             options_.birds_eye_extent_m, options_.birds_eye_px));
+}
+
+std::vector<std::string> PerceptionPipeline::CloseVideos() {
+  std::vector<std::string> written;
+  for (auto* video : {camera_video_.get(), birds_eye_video_.get()})
+    if (video)
+      if (std::string name = video->Close(); !name.empty()) written.push_back(name);
+  return written;
 }
 
 void PerceptionPipeline::KeepSnapshot() {
@@ -181,6 +227,7 @@ void PerceptionPipeline::KeepSnapshot() {
 void PerceptionPipeline::SetStaticMap(const mrpt::maps::COccupancyGridMap2D& grid, Stamp t) {
   if (!stages_) return;
   world_.SetStaticMap(grid, t);
+  if (classifier_) map_features_ = GridMapFeatures(grid);
   last_map_ = t;
 }
 
@@ -193,6 +240,7 @@ PerceptionSummary PerceptionPipeline::summary() const {
   PerceptionSummary out = stages_->summary;
   out.stereo = stages_->perception.stats();
   out.tracks_confirmed = static_cast<long>(stages_->confirmed.size());
+  if (classifier_) out.windows_classified = classifier_->windows();
   return out;
 }
 

@@ -173,6 +173,56 @@ nlohmann::json ClassScores(const std::vector<std::pair<std::string, std::string>
   return j;
 }
 
+// (predicted, true) class pairs of the perceived tracks, one per track that followed
+// an agent (against the class of the agent it followed most), by three answers:
+//   vote        the detections' vote: the class most of the track's rows carry;
+//   classifier  the most probable class of the trajectory classifier's mean over the
+//               rows it classified (tracks it never classified are left out);
+//   combined    the most probable of the mean of the vote's row shares and the
+//               classifier's mean (the vote alone where the classifier gave nothing).
+struct TrackClassPairs {
+  std::vector<std::pair<std::string, std::string>> vote, classifier, combined;
+};
+
+std::string MostProbable(const std::map<std::string, double>& p) {
+  return std::max_element(p.begin(), p.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+}
+
+TrackClassPairs ClassPairs(const std::vector<io::ObjectSample>& tracks, const std::vector<io::ObjectSample>& truth,
+                           const std::map<std::string, std::string>& truth_of_hypothesis) {
+  struct Rows {
+    std::map<std::string, double> votes, probabilities;
+    long rows = 0, classified = 0;
+  };
+  std::map<std::string, Rows> by_track;
+  for (const auto& s : tracks) {
+    Rows& r = by_track[s.id];
+    ++r.rows, r.votes[s.cls] += 1;
+    if (!s.class_probabilities.empty()) ++r.classified;
+    for (const auto& [cls, p] : s.class_probabilities) r.probabilities[cls] += p;
+  }
+  std::map<std::string, std::string> truth_class;
+  for (const auto& s : truth) truth_class[s.id] = s.cls;
+  TrackClassPairs out;
+  for (const auto& [hyp, agent] : truth_of_hypothesis) {
+    const auto it = by_track.find(hyp);
+    if (it == by_track.end()) continue;
+    const Rows& r = it->second;
+    const std::string& cls = truth_class[agent];
+    out.vote.push_back({MostProbable(r.votes), cls});
+    if (r.classified == 0) {
+      out.combined.push_back(out.vote.back());
+      continue;
+    }
+    out.classifier.push_back({MostProbable(r.probabilities), cls});
+    std::map<std::string, double> both;
+    for (const auto& [c, n] : r.votes) both[c] += 0.5 * n / r.rows;
+    for (const auto& [c, p] : r.probabilities) both[c] += 0.5 * p / r.classified;
+    out.combined.push_back({MostProbable(both), cls});
+  }
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json EvaluatePerceivedTracks(const std::string& sim_dir, const std::string& replay_dir,
@@ -195,7 +245,7 @@ nlohmann::json EvaluatePerceivedTracks(const std::string& sim_dir, const std::st
     for (const auto& a : agents)
       care[a.id] = a.visible >= o.min_visible && a.box.height >= o.min_height_px && a.range_m <= o.max_range_m;
     for (const auto& [id, p] : present->second)
-      truth.push_back({std::to_string(id), t, p.x_m, p.y_m, p.cls, "", !care[id]});
+      truth.push_back({std::to_string(id), t, p.x_m, p.y_m, p.cls, "", !care[id], {}});
   }
   // Tracks into the truth's frame, at the camera frames' times.
   std::vector<io::ObjectSample> tracks = io::ReadObjectTracks(replay_dir + "/tracks.csv");
@@ -205,20 +255,11 @@ nlohmann::json EvaluatePerceivedTracks(const std::string& sim_dir, const std::st
     s.t_s = Tenth(s.t_s - epoch_s) / 10.0;
   }
   const eval::MotResult mot = eval::EvaluateMot(truth, tracks, o.match_threshold_m);
-  // Each track's class (its detections' vote, the class of most of its rows) against
-  // the class of the agent it followed most.
-  std::map<std::string, std::map<std::string, int>> votes;
-  for (const auto& s : tracks) ++votes[s.id][s.cls];
-  std::map<std::string, std::string> truth_class;
-  for (const auto& s : truth) truth_class[s.id] = s.cls;
-  std::vector<std::pair<std::string, std::string>> pairs;
-  for (const auto& [hyp, agent] : mot.truth_of_hypothesis) {
-    const auto& v = votes[hyp];
-    const auto best = std::max_element(v.begin(), v.end(), [](auto& a, auto& b) { return a.second < b.second; });
-    if (best != v.end()) pairs.push_back({best->first, truth_class[agent]});
-  }
+  const TrackClassPairs classes = ClassPairs(tracks, truth, mot.truth_of_hypothesis);
   return {{"mot", mot.ToJson()},
-          {"class_detector_vote", ClassScores(pairs)},
+          {"class_detector_vote", ClassScores(classes.vote)},
+          {"class_classifier", ClassScores(classes.classifier)},
+          {"class_combined", ClassScores(classes.combined)},
           {"slam_ate_rmse_m", ate.rmse_m},
           {"care", {{"max_range_m", o.max_range_m}, {"match_threshold_m", o.match_threshold_m}}}};
 }

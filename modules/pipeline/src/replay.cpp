@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "internal/map_outputs.h"
+#include "internal/perception_video.h"
 #include "specht/core/error.h"
 #include "specht/core/log.h"
 #include "specht/core/progress.h"
@@ -99,6 +100,7 @@ struct Replay::State {
   std::string reference_path;
   Trajectory reference;
   internal::SavedMap saved;
+  std::unique_ptr<PerceptionPipeline> perception;
 
   // The parts of one run.
   Estimate Localize(io::ReplayClock& clock, PerceptionPipeline& perception, io::StageTimer& timer,
@@ -109,7 +111,7 @@ struct Replay::State {
 };
 
 Replay::Replay(const params::Params& params, ReplayInputs in, std::string command)
-    : state_(std::make_unique<State>(State{params, std::move(in), std::move(command), nullptr, "", {}, {}})) {
+    : state_(std::make_unique<State>(State{params, std::move(in), std::move(command), nullptr, "", {}, {}, nullptr})) {
   State& s = *state_;
   if (s.in.dataset.empty()) s.in.dataset = io::DefaultRawlog();
   const auto& replay = params.Get<io::ReplayOptions>("replay");
@@ -120,6 +122,7 @@ Replay::Replay(const params::Params& params, ReplayInputs in, std::string comman
   if (!s.reference_path.empty()) s.reference = io::ReadReference(s.reference_path);
   if (!s.in.map_dir.empty()) s.saved = internal::ReadMapArtefact(s.in.map_dir);
   if (!s.in.continue_dir.empty()) s.saved = internal::ReadMapArtefact(s.in.continue_dir);
+  s.perception = std::make_unique<PerceptionPipeline>(params, s.in.data_dir);
 }
 
 Replay::~Replay() = default;
@@ -255,6 +258,7 @@ void WritePerception(PerceptionPipeline& perception, const mrpt::maps::COccupanc
   io::WriteTextAtomically(out + "/snapshots.jsonl", lines);
   io::WriteTextAtomically(out + "/world.json", perception.world().snapshot()->ToJson().dump(1) + "\n");
   for (const char* f : {"tracks.csv", "snapshots.jsonl", "world.json"}) report.AddOutput(f);
+  for (const auto& f : perception.CloseVideos()) report.AddOutput(f);
   report.json()["perception"] = perception.summary().ToJson();
   report.json()["perception"]["snapshots"] = perception.snapshots().size();
 }
@@ -265,12 +269,8 @@ void WriteMapPicture(const mrpt::maps::COccupancyGridMap2D& grid, const Trajecto
   std::vector<io::PathOverlay> paths;
   if (!reference_in_map.empty()) paths.push_back({&reference_in_map, {40, 170, 60}, "reference"});
   paths.push_back({&trajectory, {30, 90, 220}, "estimate"});
-  static const std::map<std::string, std::array<unsigned char, 3>> kClassColours = {
-      {"pedestrian", {220, 30, 30}}, {"cyclist", {230, 180, 0}}, {"car", {240, 120, 0}}};
-  for (const auto& [cls, where] : perception.seen()) {
-    const auto colour = kClassColours.count(cls) ? kClassColours.at(cls) : std::array<unsigned char, 3>{120, 0, 160};
-    paths.push_back({&where, colour, cls + " (" + std::to_string(where.size()) + ")", true});
-  }
+  for (const auto& [cls, where] : perception.seen())
+    paths.push_back({&where, internal::ClassColour(cls), cls + " (" + std::to_string(where.size()) + ")", true});
   io::WriteMapPng(grid, paths, path);
 }
 
@@ -291,7 +291,8 @@ int Replay::Run(const std::string& out, bool quiet) {
                  {"continue", s.in.continue_dir}, {"params_files", s.in.param_files},
                  {"overrides", s.in.overrides}};
   int exit_code = 0;
-  PerceptionPipeline perception(s.params, s.in.data_dir);
+  PerceptionPipeline& perception = *s.perception;
+  perception.WriteVideosTo(out);
   DriveResult run;
   const Estimate e = s.in.map_dir.empty()
                          ? s.Map(clock, perception, timer, report, frames, run, out, quiet, exit_code)

@@ -86,7 +86,8 @@ PerceivedFrame StereoPerception::Process(const mrpt::obs::CObservationStereoImag
   frame.disparity = matcher_->Compute(left, right);
   stats_.stereo_ms += MsSince(t0);
   t0 = Clock::now();
-  frame.detections = detector_.Detect(obs.imageLeft.asCvMatRef());
+  frame.image = obs.imageLeft.asCvMatRef();
+  frame.detections = detector_.Detect(frame.image);
   stats_.detect_ms += MsSince(t0);
   t0 = Clock::now();
   frame.map_from_camera = map_from_base + mrpt::poses::CPose3D(obs.cameraPose);

@@ -35,14 +35,15 @@ SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, 
       if (!fresh && t - it->second.first > detection.truth_episode_gap_s) ++it->second.second;
       it->second.first = t;
       const std::string id = prefix + std::to_string(a.id) + "#" + std::to_string(it->second.second);
-      run.truth.push_back({id, t, a.pose.x, a.pose.y, sim::Name(a.cls), ""});
+      run.truth.push_back({id, t, a.pose.x, a.pose.y, sim::Name(a.cls), "", false, {}});
     }
     for (const auto& a : detector.hidden())
-      run.truth.push_back({prefix + std::to_string(a.id) + "#hidden", t, a.pose.x, a.pose.y, sim::Name(a.cls), "", true});
+      run.truth.push_back({prefix + std::to_string(a.id) + "#hidden", t, a.pose.x, a.pose.y, sim::Name(a.cls), "", true, {}});
     std::vector<types::Track> tracks = tracker.Tracks();
     if (on_tracks) on_tracks(tracks, t);
     for (const auto& tr : tracks)
-      run.tracks.push_back({prefix + "t" + std::to_string(tr.id), t, tr.x_m, tr.y_m, tr.cls, ""});
+      run.tracks.push_back(
+          {prefix + "t" + std::to_string(tr.id), t, tr.x_m, tr.y_m, tr.cls, "", false, tr.class_probabilities});
   }
   run.simulated_s = sim.time_s();
   return run;

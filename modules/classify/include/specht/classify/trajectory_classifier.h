@@ -56,6 +56,9 @@ class TrajectoryClassifier {
   // With `forest_path` (the forest.yml trained beside the network on the same
   // windows), Classify returns the two combined (CombinedProbabilities).
   static TrajectoryClassifier Load(const std::string& path, const std::string& forest_path = "");
+  // The model `classify train` (or `ais train`) wrote into `dir`: dir/model, combined
+  // with dir/forest.yml when it exists, unless `network_only`.
+  static TrajectoryClassifier LoadDirectory(const std::string& dir, bool network_only = false);
 
   // The latest window of a trajectory: the last `length` points of its last piece
   // after splitting at gaps and jumps; none when that piece is shorter than

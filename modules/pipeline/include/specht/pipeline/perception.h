@@ -5,6 +5,9 @@
 //   scans SLAM placed before and after it; a frame waits for the scan after it)
 //   → our SGM → the CNN detector → box fusion → obstacles in the map frame
 //   → the multi-object tracker (per-class motion models, track/tracker.h)
+//   → the online trajectory classifier (online_classifier.h), when a model is set:
+//     each confirmed track's latest window with the distance to the static layer's
+//     occupied cells; a track's class probabilities are the mean over its windows
 //   → the stereo points into the OctoMap (every octree_decimation-th pixel)
 //   → one world-model update holding that frame's obstacles and tracks (and, every
 //     snapshot_period_s, the OctoMap: copying it every frame would cost more than
@@ -12,6 +15,9 @@
 // The static layer comes from SLAM (SetStaticMap, as the map grows and after loop
 // closures). Snapshots of the world model are kept every snapshot_period_s of data
 // time; tracks.csv holds every reported track at every frame (io/object_tracks.h).
+// With WriteVideosTo, every frame adds to camera.mp4 (the left image, detections
+// with class, distance and track id) and birds_eye.mp4 (the world model around the
+// car: cost layer, obstacles, tracks with predictions).
 #pragma once
 
 #include <map>
@@ -26,6 +32,8 @@
 #include "specht/core/params.h"
 #include "specht/core/trajectory.h"
 #include "specht/io/object_tracks.h"
+#include "specht/io/video.h"
+#include "specht/pipeline/online_classifier.h"
 #include "specht/pipeline/stereo_perception.h"
 #include "specht/world/world_model.h"
 
@@ -39,6 +47,12 @@ struct PerceptionOptions {
   bool octree = true;
   int octree_decimation = 8;
   double max_pose_wait_s = 1.0;
+  std::string classifier_model;  // a `specht classify train` output directory
+  bool classifier_network_only = false;
+  std::string video = "mp4";
+  double video_fps = 10;
+  double birds_eye_extent_m = 50;
+  int birds_eye_px = 600;
 
   template <class V>
   void Visit(V& v) {
@@ -58,6 +72,17 @@ struct PerceptionOptions {
     v.Param("max_pose_wait_s", max_pose_wait_s,
             "a frame waits at most this long (data time) for the scan after it, then takes the latest pose",
             Range::Of(0.0, 60.0));
+    v.Param("classifier_model", classifier_model,
+            "the trajectory classifier on the tracks: a `specht classify train` output directory (empty = none)");
+    v.Param("classifier_network_only", classifier_network_only,
+            "the classifier's network alone (default: combined with the forest.yml beside it)");
+    v.Choice("video", video, {"mp4", "png", "off"},
+             "camera.mp4 (the left image with detections, distances, track ids) and birds_eye.mp4 (the world model "
+             "around the car): MP4 (PNG frames where no encoder opens), PNG frames, or none");
+    v.Param("video_fps", video_fps, "frames per second the videos play at", Range::Of(1.0, 120.0));
+    v.Param("birds_eye_extent_m", birds_eye_extent_m, "the bird's-eye view's width and height around the car",
+            Range::Of(5.0, 1000.0).Log());
+    v.Param("birds_eye_px", birds_eye_px, "the bird's-eye video's size", Range::Of(100, 2000));
   }
 };
 
@@ -65,13 +90,15 @@ struct PerceptionSummary {
   PerceptionStats stereo;  // frames, detections, obstacles; SGM, detector and fusion time
   long track_updates = 0, tracks_confirmed = 0;
   long frames_at_held_pose = 0;  // no later scan came in time: placed at the latest pose
-  double track_ms = 0, octree_ms = 0, world_ms = 0;
+  long windows_classified = 0;
+  double track_ms = 0, classify_ms = 0, octree_ms = 0, world_ms = 0, video_ms = 0;
   nlohmann::json ToJson() const;
 };
 
 class PerceptionPipeline {
  public:
-  // Loads nothing until the first stereo frame; a detector that cannot load (no
+  // Loads the trajectory classifier (InputError naming the file when it cannot) and
+  // nothing else until the first stereo frame; a detector that cannot load (no
   // models in `data_dir`) turns perception off with a warning under mode auto and
   // throws InputError under mode on.
   PerceptionPipeline(const params::Params& params, std::string data_dir);
@@ -90,11 +117,16 @@ class PerceptionPipeline {
   bool StaticMapDue(Stamp t) const;
   // The frames still queued, at the latest pose; call once after the last observation.
   void Finish();
+  // Writes the videos (option `video`) into `dir` from the next frame on.
+  void WriteVideosTo(const std::string& dir);
+  // Closes the videos; returns the outputs written (file or frame-directory names).
+  std::vector<std::string> CloseVideos();
 
   bool active() const;
   const world::WorldModel& world() const { return world_; }
   PerceptionSummary summary() const;
-  // Every reported track at every frame (id "t<track id>", class = the track's).
+  // Every reported track at every frame (id "t<track id>", class = the track's
+  // detection vote, class probabilities = the classifier's).
   const std::vector<io::ObjectSample>& track_samples() const { return track_samples_; }
   // The snapshots kept, one JSON object each (Snapshot::ToJson).
   const std::vector<nlohmann::json>& snapshots() const { return snapshots_; }
@@ -106,6 +138,8 @@ class PerceptionPipeline {
   void ProcessQueued(bool flush);
   void ProcessFrame(const mrpt::obs::CObservation::Ptr& frame, Stamp t, const mrpt::poses::CPose3D& pose);
   void KeepSnapshot();
+  void WriteVideoFrames(const PerceivedFrame& frame, const std::vector<types::Track>& tracks,
+                        const mrpt::poses::CPose3D& pose);
   bool Start();
 
   const params::Params& params_;
@@ -113,10 +147,13 @@ class PerceptionPipeline {
   std::string data_dir_;
   world::WorldModel world_;
   std::unique_ptr<Stages> stages_;
+  std::unique_ptr<OnlineClassifier> classifier_;
+  classify::MapFeatures map_features_;  // of the static layer, for the classifier
   std::vector<io::ObjectSample> track_samples_;
   std::vector<nlohmann::json> snapshots_;
   std::map<std::string, Trajectory> seen_;
-  std::optional<Stamp> last_map_, last_snapshot_;
+  std::optional<Stamp> last_map_, last_snapshot_, first_frame_;
+  std::unique_ptr<io::VideoSink> camera_video_, birds_eye_video_;
 };
 
 }  // namespace specht::pipeline

@@ -41,6 +41,7 @@ struct PerceivedFrame {
   std::vector<types::Obstacle> obstacles;  // map frame
   std::vector<detect::Detection> detections;  // left image, with or without depth
   std::vector<int> obstacle_of;               // per detection: its obstacle's index, −1 without depth
+  cv::Mat image;                           // the left image as stored (BGR or grey)
   cv::Mat disparity;                       // CV_32F, left image, 0 = none
   stereo::RectifiedCamera camera;
   mrpt::poses::CPose3D map_from_camera;

@@ -1,0 +1,119 @@
+#include "internal/perception_video.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <opencv2/imgproc.hpp>
+
+namespace specht::pipeline::internal {
+namespace {
+
+cv::Scalar Bgr(const std::string& cls) {
+  const auto c = ClassColour(cls);
+  return cv::Scalar(c[2], c[1], c[0]);
+}
+
+void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour, double scale = 0.5) {
+  int baseline = 0;
+  const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline);
+  at.x = std::clamp(at.x, 0, std::max(0, image.cols - size.width));
+  at.y = std::clamp(at.y, size.height + 2, image.rows - 2);
+  cv::rectangle(image, {at.x, at.y - size.height - 2}, {at.x + size.width, at.y + baseline}, colour, cv::FILLED);
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+}
+
+const types::Track* NearestTrack(const types::Obstacle& o, const std::vector<types::Track>& tracks) {
+  const types::Track* best = nullptr;
+  double best_d = 2.0;
+  for (const auto& t : tracks) {
+    if (t.stamp != o.stamp) continue;
+    const double d = std::hypot(t.x_m - o.x_m, t.y_m - o.y_m);
+    if (d < best_d) best_d = d, best = &t;
+  }
+  return best;
+}
+
+}  // namespace
+
+std::array<unsigned char, 3> ClassColour(const std::string& cls) {
+  if (cls == "pedestrian") return {220, 30, 30};
+  if (cls == "cyclist") return {230, 180, 0};
+  if (cls == "car") return {240, 120, 0};
+  return {120, 0, 160};
+}
+
+cv::Mat AnnotatedCamera(const PerceivedFrame& frame, const std::vector<types::Track>& tracks) {
+  cv::Mat image;
+  if (frame.image.channels() == 1) cv::cvtColor(frame.image, image, cv::COLOR_GRAY2BGR);
+  else image = frame.image.clone();
+  for (size_t i = 0; i < frame.detections.size(); ++i) {
+    const auto& d = frame.detections[i];
+    const cv::Scalar colour = Bgr(d.cls);
+    cv::rectangle(image, cv::Rect(d.box), colour, 2);
+    std::string text = d.cls;
+    const int k = i < frame.obstacle_of.size() ? frame.obstacle_of[i] : -1;
+    if (k >= 0) {
+      const types::Obstacle& o = frame.obstacles[k];
+      char range[32];
+      std::snprintf(range, sizeof(range), " %.1f m", o.range_m);
+      text += range;
+      if (const types::Track* t = NearestTrack(o, tracks)) text = "#" + std::to_string(t->id) + " " + text;
+    }
+    Label(image, text, {static_cast<int>(d.box.x), static_cast<int>(d.box.y) - 3}, colour);
+  }
+  return image;
+}
+
+cv::Mat BirdsEye(const world::Snapshot& s, const mrpt::poses::CPose3D& car, double t_s, double extent_m, int size_px) {
+  const double px_per_m = size_px / extent_m;
+  const double x0 = car.x() - extent_m / 2, y1 = car.y() + extent_m / 2;
+  const auto pixel = [&](double x, double y) {
+    return cv::Point(static_cast<int>(std::lround((x - x0) * px_per_m)), static_cast<int>(std::lround((y1 - y) * px_per_m)));
+  };
+  cv::Mat image(size_px, size_px, CV_8UC3, cv::Scalar(160, 160, 160));
+  if (s.cost && !s.cost->cost.empty()) {
+    const types::CostGrid& g = *s.cost;
+    for (int r = 0; r < size_px; ++r) {
+      auto* row = image.ptr<cv::Vec3b>(r);
+      const double y = y1 - (r + 0.5) / px_per_m;
+      for (int c = 0; c < size_px; ++c) {
+        int col = 0, grid_row = 0;
+        if (!g.Cell(x0 + (c + 0.5) / px_per_m, y, col, grid_row)) continue;
+        const uint8_t v = g.cost.at<uint8_t>(grid_row, col);
+        if (v == types::CostGrid::kUnknown) continue;
+        const uint8_t shade = v >= types::CostGrid::kInscribed ? 0 : static_cast<uint8_t>(255 - v * 150 / 252);
+        row[c] = v == types::CostGrid::kInscribed ? cv::Vec3b(90, 90, 90) : cv::Vec3b(shade, shade, shade);
+      }
+    }
+  }
+  for (const auto& o : s.obstacles) cv::circle(image, pixel(o.x_m, o.y_m), 3, Bgr(o.cls), cv::FILLED, cv::LINE_AA);
+  for (const auto& t : s.tracks) {
+    const cv::Scalar colour = Bgr(t.cls);
+    for (const auto& p : t.prediction) {
+      // The 2σ ellipse of the predicted position: the covariance's eigenvectors.
+      cv::Mat values, vectors;
+      cv::eigen(cv::Mat(p.covariance), values, vectors);
+      const double angle = std::atan2(vectors.at<double>(0, 1), vectors.at<double>(0, 0)) * 180 / CV_PI;
+      const cv::Size axes(std::max(1, static_cast<int>(2 * std::sqrt(std::max(0.0, values.at<double>(0))) * px_per_m)),
+                          std::max(1, static_cast<int>(2 * std::sqrt(std::max(0.0, values.at<double>(1))) * px_per_m)));
+      cv::ellipse(image, pixel(p.x_m, p.y_m), axes, -angle, 0, 360, colour, 1, cv::LINE_AA);
+    }
+    const cv::Point at = pixel(t.x_m, t.y_m);
+    cv::circle(image, at, 6, colour, 2, cv::LINE_AA);
+    if (!t.prediction.empty()) cv::line(image, at, pixel(t.prediction.back().x_m, t.prediction.back().y_m), colour, 1);
+    Label(image, "#" + std::to_string(t.id) + " " + t.cls, at + cv::Point(8, -8), colour, 0.4);
+  }
+  const double yaw = car.yaw();
+  const auto ahead = [&](double forward, double left) {
+    return pixel(car.x() + forward * std::cos(yaw) - left * std::sin(yaw), car.y() + forward * std::sin(yaw) + left * std::cos(yaw));
+  };
+  const std::vector<cv::Point> triangle = {ahead(1.5, 0), ahead(-0.8, 0.8), ahead(-0.8, -0.8)};
+  cv::fillConvexPoly(image, triangle, cv::Scalar(200, 90, 30), cv::LINE_AA);
+  char stamp[64];
+  std::snprintf(stamp, sizeof(stamp), "t = %.1f s   %zu tracks   %zu obstacles", t_s, s.tracks.size(),
+                s.obstacles.size());
+  Label(image, stamp, {4, 18}, cv::Scalar(255, 255, 255), 0.5);
+  return image;
+}
+
+}  // namespace specht::pipeline::internal
