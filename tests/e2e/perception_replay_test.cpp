@@ -114,6 +114,10 @@ TEST(PerceptionReplayTest, DetectionsBecomeTracksInTheWorldModel) {
   ASSERT_EQ(testing::RunSpecht(replay + out + "-again'").exit_code, 0);
   EXPECT_EQ(testing::ReadFile(out + "-again/tracks.csv"), csv);
   EXPECT_EQ(testing::ReadFile(out + "-again/snapshots.jsonl"), testing::ReadFile(out + "/snapshots.jsonl"));
+  // The pipelined run (sensing and mapping on worker threads) is the sequential one.
+  ASSERT_EQ(testing::RunSpecht(replay + out + "-sequential' --set perception.pipelined=false").exit_code, 0);
+  EXPECT_EQ(testing::ReadFile(out + "-sequential/tracks.csv"), csv);
+  EXPECT_EQ(testing::ReadFile(out + "-sequential/snapshots.jsonl"), testing::ReadFile(out + "/snapshots.jsonl"));
 }
 
 // A drive with the photographed agents at the camera's 10 Hz, replayed with a

@@ -46,7 +46,7 @@ void VideoSink::Write(const cv::Mat& bgr) {
     if (format_ == Format::kMp4) {
       const fs::path p(path_);
       writer_->tmp_path = (p.parent_path() / (p.stem().string() + ".tmp.mp4")).string();
-      for (const char* codec : {"avc1", "mp4v"}) {
+      for (const char* codec : {"mp4v", "avc1"}) {
         const int fourcc = cv::VideoWriter::fourcc(codec[0], codec[1], codec[2], codec[3]);
         if (writer_->video.open(writer_->tmp_path, cv::CAP_FFMPEG, fourcc, fps_, size_)) break;
       }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <deque>
+#include <future>
 #include <set>
 
 #include <mrpt/obs/CObservationStereoImages.h>
@@ -11,6 +12,7 @@
 #include "specht/core/error.h"
 #include "specht/core/log.h"
 #include "internal/perception_video.h"
+#include "specht/core/serial_worker.h"
 #include "specht/pipeline/map_features.h"
 #include "specht/pipeline/pose_history.h"
 #include "specht/pipeline/stereo_perception.h"
@@ -36,6 +38,17 @@ std::pair<cv::Mat, stereo::RectifiedCamera> Decimated(const cv::Mat& disparity, 
   camera.cx_px /= k;
   camera.cy_px /= k;
   return {small, camera};
+}
+
+// One frame's stereo points (every k-th pixel) into the OctoMap, rays from the camera.
+void InsertIntoOctree(octomap::OcTree& octree, const cv::Mat& full_disparity, const stereo::RectifiedCamera& full_camera,
+                      const mrpt::poses::CPose3D& map_from_camera, int k, const stereo::CloudOptions& cloud) {
+  const auto [disparity, camera] = Decimated(full_disparity, full_camera, k);
+  std::vector<stereo::ColouredPoint> points = stereo::DisparityToPoints(disparity, camera, cv::Mat(), cloud);
+  stereo::TransformPoints(points, map_from_camera);
+  const cv::Point3f origin(static_cast<float>(map_from_camera.x()), static_cast<float>(map_from_camera.y()),
+                           static_cast<float>(map_from_camera.z()));
+  stereo::InsertIntoOctree(octree, points, origin, cloud);
 }
 
 }  // namespace
@@ -67,16 +80,24 @@ struct PerceptionPipeline::Stages {
   stereo::CloudOptions cloud;
   std::unique_ptr<octomap::OcTree> octree;
   PoseHistory poses;
-  std::deque<std::pair<Stamp, mrpt::obs::CObservation::Ptr>> queued;
+  // A frame waiting for its pose, its images being sensed (or sensed) meanwhile.
+  struct Queued {
+    Stamp t;
+    std::shared_ptr<const mrpt::obs::CObservationStereoImages> observation;
+    std::shared_future<SensedFrame> sensed;
+  };
+  std::deque<Queued> queued;
+  std::shared_future<SensedFrame> last_sensed;  // the newest frame's: the next one's sensing waits for it
   PerceptionSummary summary;
   std::set<long> confirmed;
+  SerialWorker mapping;  // OctoMap insertion and video frames, in frame order
 
-  Stages(const params::Params& p, const std::string& data_dir, bool with_octree)
+  Stages(const params::Params& p, const std::string& data_dir, const PerceptionOptions& o)
       : perception(p.Get<stereo::SgmOptions>("stereo"), p.Get<detect::DetectorOptions>("detect"),
-                   p.Get<detect::FusionOptions>("fusion"), data_dir),
+                   p.Get<detect::FusionOptions>("fusion"), data_dir, o.stereo_downsample),
         tracker(p.Get<track::TrackerOptions>("track")),
         cloud(p.Get<stereo::CloudOptions>("stereo_cloud")) {
-    if (with_octree) octree = std::make_unique<octomap::OcTree>(cloud.octree_resolution_m);
+    if (o.octree) octree = std::make_unique<octomap::OcTree>(cloud.octree_resolution_m);
   }
 };
 
@@ -90,13 +111,20 @@ PerceptionPipeline::PerceptionPipeline(const params::Params& params, std::string
       OnlineClassifier::Averaging::kTrack);
 }
 
-PerceptionPipeline::~PerceptionPipeline() = default;
+PerceptionPipeline::~PerceptionPipeline() {
+  // The mapping worker's tasks write the videos and the OctoMap: let them finish first.
+  try {
+    if (stages_) stages_->mapping.Wait();
+  } catch (const std::exception& e) {
+    spdlog::error("perception: {}", e.what());
+  }
+}
 
 bool PerceptionPipeline::active() const { return stages_ != nullptr; }
 
 bool PerceptionPipeline::Start() {
   try {
-    stages_ = std::make_unique<Stages>(params_, data_dir_, options_.octree);
+    stages_ = std::make_unique<Stages>(params_, data_dir_, options_);
   } catch (const InputError& e) {
     if (options_.mode == "on") throw;
     spdlog::warn("perception off: {}", e.what());
@@ -106,10 +134,21 @@ bool PerceptionPipeline::Start() {
   return true;
 }
 
+// Each frame's images are sensed (SGM, detector) as it arrives, on a worker thread
+// when `pipelined` (one frame at a time, in order: a frame's task waits for the one
+// before), so that SLAM and the previous frames' tracking and mapping run meanwhile.
 void PerceptionPipeline::Add(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
-  if (options_.mode == "off" || !std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(o)) return;
+  auto stereo = std::dynamic_pointer_cast<const mrpt::obs::CObservationStereoImages>(o);
+  if (options_.mode == "off" || !stereo) return;
   if (!stages_ && !Start()) return;
-  stages_->queued.emplace_back(t, o);
+  Stages& s = *stages_;
+  StereoPerception* perception = &s.perception;
+  const auto launch = options_.pipelined ? std::launch::async : std::launch::deferred;
+  s.last_sensed = std::async(launch, [perception, stereo, previous = s.last_sensed] {
+                    if (previous.valid()) previous.wait();
+                    return perception->Sense(*stereo);
+                  }).share();
+  s.queued.push_back({t, stereo, s.last_sensed});
   ProcessQueued(false);
 }
 
@@ -120,30 +159,35 @@ void PerceptionPipeline::AddPose(Stamp t, const mrpt::poses::CPose3D& map_from_b
 }
 
 void PerceptionPipeline::Finish() {
-  if (stages_) ProcessQueued(true);
+  if (!stages_) return;
+  ProcessQueued(true);
+  stages_->mapping.Wait();
 }
 
-// A frame goes once a pose at or after its stamp is known, or when the newest
-// observation is max_pose_wait_s past it (then at the latest pose), or at the end.
+// A frame goes once a pose at or after its stamp is known (and, pipelined, the next
+// frame has arrived), or when the newest frame is max_pose_wait_s past it (then at
+// the latest pose), or at the end.
 void PerceptionPipeline::ProcessQueued(bool flush) {
   auto& q = stages_->queued;
   while (!q.empty()) {
-    const auto [t, frame] = q.front();
-    const bool covered = stages_->poses.Covers(t);
-    const bool waited = SecondsBetween(t, q.back().first) > options_.max_pose_wait_s;
-    if (!covered && !waited && !flush) return;
-    const auto pose = stages_->poses.At(t);
+    const Stages::Queued frame = q.front();
+    const bool covered = stages_->poses.Covers(frame.t);
+    const bool waited = SecondsBetween(frame.t, q.back().t) > options_.max_pose_wait_s;
+    // Pipelined, a frame also waits for the next one to arrive, whose sensing then
+    // runs while this one is tracked and mapped (one frame of latency).
+    const bool next_arrived = !options_.pipelined || q.size() >= 2;
+    if (!((covered && next_arrived) || waited || flush)) return;
+    const auto pose = stages_->poses.At(frame.t).value_or(mrpt::poses::CPose3D());
     if (!covered) ++stages_->summary.frames_at_held_pose;
     q.pop_front();
-    ProcessFrame(frame, t, pose.value_or(mrpt::poses::CPose3D()));
+    const mrpt::poses::CPose3D map_from_camera = pose + mrpt::poses::CPose3D(frame.observation->cameraPose);
+    ProcessFrame(stages_->perception.Place(frame.sensed.get(), map_from_camera, frame.t), frame.t, pose);
+    ApplyPendingStaticMap();
   }
 }
 
-void PerceptionPipeline::ProcessFrame(const mrpt::obs::CObservation::Ptr& o, Stamp t,
-                                      const mrpt::poses::CPose3D& pose) {
+void PerceptionPipeline::ProcessFrame(const PerceivedFrame& frame, Stamp t, const mrpt::poses::CPose3D& pose) {
   Stages& s = *stages_;
-  const auto& stereo_obs = static_cast<const mrpt::obs::CObservationStereoImages&>(*o);
-  const PerceivedFrame frame = s.perception.Process(stereo_obs, pose, t);
 
   auto t0 = Clock::now();
   s.tracker.Update(frame.obstacles, t);
@@ -159,22 +203,25 @@ void PerceptionPipeline::ProcessFrame(const mrpt::obs::CObservation::Ptr& o, Sta
   update.stamp = t;
   update.obstacles = frame.obstacles;
   update.tracks = tracks;
-  // The OctoMap grows every frame but is published (copied) with the snapshots only:
-  // a kept snapshot holds all its layers of one frame.
+  // The OctoMap takes a frame's points every octree_period_s (on the mapping worker)
+  // and is published (copied) with the snapshots only: a kept snapshot holds all its
+  // layers of one frame.
   const bool snapshot_due =
       !last_snapshot_ || SecondsBetween(*last_snapshot_, t) >= options_.snapshot_period_s - 1e-9;
-  if (s.octree) {
-    t0 = Clock::now();
-    const auto [disparity, camera] = Decimated(frame.disparity, frame.camera, options_.octree_decimation);
-    std::vector<stereo::ColouredPoint> points = stereo::DisparityToPoints(disparity, camera, cv::Mat(), s.cloud);
-    stereo::TransformPoints(points, frame.map_from_camera);
-    const cv::Point3f origin(static_cast<float>(frame.map_from_camera.x()), static_cast<float>(frame.map_from_camera.y()),
-                             static_cast<float>(frame.map_from_camera.z()));
-    stereo::InsertIntoOctree(*s.octree, points, origin, s.cloud);
-    if (snapshot_due) update.octree = std::make_shared<const octomap::OcTree>(*s.octree);
-    s.summary.octree_ms += MsSince(t0);
+  const bool octree_due = !last_octree_ || SecondsBetween(*last_octree_, t) >= options_.octree_period_s - 1e-9;
+  if (s.octree && octree_due) {
+    last_octree_ = t;
+    RunMapping([this, &s, disparity = frame.disparity, camera = frame.camera, to_map = frame.map_from_camera] {
+      const auto t0 = Clock::now();
+      InsertIntoOctree(*s.octree, disparity, camera, to_map, options_.octree_decimation, s.cloud);
+      s.summary.octree_ms += MsSince(t0);
+    });
   }
-  t0 = Clock::now();
+  t0 = Clock::now();  // publishing: the OctoMap's copy (once its insertions are done) and the update
+  if (s.octree && snapshot_due) {
+    if (options_.pipelined) s.mapping.Wait();
+    update.octree = std::make_shared<const octomap::OcTree>(*s.octree);
+  }
   world_.Apply(update);
   s.summary.world_ms += MsSince(t0);
 
@@ -188,10 +235,21 @@ void PerceptionPipeline::ProcessFrame(const mrpt::obs::CObservation::Ptr& o, Sta
   ++s.summary.track_updates;
   if (snapshot_due) KeepSnapshot();
   if (camera_video_) {
-    t0 = Clock::now();
-    WriteVideoFrames(frame, tracks, pose);
-    s.summary.video_ms += MsSince(t0);
+    const auto snapshot = world_.snapshot();
+    if (!first_frame_) first_frame_ = t;
+    RunMapping([this, &s, frame, tracks, pose, snapshot, t_s = SecondsBetween(*first_frame_, t)] {
+      const auto t0 = Clock::now();
+      camera_video_->Write(internal::AnnotatedCamera(frame, tracks));
+      birds_eye_video_->Write(
+          internal::BirdsEye(*snapshot, pose, t_s, options_.birds_eye_extent_m, options_.birds_eye_px));
+      s.summary.video_ms += MsSince(t0);
+    });
   }
+}
+
+void PerceptionPipeline::RunMapping(std::function<void()> task) {
+  if (options_.pipelined) stages_->mapping.Post(std::move(task));
+  else task();
 }
 
 void PerceptionPipeline::WriteVideosTo(const std::string& dir) {
@@ -201,16 +259,8 @@ void PerceptionPipeline::WriteVideosTo(const std::string& dir) {
   birds_eye_video_ = std::make_unique<io::VideoSink>(dir + "/birds_eye.mp4", options_.video_fps, format);
 }
 
-void PerceptionPipeline::WriteVideoFrames(const PerceivedFrame& frame, const std::vector<types::Track>& tracks,
-                                          const mrpt::poses::CPose3D& pose) {
-  const auto snapshot = world_.snapshot();
-  if (!first_frame_) first_frame_ = snapshot->stamp;
-  camera_video_->Write(internal::AnnotatedCamera(frame, tracks));
-  birds_eye_video_->Write(internal::BirdsEye(*snapshot, pose, SecondsBetween(*first_frame_, snapshot->stamp),
-                                             options_.birds_eye_extent_m, options_.birds_eye_px));
-}
-
 std::vector<std::string> PerceptionPipeline::CloseVideos() {
+  if (stages_) stages_->mapping.Wait();
   std::vector<std::string> written;
   for (auto* video : {camera_video_.get(), birds_eye_video_.get()})
     if (video)
@@ -224,11 +274,23 @@ void PerceptionPipeline::KeepSnapshot() {
   last_snapshot_ = snapshot->stamp;
 }
 
+// The static layer is written in stamp order with the frames: after every queued
+// frame older than it (pipelined, frames wait for the next one to arrive).
 void PerceptionPipeline::SetStaticMap(const mrpt::maps::COccupancyGridMap2D& grid, Stamp t) {
   if (!stages_) return;
-  world_.SetStaticMap(grid, t);
-  if (classifier_) map_features_ = GridMapFeatures(grid);
+  pending_static_ = {std::make_shared<const mrpt::maps::COccupancyGridMap2D>(grid), t};
   last_map_ = t;
+  ApplyPendingStaticMap();
+}
+
+void PerceptionPipeline::ApplyPendingStaticMap() {
+  if (!pending_static_ || (!stages_->queued.empty() && stages_->queued.front().t < pending_static_->second)) return;
+  world::WorldUpdate update;
+  update.stamp = pending_static_->second;
+  update.static_map = pending_static_->first;
+  world_.Apply(update);
+  if (classifier_) map_features_ = GridMapFeatures(*update.static_map);
+  pending_static_.reset();
 }
 
 bool PerceptionPipeline::StaticMapDue(Stamp t) const {

@@ -1,5 +1,7 @@
 #include "specht/pipeline/perception_eval.h"
 
+#include "specht/pipeline/perception.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -89,7 +91,8 @@ nlohmann::json EvaluateModel(const std::string& sim_dir, const params::Params& p
   if (shipped.format == "fastestdet_onnx")  // the ONNX graph has a fixed input size
     detector.input_width = shipped.input_width, detector.input_height = shipped.input_height;
   StereoPerception perception(params.Get<stereo::SgmOptions>("stereo"), detector,
-                              params.Get<detect::FusionOptions>("fusion"), data_dir);
+                              params.Get<detect::FusionOptions>("fusion"), data_dir,
+                              params.Get<PerceptionOptions>("perception").stereo_downsample);
   eval::DetectionScorer scorer(o.iou), any_class(o.iou);  // the second: found whatever the class
   std::vector<double> abs_error_m, rel_error;
   auto source = io::OpenDataset(sim_dir + "/sim.rawlog");

@@ -33,6 +33,39 @@ const types::Track* NearestTrack(const types::Obstacle& o, const std::vector<typ
   return best;
 }
 
+// The cost layer's grey levels: unknown as the background, free white, margins
+// shaded darker with the cost, inscribed dark grey, lethal black.
+cv::Mat CostColours() {
+  cv::Mat lut(1, 256, CV_8UC3);
+  for (int v = 0; v < 256; ++v) {
+    const auto shade = static_cast<uint8_t>(255 - v * 150 / 252);
+    lut.at<cv::Vec3b>(v) = v == types::CostGrid::kUnknown    ? cv::Vec3b(160, 160, 160)
+                           : v == types::CostGrid::kInscribed ? cv::Vec3b(90, 90, 90)
+                           : v == types::CostGrid::kLethal    ? cv::Vec3b(0, 0, 0)
+                                                              : cv::Vec3b(shade, shade, shade);
+  }
+  return lut;
+}
+
+// The part of the cost grid in view, resampled (nearest cell) onto `image`, north up.
+void DrawCost(const types::CostGrid& g, double x0, double y1, double px_per_m, cv::Mat& image) {
+  static const cv::Mat lut = CostColours();
+  // Pixel (c, r) centre at map (x0 + (c + ½)/s, y1 − (r + ½)/s): its grid cell column
+  // and row are affine in c and r; rows flip (grid rows grow with y).
+  const double cells_per_px = 1.0 / (px_per_m * g.resolution_m);
+  cv::Mat map_x(image.size(), CV_32F), map_y(image.size(), CV_32F);
+  for (int c = 0; c < image.cols; ++c)
+    map_x.at<float>(0, c) = static_cast<float>((x0 - g.origin_x_m) / g.resolution_m + (c + 0.5) * cells_per_px - 0.5);
+  for (int r = 1; r < image.rows; ++r) map_x.row(0).copyTo(map_x.row(r));
+  for (int r = 0; r < image.rows; ++r)
+    map_y.row(r).setTo(static_cast<float>((y1 - g.origin_y_m) / g.resolution_m - (r + 0.5) * cells_per_px - 0.5));
+  cv::Mat cost;
+  cv::remap(g.cost, cost, map_x, map_y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(types::CostGrid::kUnknown));
+  cv::Mat colour;
+  cv::cvtColor(cost, colour, cv::COLOR_GRAY2BGR);
+  cv::LUT(colour, lut, image);
+}
+
 }  // namespace
 
 std::array<unsigned char, 3> ClassColour(const std::string& cls) {
@@ -71,21 +104,7 @@ cv::Mat BirdsEye(const world::Snapshot& s, const mrpt::poses::CPose3D& car, doub
     return cv::Point(static_cast<int>(std::lround((x - x0) * px_per_m)), static_cast<int>(std::lround((y1 - y) * px_per_m)));
   };
   cv::Mat image(size_px, size_px, CV_8UC3, cv::Scalar(160, 160, 160));
-  if (s.cost && !s.cost->cost.empty()) {
-    const types::CostGrid& g = *s.cost;
-    for (int r = 0; r < size_px; ++r) {
-      auto* row = image.ptr<cv::Vec3b>(r);
-      const double y = y1 - (r + 0.5) / px_per_m;
-      for (int c = 0; c < size_px; ++c) {
-        int col = 0, grid_row = 0;
-        if (!g.Cell(x0 + (c + 0.5) / px_per_m, y, col, grid_row)) continue;
-        const uint8_t v = g.cost.at<uint8_t>(grid_row, col);
-        if (v == types::CostGrid::kUnknown) continue;
-        const uint8_t shade = v >= types::CostGrid::kInscribed ? 0 : static_cast<uint8_t>(255 - v * 150 / 252);
-        row[c] = v == types::CostGrid::kInscribed ? cv::Vec3b(90, 90, 90) : cv::Vec3b(shade, shade, shade);
-      }
-    }
-  }
+  if (s.cost && !s.cost->cost.empty()) DrawCost(*s.cost, x0, y1, px_per_m, image);
   for (const auto& o : s.obstacles) cv::circle(image, pixel(o.x_m, o.y_m), 3, Bgr(o.cls), cv::FILLED, cv::LINE_AA);
   for (const auto& t : s.tracks) {
     const cv::Scalar colour = Bgr(t.cls);

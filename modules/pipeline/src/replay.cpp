@@ -297,9 +297,13 @@ int Replay::Run(const std::string& out, bool quiet) {
   const Estimate e = s.in.map_dir.empty()
                          ? s.Map(clock, perception, timer, report, frames, run, out, quiet, exit_code)
                          : s.Localize(clock, perception, timer, report, frames, run, quiet, exit_code);
-  {
+  try {
     auto t = timer.Time("perception");
     perception.Finish();
+  } catch (const InputError& e) {  // a frame still queued at the end that the stack cannot use
+    spdlog::error("{}: {}", s.in.dataset, e.what());
+    report.SetIncomplete(e.what());
+    exit_code = 2;
   }
   for (const auto& skipped : s.source->SkippedRecords()) spdlog::warn("skipped {}", skipped);
 

@@ -68,34 +68,67 @@ stereo::RectifiedCamera CameraOf(const mrpt::obs::CObservationStereoImages& obs,
   return camera;
 }
 
+namespace {
+
+stereo::SgmOptions ShrunkBy(stereo::SgmOptions o, int k) {
+  if (k > 1) o.num_disparities = std::max(32, (o.num_disparities / k + 31) / 32 * 32);
+  return o;
+}
+
+}  // namespace
+
 StereoPerception::StereoPerception(const stereo::SgmOptions& sgm, const detect::DetectorOptions& detector,
-                                   const detect::FusionOptions& fusion, const std::string& data_dir)
+                                   const detect::FusionOptions& fusion, const std::string& data_dir, int downsample)
     : sgm_options_(sgm), detector_(detector, data_dir), fusion_(fusion),
-      matcher_(std::make_unique<stereo::SemiGlobalMatcher>(sgm)) {}
+      matcher_(std::make_unique<stereo::SemiGlobalMatcher>(ShrunkBy(sgm, downsample))), downsample_(downsample) {}
+
+cv::Mat StereoPerception::Disparity(const cv::Mat& left, const cv::Mat& right) {
+  if (downsample_ <= 1) return matcher_->Compute(left, right);
+  const cv::Size small(left.cols / downsample_, left.rows / downsample_);
+  cv::Mat l, r, disparity;
+  cv::resize(left, l, small, 0, 0, cv::INTER_AREA);
+  cv::resize(right, r, small, 0, 0, cv::INTER_AREA);
+  cv::resize(matcher_->Compute(l, r), disparity, left.size(), 0, 0, cv::INTER_NEAREST);
+  return disparity * downsample_;
+}
 
 StereoPerception::~StereoPerception() = default;
 
 PerceivedFrame StereoPerception::Process(const mrpt::obs::CObservationStereoImages& obs,
                                          const mrpt::poses::CPose3D& map_from_base, Stamp stamp) {
+  return Place(Sense(obs), map_from_base + mrpt::poses::CPose3D(obs.cameraPose), stamp);
+}
+
+SensedFrame StereoPerception::Sense(const mrpt::obs::CObservationStereoImages& obs) {
   if (!obs.hasImageRight) throw InputError("stereo observation '" + obs.sensorLabel + "' has no right image");
   const cv::Mat left = Gray(obs.imageLeft, "left"), right = Gray(obs.imageRight, "right");
-  PerceivedFrame frame;
-  frame.camera = CameraOf(obs, left.size());
-
+  SensedFrame sensed;
+  sensed.camera = CameraOf(obs, left.size());
   auto t0 = Clock::now();
-  frame.disparity = matcher_->Compute(left, right);
-  stats_.stereo_ms += MsSince(t0);
+  sensed.disparity = Disparity(left, right);
+  sensed.stereo_ms = MsSince(t0);
   t0 = Clock::now();
-  frame.image = obs.imageLeft.asCvMatRef();
-  frame.detections = detector_.Detect(frame.image);
-  stats_.detect_ms += MsSince(t0);
-  t0 = Clock::now();
-  frame.map_from_camera = map_from_base + mrpt::poses::CPose3D(obs.cameraPose);
+  sensed.image = obs.imageLeft.asCvMatRef();
+  sensed.detections = detector_.Detect(sensed.image);
+  sensed.detect_ms = MsSince(t0);
+  return sensed;
+}
+
+PerceivedFrame StereoPerception::Place(SensedFrame sensed, const mrpt::poses::CPose3D& map_from_camera, Stamp stamp) {
+  const auto t0 = Clock::now();
+  PerceivedFrame frame;
+  frame.image = std::move(sensed.image);
+  frame.disparity = std::move(sensed.disparity);
+  frame.camera = sensed.camera;
+  frame.detections = std::move(sensed.detections);
+  frame.map_from_camera = map_from_camera;
   for (const auto& d : frame.detections) {
     const auto o = detect::Fuse(d, frame.disparity, frame.camera, fusion_);
     frame.obstacle_of.push_back(o ? static_cast<int>(frame.obstacles.size()) : -1);
     if (o) frame.obstacles.push_back(ToMapObstacle(*o, frame.map_from_camera, stamp, next_id_++));
   }
+  stats_.stereo_ms += sensed.stereo_ms;
+  stats_.detect_ms += sensed.detect_ms;
   stats_.fusion_ms += MsSince(t0);
   ++stats_.frames;
   stats_.detections += static_cast<long>(frame.detections.size());

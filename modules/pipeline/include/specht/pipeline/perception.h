@@ -1,14 +1,17 @@
 // specht/pipeline/perception.h: everything the car perceives, into the world model.
 //
 // For every stereo frame of a replay (or a drive), in stamp order:
-//   the car's pose at the frame's own stamp (pose_history.h: interpolated between the
+//   our SGM and the CNN detector on its images as soon as it arrives (on a worker
+//   thread, one frame at a time, when `pipelined`)
+//   → the car's pose at the frame's own stamp (pose_history.h: interpolated between the
 //   scans SLAM placed before and after it; a frame waits for the scan after it)
-//   → our SGM → the CNN detector → box fusion → obstacles in the map frame
+//   → box fusion → obstacles in the map frame
 //   → the multi-object tracker (per-class motion models, track/tracker.h)
 //   → the online trajectory classifier (online_classifier.h), when a model is set:
 //     each confirmed track's latest window with the distance to the static layer's
 //     occupied cells; a track's class probabilities are the mean over its windows
-//   → the stereo points into the OctoMap (every octree_decimation-th pixel)
+//   → one frame's stereo points every octree_period_s into the OctoMap (every
+//     octree_decimation-th pixel)
 //   → one world-model update holding that frame's obstacles and tracks (and, every
 //     snapshot_period_s, the OctoMap: copying it every frame would cost more than
 //     building it), so a reader never sees the layers of two different frames.
@@ -20,6 +23,7 @@
 // car: cost layer, obstacles, tracks with predictions).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -44,8 +48,11 @@ struct PerceptionOptions {
   std::string mode = "auto";
   double map_update_s = 2.0;
   double snapshot_period_s = 0.5;
+  bool pipelined = true;
+  int stereo_downsample = 1;
   bool octree = true;
   int octree_decimation = 8;
+  double octree_period_s = 0.5;
   double max_pose_wait_s = 1.0;
   std::string classifier_model;  // a `specht classify train` output directory
   bool classifier_network_only = false;
@@ -66,9 +73,21 @@ struct PerceptionOptions {
             Range::Of(0.1, 3600.0).Log());
     v.Param("snapshot_period_s", snapshot_period_s, "a world-model snapshot is kept this often (data time)",
             Range::Of(0.05, 3600.0).Log());
+    v.Param("pipelined", pipelined,
+            "SGM and the detector on a worker thread as each frame arrives, while SLAM places the scans around it; "
+            "OctoMap insertion and video frames on another, while the next frames are tracked (false: all on the "
+            "caller's thread)");
+    v.Param("stereo_downsample", stereo_downsample,
+            "SGM on the images shrunk this many times (and num_disparities alike), its disparity brought back to "
+            "the full image: k² fewer pixels, depth resolution k times coarser",
+            Range::Of(1, 4));
     v.Param("octree", octree, "stereo points into the world model's OctoMap");
     v.Param("octree_decimation", octree_decimation, "every N-th pixel in each direction enters the OctoMap",
             Range::Of(1, 32));
+    v.Param("octree_period_s", octree_period_s,
+            "one frame's stereo points enter the OctoMap this often (data time; 0 = every frame): consecutive "
+            "frames see nearly the same points",
+            Range::Of(0.0, 60.0));
     v.Param("max_pose_wait_s", max_pose_wait_s,
             "a frame waits at most this long (data time) for the scan after it, then takes the latest pose",
             Range::Of(0.0, 60.0));
@@ -111,7 +130,7 @@ class PerceptionPipeline {
   // The car's pose (base_link in the map frame) at `t`, e.g. each scan SLAM placed;
   // processes every queued frame it covers.
   void AddPose(Stamp t, const mrpt::poses::CPose3D& map_from_base);
-  // The static layer (SLAM's grid) as of `t`.
+  // The static layer (SLAM's grid) as of `t`, written once the frames before `t` are.
   void SetStaticMap(const mrpt::maps::COccupancyGridMap2D& grid, Stamp t);
   // Whether the static layer should be rebuilt at `t` (map_update_s since the last).
   bool StaticMapDue(Stamp t) const;
@@ -136,10 +155,11 @@ class PerceptionPipeline {
  private:
   struct Stages;
   void ProcessQueued(bool flush);
-  void ProcessFrame(const mrpt::obs::CObservation::Ptr& frame, Stamp t, const mrpt::poses::CPose3D& pose);
+  void ProcessFrame(const PerceivedFrame& frame, Stamp t, const mrpt::poses::CPose3D& pose);
   void KeepSnapshot();
-  void WriteVideoFrames(const PerceivedFrame& frame, const std::vector<types::Track>& tracks,
-                        const mrpt::poses::CPose3D& pose);
+  void ApplyPendingStaticMap();
+  // On the mapping worker when pipelined, else at once.
+  void RunMapping(std::function<void()> task);
   bool Start();
 
   const params::Params& params_;
@@ -152,7 +172,9 @@ class PerceptionPipeline {
   std::vector<io::ObjectSample> track_samples_;
   std::vector<nlohmann::json> snapshots_;
   std::map<std::string, Trajectory> seen_;
-  std::optional<Stamp> last_map_, last_snapshot_, first_frame_;
+  std::optional<Stamp> last_map_, last_snapshot_, last_octree_, first_frame_;
+  // SLAM's latest grid, until the frames older than it are processed.
+  std::optional<std::pair<std::shared_ptr<const mrpt::maps::COccupancyGridMap2D>, Stamp>> pending_static_;
   std::unique_ptr<io::VideoSink> camera_video_, birds_eye_video_;
 };
 
