@@ -1,6 +1,5 @@
 #include "bench_support.h"
 
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,12 +11,6 @@
 #include <thread>
 
 namespace specht::bench {
-
-double PeakRssMib() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-}
 
 nlohmann::json MachineNotes() {
   std::string cpu = "unknown";

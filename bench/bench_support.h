@@ -6,10 +6,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "specht/core/progress.h"
+
 namespace specht::bench {
 
-// Peak resident memory of this process so far, in MiB.
-double PeakRssMib();
+using specht::PeakRssMib;  // core/progress.h
 // CPU model, core count, build type: printed with every case.
 nlohmann::json MachineNotes();
 // Prints one JSON object on one line.

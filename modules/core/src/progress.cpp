@@ -1,5 +1,7 @@
 #include "specht/core/progress.h"
 
+#include <sys/resource.h>
+
 #include <unistd.h>
 
 #include <cmath>
@@ -81,6 +83,12 @@ void ProgressLine::Finish(const std::string& summary) {
   if (tty_) std::fprintf(stderr, "\r\033[K%s\n", out.str().c_str());
   else std::fprintf(stderr, "%s\n", out.str().c_str());
   std::fflush(stderr);
+}
+
+double PeakRssMib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
 }  // namespace specht

@@ -91,6 +91,9 @@ Detector::Detector(const DetectorOptions& options, const std::string& data_dir)
   if (!problems.empty()) throw InputError("detect: " + problems.front());
   class_map_ = options.ClassMap();
   class_thresholds_ = options.ClassThresholds();
+  // OpenCV's thread count is process-wide, and changing it while another thread runs
+  // OpenCV work can crash TBB's arena: set once here, never around each inference.
+  if (cv::getNumThreads() != options.threads) cv::setNumThreads(options.threads);
   const std::string model = Resolve(options.model, data_dir), labels = Resolve(options.labels, data_dir);
   RequireFile(model, "model");
   RequireFile(labels, "labels file");
@@ -144,18 +147,14 @@ std::vector<Detection> Detector::Detect(const cv::Mat& image) {
   }
   // Darknet models were trained on RGB, FastestDet on BGR.
   const cv::Mat blob = cv::dnn::blobFromImage(resized, 1 / 255.0, input, cv::Scalar(), options_.format == "darknet", false);
-  const int previous_threads = cv::getNumThreads();
-  cv::setNumThreads(options_.threads);
   net_->net.setInput(blob);
   std::vector<cv::Mat> outputs;
   try {
     net_->net.forward(outputs, net_->outputs);
   } catch (const cv::Exception& e) {
-    cv::setNumThreads(previous_threads);
     throw InputError(net_->model_path + ": cannot run at " + std::to_string(input.width) + "×" +
                      std::to_string(input.height) + " (detect.input_width/input_height): " + e.err);
   }
-  cv::setNumThreads(previous_threads);
 
   const int classes = static_cast<int>(labels_.size());
   std::vector<Candidate> candidates;

@@ -332,6 +332,7 @@ int Replay::Run(const std::string& out, bool quiet) {
   j["timing"]["data_s"] = data_s;
   j["timing"]["real_time_factor"] = run.wall_s > 0 ? data_s / run.wall_s : 0.0;
   j["timing"]["ms_per_scan"] = e.front_end.scans > 0 ? slam_ms / e.front_end.scans : 0.0;
+  j["timing"]["peak_rss_mib"] = PeakRssMib();
   report.Write(out);
   spdlog::info("{}: {} scans, {:.1f} m, {:.2f} ms/scan, {:.0f}x real time{}", s.command, e.front_end.scans,
                PathLength(e.trajectory), e.front_end.scans ? slam_ms / e.front_end.scans : 0.0,

@@ -380,11 +380,11 @@ cv::Mat OpenCvSgbm(const cv::Mat& left, const cv::Mat& right, const SgmOptions& 
                                           : cv::StereoSGBM::MODE_SGBM;
   auto sgbm = cv::StereoSGBM::create(0, o.num_disparities, o.sgbm_block, o.sgbm_p1, o.sgbm_p2, o.lr_max_diff, 0,
                                      o.uniqueness, o.speckle_window, static_cast<int>(o.speckle_range_px * 16), mode);
-  const int previous_threads = cv::getNumThreads();
-  cv::setNumThreads(o.threads);
+  // OpenCV's thread count is process-wide (see detect/detector.cpp): changed only
+  // when it differs, which callers running OpenCV on other threads must avoid.
+  if (cv::getNumThreads() != o.threads) cv::setNumThreads(o.threads);
   cv::Mat fixed_point;
   sgbm->compute(left, right, fixed_point);
-  cv::setNumThreads(previous_threads);
   cv::Mat disparity;
   fixed_point.convertTo(disparity, CV_32F, 1.0 / 16);
   disparity.setTo(0, fixed_point <= 0);

@@ -16,6 +16,9 @@ namespace specht {
 // "3m07s" or "1h05m"; "?" when the fraction is not positive.
 std::string FormatEta(double elapsed_s, double fraction);
 
+// The process's peak resident memory so far (MiB), for reports and benchmarks.
+double PeakRssMib();
+
 class ProgressLine {
  public:
   // `unit` names what is counted ("scans"); the rate is shown in unit/s.

@@ -41,7 +41,7 @@ struct DetectorOptions {
   std::vector<std::string> class_thresholds;  // "car=0.25": per driving class
   double nms_iou = 0.45;
   double rider_overlap = 0.5;
-  int threads = 1;
+  int threads = 2;
   std::string backend = "opencv";  // opencv | default
   // "model label=driving class"; labels not listed are dropped.
   std::vector<std::string> class_map = {"person=pedestrian", "bicycle=cyclist",        "motorbike=cyclist",
@@ -67,7 +67,9 @@ struct DetectorOptions {
             "a pedestrian box covering at least this share of a cyclist (bicycle, motorbike) box is its rider: "
             "the two become one cyclist; 0 = never",
             Range::Of(0.0, 1.0));
-    v.Param("threads", threads, "OpenCV threads for inference", Range::Of(1, 64).Fixed());
+    v.Param("threads", threads,
+            "OpenCV threads for inference; OpenCV's count is process-wide, set when the detector loads",
+            Range::Of(1, 64).Fixed());
     v.Choice("backend", backend, {"opencv", "default"}, "cv::dnn backend");
     v.Param("class_map", class_map, "\"model label=driving class\" (pedestrian, cyclist, car, truck, bus, "
                                     "traffic_sign, other); unlisted labels are dropped");

@@ -1,5 +1,6 @@
 // specht/io/video.h: a video written frame by frame — an MP4 through OpenCV's
-// VideoWriter (FFmpeg: H.264 when the codec is there, MPEG-4 part 2 otherwise), or,
+// VideoWriter (FFmpeg: MPEG-4 part 2, which VLC, mpv and FFmpeg play; H.264 only
+// where that encoder is missing, as libx264's own threads slow the pipeline), or,
 // where no encoder opens, PNG frames numbered from 000000 in a directory beside it
 // (<stem>_frames/). The MP4 is written under a temporary name and renamed when
 // closed, so a run that stops early leaves a playable video of the frames so far,
