@@ -105,10 +105,10 @@ PerceptionPipeline::PerceptionPipeline(const params::Params& params, std::string
     : params_(params), options_(params.Get<PerceptionOptions>("perception")), data_dir_(std::move(data_dir)),
       world_(params.Get<world::WorldModelOptions>("world")) {
   if (options_.mode == "off" || options_.classifier_model.empty()) return;
-  classifier_ = std::make_unique<OnlineClassifier>(
-      std::make_shared<classify::TrajectoryClassifier>(
-          classify::TrajectoryClassifier::LoadDirectory(options_.classifier_model, options_.classifier_network_only)),
-      OnlineClassifier::Averaging::kTrack);
+  auto classifier = std::make_shared<classify::TrajectoryClassifier>(
+      classify::TrajectoryClassifier::LoadDirectory(options_.classifier_model, options_.classifier_network_only));
+  classifier->set_threads(options_.classifier_threads);
+  classifier_ = std::make_unique<OnlineClassifier>(classifier, OnlineClassifier::Averaging::kTrack);
 }
 
 PerceptionPipeline::~PerceptionPipeline() {

@@ -180,6 +180,9 @@ class Classifier {
   // Multiply-adds of one forward pass of one window (convolutions and linear layers).
   double multiply_adds_per_window() const;
   const ModelOptions& options() const { return options_; }
+  // libtorch threads for Predict (the saved model's options say 2; a caller whose
+  // own threads keep the cores busy may want 1).
+  void set_threads(int threads) { options_.threads = threads; }
 
  private:
   struct Net;

@@ -70,6 +70,7 @@ class TrajectoryClassifier {
   std::vector<float> Classify(const std::vector<Window>& windows, const MapFeatures& map = {}) const;
 
   const std::vector<std::string>& classes() const { return model_.classes(); }
+  void set_threads(int threads) { model_.set_threads(threads); }  // libtorch threads (Classifier::set_threads)
   const PreprocessOptions& preprocessing() const { return windows_.options; }
   // The input windows' length when the models take shorter windows (see above), else 0.
   int input_length() const { return inputs_ ? inputs_->options.length : 0; }

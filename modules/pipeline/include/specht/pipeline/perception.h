@@ -56,6 +56,7 @@ struct PerceptionOptions {
   double max_pose_wait_s = 1.0;
   std::string classifier_model;  // a `specht classify train` output directory
   bool classifier_network_only = false;
+  int classifier_threads = 1;
   std::string video = "mp4";
   double video_fps = 10;
   double birds_eye_extent_m = 50;
@@ -95,6 +96,10 @@ struct PerceptionOptions {
             "the trajectory classifier on the tracks: a `specht classify train` output directory (empty = none)");
     v.Param("classifier_network_only", classifier_network_only,
             "the classifier's network alone (default: combined with the forest.yml beside it)");
+    v.Param("classifier_threads", classifier_threads,
+            "libtorch threads for the classifier: with SGM, the detector and the mapping worker busy, a second "
+            "thread only waits",
+            Range::Of(1, 64).Fixed());
     v.Choice("video", video, {"mp4", "png", "off"},
              "camera.mp4 (the left image with detections, distances, track ids) and birds_eye.mp4 (the world model "
              "around the car): MP4 (PNG frames where no encoder opens), PNG frames, or none");
