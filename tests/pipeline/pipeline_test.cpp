@@ -1,11 +1,15 @@
 // The pipeline's own pieces: the pose at a camera frame's stamp between two scans,
-// and the checks on a stereo observation's calibration.
+// the checks on a stereo observation's calibration, the online classifier's averaging.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include <mrpt/obs/CObservationStereoImages.h>
 
+#include "specht/classify/model.h"
+#include "specht/classify/trajectory_classifier.h"
 #include "specht/core/error.h"
+#include "specht/pipeline/online_classifier.h"
 #include "specht/pipeline/perception_eval.h"
 #include "specht/pipeline/pose_history.h"
 #include "specht/pipeline/stereo_perception.h"
@@ -108,6 +112,59 @@ TEST(PerceptionEvalTest, MalformedTruthFilesNameFileAndLine) {
   EXPECT_THAT(message(header + "0,0.1,3,Car,,1,2,3\n"), HasSubstr("agents.csv:2: expected 12 fields, found 8"));
   EXPECT_THAT(message(header + "0,0.1,3,Car,,1,2,3,4,x,0,5\n"), HasSubstr("agents.csv:2: a field is not a number"));
   EXPECT_THAT(message(header), HasSubstr(dir + "/agents.csv: cannot open"));
+}
+
+// A confirmed track walking at `speed` along x, `n` points at 10 Hz up to `t_end`.
+types::Track Walker(long id, double speed, int n, double t_end) {
+  types::Track t;
+  t.id = id;
+  t.state = "confirmed";
+  for (int i = 0; i < n; ++i) {
+    const double ts = t_end - 0.1 * (n - 1 - i);
+    t.history.push_back({Stamp::FromSeconds(ts), speed * ts, 0.3 * std::sin(ts)});
+  }
+  t.stamp = t.history.back().stamp;
+  return t;
+}
+
+// Averaged over the track, a track's probabilities are the mean of the answers its
+// latest windows got frame by frame; a coasting track keeps its mean; a track too
+// short for a window gets none; each frame's answers sum to one.
+TEST(OnlineClassifierTest, ATracksProbabilitiesAreTheMeanOverItsWindows) {
+  const std::string dir = testing::TempDir("online_classifier");
+  classify::PreprocessOptions pre;
+  pre.length = 8;
+  pre.features = {"x", "y", "speed", "turn_rate"};
+  classify::ModelOptions small;
+  small.threads = 1;
+  classify::Classifier network(small, 4, 8, {"fast", "slow"});  // untrained: any answers will do
+  network.Save(dir + "/model", {{"preprocessing", classify::PreprocessingJson(pre, {})}});
+  const auto model = std::make_shared<classify::TrajectoryClassifier>(classify::TrajectoryClassifier::Load(dir + "/model"));
+  OnlineClassifier latest(model, OnlineClassifier::Averaging::kLatest), mean(model, OnlineClassifier::Averaging::kTrack);
+
+  std::map<std::string, double> sum;
+  std::vector<double> fast;  // the latest answers, which must differ for the test to tell a mean from the last
+  int frames = 0;
+  for (int k = 0; k < 4; ++k) {
+    const double t = 10 + 0.1 * k;
+    std::vector<types::Track> a = {Walker(1, 1.5 + k, 12 + k, t), Walker(2, 1, 3, t)}, b = a;
+    latest.Update(a, {});
+    mean.Update(b, {});
+    ASSERT_EQ(a[0].class_probabilities.size(), 2u);
+    EXPECT_NEAR(a[0].class_probabilities["fast"] + a[0].class_probabilities["slow"], 1.0, 1e-5);
+    EXPECT_TRUE(a[1].class_probabilities.empty()) << "3 points make no window of 8";
+    EXPECT_TRUE(b[1].class_probabilities.empty());
+    for (const auto& [cls, p] : a[0].class_probabilities) sum[cls] += p;
+    fast.push_back(a[0].class_probabilities["fast"]);
+    ++frames;
+    for (const auto& [cls, p] : b[0].class_probabilities) EXPECT_NEAR(p, sum[cls] / frames, 1e-6) << cls << " frame " << k;
+  }
+  std::vector<types::Track> coasting = {Walker(1, 9, 2, 11)};
+  coasting[0].state = "coasting";
+  mean.Update(coasting, {});
+  for (const auto& [cls, p] : coasting[0].class_probabilities) EXPECT_NEAR(p, sum[cls] / frames, 1e-6) << cls;
+  EXPECT_EQ(mean.windows(), 4);
+  EXPECT_GT(*std::max_element(fast.begin(), fast.end()) - *std::min_element(fast.begin(), fast.end()), 1e-4);
 }
 
 }  // namespace
