@@ -21,12 +21,13 @@ void OnlineClassifier::Update(std::vector<types::Track>& tracks, const classify:
   const std::vector<float> p = windows.empty() ? std::vector<float>() : classifier_->Classify(windows, map);
   for (size_t i = 0; i < owners.size(); ++i) {
     const float* row = p.data() + i * classes.size();
+    if (averaging_ == Averaging::kLatest) {
+      for (size_t c = 0; c < classes.size(); ++c) owners[i]->class_probabilities[classes[c]] = row[c];
+      continue;
+    }
     Sum& sum = sums_[owners[i]->id];
     sum.p.resize(classes.size(), 0.0);
-    for (size_t c = 0; c < classes.size(); ++c) {
-      sum.p[c] += row[c];
-      if (averaging_ == Averaging::kLatest) owners[i]->class_probabilities[classes[c]] = row[c];
-    }
+    for (size_t c = 0; c < classes.size(); ++c) sum.p[c] += row[c];
     ++sum.n;
   }
   if (averaging_ == Averaging::kTrack)

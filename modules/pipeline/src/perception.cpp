@@ -40,6 +40,11 @@ std::pair<cv::Mat, stereo::RectifiedCamera> Decimated(const cv::Mat& disparity, 
   return {small, camera};
 }
 
+// Whether `period_s` (data time, to a nanosecond) has passed since `last`, or nothing was done yet.
+bool PeriodDue(const std::optional<Stamp>& last, Stamp t, double period_s) {
+  return !last || SecondsBetween(*last, t) >= period_s - 1e-9;
+}
+
 // One frame's stereo points (every k-th pixel) into the OctoMap, rays from the camera.
 void InsertIntoOctree(octomap::OcTree& octree, const cv::Mat& full_disparity, const stereo::RectifiedCamera& full_camera,
                       const mrpt::poses::CPose3D& map_from_camera, int k, const stereo::CloudOptions& cloud) {
@@ -206,9 +211,8 @@ void PerceptionPipeline::ProcessFrame(const PerceivedFrame& frame, Stamp t, cons
   // The OctoMap takes a frame's points every octree_period_s (on the mapping worker)
   // and is published (copied) with the snapshots only: a kept snapshot holds all its
   // layers of one frame.
-  const bool snapshot_due =
-      !last_snapshot_ || SecondsBetween(*last_snapshot_, t) >= options_.snapshot_period_s - 1e-9;
-  const bool octree_due = !last_octree_ || SecondsBetween(*last_octree_, t) >= options_.octree_period_s - 1e-9;
+  const bool snapshot_due = PeriodDue(last_snapshot_, t, options_.snapshot_period_s);
+  const bool octree_due = PeriodDue(last_octree_, t, options_.octree_period_s);
   if (s.octree && octree_due) {
     last_octree_ = t;
     RunMapping([this, &s, disparity = frame.disparity, camera = frame.camera, to_map = frame.map_from_camera] {

@@ -24,6 +24,12 @@ cv::Mat Gray(const mrpt::img::CImage& image, const char* which) {
   return gray;
 }
 
+// num_disparities for images shrunk k times: a multiple of 32, at least 32.
+stereo::SgmOptions ShrunkBy(stereo::SgmOptions o, int k) {
+  if (k > 1) o.num_disparities = std::max(32, (o.num_disparities / k + 31) / 32 * 32);
+  return o;
+}
+
 }  // namespace
 
 types::Obstacle ToMapObstacle(const detect::Obstacle3D& o, const mrpt::poses::CPose3D& map_from_camera, Stamp stamp,
@@ -67,15 +73,6 @@ stereo::RectifiedCamera CameraOf(const mrpt::obs::CObservationStereoImages& obs,
                      ") outside the " + std::to_string(size.width) + "x" + std::to_string(size.height) + " image");
   return camera;
 }
-
-namespace {
-
-stereo::SgmOptions ShrunkBy(stereo::SgmOptions o, int k) {
-  if (k > 1) o.num_disparities = std::max(32, (o.num_disparities / k + 31) / 32 * 32);
-  return o;
-}
-
-}  // namespace
 
 StereoPerception::StereoPerception(const stereo::SgmOptions& sgm, const detect::DetectorOptions& detector,
                                    const detect::FusionOptions& fusion, const std::string& data_dir, int downsample)

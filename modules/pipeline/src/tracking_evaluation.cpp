@@ -89,9 +89,9 @@ void TrackingEvaluation::Run(const std::string& out, bool quiet) {
   long frames = 0;
   nlohmann::json runs = nlohmann::json::array();
   for (size_t i = 0; i < scenarios_.size(); ++i) {
+    const classify::MapFeatures map = classifier_ ? ScenarioMapFeatures(scenarios_[i]) : classify::MapFeatures{};
     for (uint64_t seed = seeds_[i].first; seed <= seeds_[i].second; ++seed) {
       const std::string prefix = "s" + std::to_string(seed) + "/" + scenarios_[i].name + "/";
-      const classify::MapFeatures map = classifier_ ? ScenarioMapFeatures(scenarios_[i]) : classify::MapFeatures{};
       std::optional<OnlineClassifier> online_classifier;
       if (classifier_) online_classifier.emplace(classifier_, OnlineClassifier::Averaging::kLatest);
       OnlineClasses online;
