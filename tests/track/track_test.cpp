@@ -271,15 +271,20 @@ TEST(ObjectTracksTest, ClassProbabilitiesRoundTripAsPColumns) {
 }
 
 TEST(ObjectTracksTest, TruncatedAndCorruptedInputNeverCrashes) {
-  std::string text = "id,t_s,x_m,y_m,class,truth_class,ignore\n";
-  for (int i = 0; i < 40; ++i) text += "o" + std::to_string(i % 3) + "," + std::to_string(0.1 * i) + ",1.5,-2,car,car,0\n";
+  std::string text = "id,t_s,x_m,y_m,class,truth_class,ignore,p_car,p_pedestrian\n";
+  for (int i = 0; i < 40; ++i)
+    text += "o" + std::to_string(i % 3) + "," + std::to_string(0.1 * i) + ",1.5,-2,car,car,0" +
+            (i % 4 == 0 ? ",," : ",0.7500,0.2500") + "\n";
   std::mt19937 rng(7);
   for (int trial = 0; trial < 300; ++trial) {
     std::string t = text.substr(0, rng() % text.size());
     for (int k = 0; k < 3 && !t.empty(); ++k) t[rng() % t.size()] = static_cast<char>(rng() % 256);
     try {
       const auto rows = io::ParseObjectTracks(t, "fuzz.csv");
-      for (const auto& r : rows) EXPECT_TRUE(std::isfinite(r.x_m) && std::isfinite(r.t_s));
+      for (const auto& r : rows) {
+        EXPECT_TRUE(std::isfinite(r.x_m) && std::isfinite(r.t_s));
+        for (const auto& [cls, p] : r.class_probabilities) EXPECT_TRUE(std::isfinite(p)) << cls;
+      }
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("fuzz.csv"), std::string::npos);
     }
