@@ -7,6 +7,7 @@ PACKAGES=(
   # toolchain
   g++ cmake ninja-build pkg-config git
   ccache             # compiler cache: unchanged sources are not compiled again (CMakeLists.txt)
+  clang libclang-rt-14-dev  # libFuzzer and its sanitizers (the fuzz preset, fuzz/)
   # robotics libraries
   libmrpt-dev        # observations, rawlogs, ICP, occupancy grids, poses
   mrpt-common        # the built-in default rawlog and MRPT's demo datasets
@@ -19,6 +20,7 @@ PACKAGES=(
   libeigen3-dev
   libboost-dev       # Student's t distribution (Boost.Math) for the corrected t-test in cross-validation
   zlib1g-dev         # reading gzip CARMEN logs, AIS files
+  libbz2-dev         # reading the Freiburg benchmark's .clf.bz2 logs
   libshp-dev         # coastline shapefile (AIS distance to coast)
   libnanoflann-dev   # k-d tree (AIS nearest coast vertex / harbour)
   # configuration, CLI, output

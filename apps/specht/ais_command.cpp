@@ -41,6 +41,7 @@
 #include "specht/classify/metrics.h"
 #include "specht/classify/trajectory_classifier.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/progress.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/data_dir.h"
@@ -166,7 +167,10 @@ int RunPrepare(const AisArgs& a) {
       ais::PrepareDataset(a.inputs, ais_o, o, geo, r, [&](long points, double f) { progress.Update(points, f); });
   const double seconds = Seconds(t0);
   progress.Finish();
-  if (d.windows.size() == 0) throw InputError("ais prepare: no window survived preprocessing");
+  if (d.windows.size() == 0) {
+    ThrowIfInterrupted("ais prepare");
+    throw InputError("ais prepare: no window survived preprocessing");
+  }
   classify::WritePrepared(d, out);
   const std::vector<std::string> steps = {"input", "split", "chunked", "moving"};
   classify::WriteStepCountsPng(r.counts, steps, ais::VesselClasses(),
@@ -191,6 +195,7 @@ int RunPrepare(const AisArgs& a) {
   j["windows"] = d.windows.size();
   j["timing"] = {{"seconds", seconds}, {"points", r.points}, {"points_per_s", r.points / std::max(1e-9, seconds)}};
   report.AddOutput("counts.png");
+  if (InterruptRequested()) report.SetInterrupted(std::to_string(r.points) + " points");
   report.Write(out);
   std::printf("ais prepare: %ld points, %zu windows of %d × %d (%.0f points/s); %ld vessels of other or unknown type\n",
               r.points, d.windows.size(), d.windows.features, o.length, r.points / std::max(1e-9, seconds),
@@ -208,7 +213,7 @@ int RunPrepare(const AisArgs& a) {
   std::printf("  %-8s", "vessels");
   for (const auto& c : columns) std::printf(" %15ld", r.vessels_per_class.count(c) ? r.vessels_per_class.at(c) : 0L);
   std::printf("\n");
-  return 0;
+  return InterruptExitCode();
 }
 
 // ---- predict ------------------------------------------------------------------

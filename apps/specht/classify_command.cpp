@@ -42,6 +42,7 @@
 #include "specht/classify/metrics.h"
 #include "specht/classify/model.h"
 #include "specht/classify/trajectory_classifier.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
 #include "specht/core/progress.h"
 #include "specht/io/atomic_file.h"
@@ -79,13 +80,16 @@ std::string ScenarioOf(const std::string& id) {
 // labelled "none": never matched to a truth object) are left out.
 std::vector<classify::Trajectory> ReadTrajectories(const std::vector<std::string>& paths, bool labelled_only) {
   std::map<std::string, classify::Trajectory> by_id;
-  for (const auto& path : paths)
-    for (const auto& s : io::ReadObjectTracks(path)) {
+  for (const auto& path : paths) {
+    const std::vector<io::ObjectSample> samples = io::ReadObjectTracks(path);
+    if (samples.empty()) throw InputError(path + ": no track rows (only a header): nothing to classify");
+    for (const auto& s : samples) {
       auto& t = by_id[s.id];
       t.object_id = s.id;
       t.label = s.truth_cls.empty() ? s.cls : s.truth_cls;
       t.points.push_back({s.t_s, s.x_m, s.y_m});
     }
+  }
   std::vector<classify::Trajectory> trajectories;
   for (auto& [id, t] : by_id) {
     if (labelled_only && (t.label.empty() || t.label == "none")) continue;
@@ -448,12 +452,13 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv"}) report.AddOutput(f);
   if (a.fine_tune > 0) report.AddOutput("fine_tuning.csv");
   for (const auto& c : checkpoints) report.AddOutput(c);
+  if (InterruptRequested()) report.SetInterrupted(std::to_string(epochs) + " epochs (continue with --resume)");
   report.Write(out);
   const std::string tuned = a.fine_tune > 0 ? " + " + std::to_string(tuned_epochs) + " fine-tuning" : "";
   std::printf("%s: %zu epochs%s, %.1f s (%.0f windows/s); validation macro F1 (%zu windows): ResNet %.3f, forest %.3f\n",
               label.c_str(), epochs, tuned.c_str(), train_s, trained_windows / train_s, long_val.size(),
               resnet.macro_f1, rf.macro_f1);
-  return 0;
+  return InterruptExitCode();
 }
 
 void AddClassifyCommand(CLI::App& app, int& exit_code) {

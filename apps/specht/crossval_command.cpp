@@ -17,6 +17,7 @@
 #include "specht/classify/crossval.h"
 #include "specht/classify/dataset_io.h"
 #include "specht/classify/metrics.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
 #include "specht/core/progress.h"
 #include "specht/io/atomic_file.h"
@@ -250,12 +251,26 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
   PrepareOutputDir(common, params);
   const auto t0 = std::chrono::steady_clock::now();
   const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  const auto result = classify::CrossValidate(d, cv, [&](const std::string& line, double fraction) {
+  std::vector<std::string> finished;  // the folds' lines: on an interrupt, what the report keeps
+  const auto log = [&](const std::string& line, double fraction) {
+    finished.push_back(line);
     const double elapsed = seconds();
     if (!a.common.quiet)
       std::fprintf(stderr, "%s: %s (%.0f s, ETA %s)\n", names.command.c_str(), line.c_str(), elapsed,
                    FormatEta(elapsed, fraction).c_str());
-  }, unlabelled);
+  };
+  classify::CrossValidationResult result;
+  try {
+    result = classify::CrossValidate(d, cv, log, unlabelled);
+  } catch (const Interrupted& e) {
+    io::RunReport report(names.command);
+    report.SetInterrupted(std::to_string(finished.size()) + " fold results");
+    report.json()["dataset"] = a.dataset;
+    report.json().update(deal);
+    report.json()["finished"] = finished;
+    report.Write(out);
+    throw;
+  }
   io::RunReport report(names.command);
   auto& j = report.json();
   j["dataset"] = a.dataset;

@@ -120,6 +120,7 @@ struct EvalTrackArgs {
 
 int RunEvalTrack(const EvalTrackArgs& a) {
   const auto truth = io::ReadObjectTracks(a.truth);
+  if (truth.empty()) throw InputError(a.truth + ": no truth rows (only a header): nothing to score against");
   const auto tracks = io::ReadObjectTracks(a.tracks);
   const eval::MotResult mot = eval::EvaluateMot(truth, tracks, a.match_threshold_m);
   io::MakeOutputDir(a.out_dir);

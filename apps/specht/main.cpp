@@ -5,12 +5,14 @@
 
 #include "commands.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/log.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"specht: an autonomy stack for small autonomous cars (mapping, perception, planning)"};
   app.require_subcommand(1);
   specht::InitLogging("info");
+  specht::InstallInterruptHandlers();
   app.add_option_function<std::string>(
       "--log-level", [](const std::string& level) { specht::InitLogging(level); },
       "debug, info, warn, error or off (default info)");

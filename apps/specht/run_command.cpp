@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "run_setup.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/progress.h"
 #include "specht/pipeline/closed_loop.h"
 #include "specht/io/atomic_file.h"
@@ -50,6 +51,7 @@ int RunRun(const RunArgs& a) {
   double min_clearance = 1e9, min_pedestrian = 1e9, max_park_m = 0, max_park_deg = 0;
   ProgressLine progress("run", "runs", !a.common.quiet, 0.0);
   for (uint64_t seed = first; seed <= last; ++seed) {
+    if (seed > first && InterruptRequested()) break;  // between drives: the next is not started
     std::string steps;
     const pipeline::ClosedLoopResult r = pipeline::RunClosedLoop(
         scenario, seed, mission, config, [&](double t, const std::string& state, const plan::Pose& p) {
@@ -83,9 +85,11 @@ int RunRun(const RunArgs& a) {
     if (r.park_error_m >= 0) max_park_m = std::max(max_park_m, r.park_error_m), max_park_deg = std::max(max_park_deg, r.park_error_deg);
     progress.Update(static_cast<double>(seed - first + 1), static_cast<double>(seed - first + 1) / (last - first + 1),
                     r.success ? "ok" : "failed: " + r.failure);
+    if (r.interrupted) break;  // the drive cut short is written; the seeds after it are not started
   }
   progress.Finish();
-  const int n = static_cast<int>(last - first + 1);
+  const int n = static_cast<int>(runs.size());
+  if (InterruptRequested()) report.SetInterrupted(std::to_string(n) + " of " + std::to_string(last - first + 1) + " runs");
   auto& j = report.json();
   j["inputs"] = {{"scenario", a.scenario}, {"mission", a.mission.empty() ? "default" : a.mission},
                  {"seeds", {first, last}}};
@@ -108,6 +112,7 @@ int RunRun(const RunArgs& a) {
     if (!run["success"].get<bool>())
       std::printf("  seed %llu: %s\n", static_cast<unsigned long long>(run["seed"].get<uint64_t>()),
                   run["failure"].get<std::string>().c_str());
+  if (InterruptRequested()) return InterruptExitCode();
   return successes == n ? 0 : 1;
 }
 

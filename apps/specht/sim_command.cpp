@@ -20,8 +20,7 @@ void AddSimCommand(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_flag("--no-camera", args->no_camera, "leave the scenario's stereo camera out (LiDAR, odometry and IMU only)");
   cmd->callback([args, &exit_code] {
-    pipeline::RecordSimulation(*args);
-    exit_code = 0;
+    exit_code = pipeline::RecordSimulation(*args);
   });
 }
 

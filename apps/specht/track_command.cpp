@@ -19,8 +19,7 @@ int RunTrack(TrackArgs& a) {
   if (!a.seeds.empty()) a.inputs.seeds.assign(a.scenarios.size(), ParseSeedRange(a.seeds, 0));
   pipeline::TrackingEvaluation evaluation(params, a.inputs);
   PrepareOutputDir(a.common, params);
-  evaluation.Run(a.common.out_dir, a.common.quiet);
-  return 0;
+  return evaluation.Run(a.common.out_dir, a.common.quiet);
 }
 
 }  // namespace

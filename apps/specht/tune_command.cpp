@@ -21,6 +21,7 @@
 #include "options_registry.h"
 #include "run_setup.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/progress.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/data_dir.h"
@@ -65,6 +66,7 @@ tune::Outcome Evaluate(const tune::TuneFile& t, const std::map<std::string, std:
     for (const auto& word : command) argv.push_back(Replace(word, vars));
     if (argv[0] == "specht") argv[0] = vars.at("{self}");
     const tune::ProcessResult p = tune::RunProcess(argv, eval_dir + "/log.txt", left_s);
+    if (p.interrupted) return {false, 0, "interrupted"};  // not logged (tune/runner.h)
     if (p.timed_out) return {false, 0, "timed out after " + std::to_string(t.timeout_s) + " s"};
     if (p.exit_code != 0)
       return {false, 0, "'" + command[0] + (command.size() > 1 ? " " + command[1] : "") + "' exited with " +
@@ -130,6 +132,13 @@ int RunTune(const TuneArgs& a) {
   });
   progress.Finish();
 
+  if (InterruptRequested() && r.best < 0) {  // nothing to report but that the log holds no result yet
+    io::RunReport report("tune");
+    report.SetInterrupted("no finished evaluation");
+    report.json()["outputs"] = {"evaluations.csv"};
+    report.Write(out);
+    return InterruptExitCode();
+  }
   const tune::Evaluation& defaults = r.evaluations.at(0);
   if (r.best < 0) throw RuntimeError("tune: no evaluation succeeded (see " + out + "/evaluations.csv)");
   const tune::Evaluation& best = r.evaluations[r.best];
@@ -158,13 +167,16 @@ int RunTune(const TuneArgs& a) {
                   {"duplicates_not_run", r.duplicates}};
   j["timing"] = {{"evaluation_seconds_total", seconds}};
   for (const char* f : {"evaluations.csv", "best.yaml", "convergence.png"}) report.AddOutput(f);
+  if (InterruptRequested())
+    report.SetInterrupted(std::to_string(r.evaluations.size()) + " of " + std::to_string(1 + t.search.budget) +
+                          " evaluations (continue with --resume)");
   report.Write(out);
   std::printf("tune: %zu evaluations (%ld failed, %d from the log, %d repeated values not run again); %s: defaults "
               "%s, best %.6g (#%d)\n  %s\n  overlay: %s/best.yaml\n",
               r.evaluations.size(), failed, r.reused, r.duplicates, t.metric.c_str(),
               defaults.ok ? std::to_string(defaults.value).c_str() : "failed", best.value, best.index,
               Values(t, best).c_str(), out.c_str());
-  return 0;
+  return InterruptExitCode();
 }
 
 }  // namespace

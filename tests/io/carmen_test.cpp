@@ -1,9 +1,12 @@
 // CARMEN logs: the real Radish logs, the odometry chain, and malformed lines.
 #include "specht/io/carmen.h"
 
+#include <bzlib.h>
+
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
+#include "specht/io/line_reader.h"
 #include "test_support.h"
 
 namespace specht::io {
@@ -173,6 +176,50 @@ TEST(CarmenTest, TruncatedGzipStopsWithTheLineWhereItBreaks) {
   EXPECT_THAT(c.error, ::testing::MatchesRegex(".*cut.log.gz:[0-9]+: .*"));
   EXPECT_GT(c.scans, 50);  // what came before the break was delivered
   EXPECT_LT(c.scans, 292);
+}
+
+// bzip2, as the Freiburg benchmark ships its logs, in one stream or several one after
+// another (pbzip2): the same lines as the plain file; cut short, an error naming the
+// line it broke at.
+std::string Bzip2(const std::string& text) {
+  std::vector<char> out(text.size() + text.size() / 100 + 600);
+  unsigned n = static_cast<unsigned>(out.size());
+  EXPECT_EQ(BZ2_bzBuffToBuffCompress(out.data(), &n, const_cast<char*>(text.data()), static_cast<unsigned>(text.size()),
+                                     9, 0, 0),
+            BZ_OK);
+  return std::string(out.data(), n);
+}
+
+std::vector<std::string> Lines(const std::string& path) {
+  LineReader reader(path);
+  std::vector<std::string> lines;
+  for (std::string line; reader.Next(line);) lines.push_back(line);
+  return lines;
+}
+
+TEST(CarmenTest, ReadsBzip2InOneStreamOrSeveral) {
+  std::string text;
+  for (int i = 0; i < 5000; ++i) text += "ODOM " + std::to_string(i * 0.01) + " 0 0 0 0 0 " + std::to_string(i) + " h 0\n";
+  const std::string dir = testing::TempDir(), plain = dir + "/odom.log";
+  testing::WriteFile(plain, text);
+  testing::WriteFile(dir + "/one.log.bz2", Bzip2(text));
+  const size_t half = text.find('\n', text.size() / 2) + 1;
+  testing::WriteFile(dir + "/two.log.bz2", Bzip2(text.substr(0, half)) + Bzip2(text.substr(half)));
+  const auto expected = Lines(plain);
+  ASSERT_EQ(expected.size(), 5000u);
+  EXPECT_EQ(Lines(dir + "/one.log.bz2"), expected);
+  EXPECT_EQ(Lines(dir + "/two.log.bz2"), expected);
+  EXPECT_EQ(ReadAll(dir + "/two.log.bz2").odometry, 5000);
+
+  const std::string whole = Bzip2(text);
+  testing::WriteFile(dir + "/cut.log.bz2", whole.substr(0, whole.size() / 2));
+  try {
+    Lines(dir + "/cut.log.bz2");
+    FAIL() << "a truncated bzip2 file read to its end";
+  } catch (const DatasetError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cut.log.bz2"));
+    EXPECT_THAT(e.what(), HasSubstr("truncated or corrupt bzip2 file"));
+  }
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "test_support.h"
 
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -84,6 +86,52 @@ CommandResult RunSpecht(const std::string& args) {
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = ReadFile(out);
   r.err = ReadFile(err);
+  return r;
+}
+
+BackgroundSpecht::BackgroundSpecht(const std::string& args) {
+  const std::string bin = EnvOr("SPECHT_BINARY", SPECHT_DEFAULT_BINARY);
+  const std::string dir = TempDir("-bg");
+  out_ = dir + "/stdout", err_ = dir + "/stderr";
+  // `exec`: the shell becomes specht, so the signals go to it.
+  const std::string cmd = "exec '" + bin + "' " + args + " >'" + out_ + "' 2>'" + err_ + "' </dev/null";
+  pid_ = fork();
+  if (pid_ == 0) {
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+}
+
+BackgroundSpecht::~BackgroundSpecht() {
+  if (pid_ > 0) {
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+  }
+}
+
+void BackgroundSpecht::Signal(int signal) {
+  if (pid_ > 0) kill(pid_, signal);
+}
+
+bool BackgroundSpecht::WaitForFile(const std::string& path, double timeout_s) {
+  for (double waited = 0; waited < timeout_s; waited += 0.05) {
+    if (std::filesystem::exists(path)) return true;
+    siginfo_t info{};
+    if (pid_ <= 0 || waitid(P_PID, pid_, &info, WEXITED | WNOHANG | WNOWAIT) != 0 || info.si_pid != 0)
+      return std::filesystem::exists(path);  // it ended
+    usleep(50000);
+  }
+  return std::filesystem::exists(path);
+}
+
+CommandResult BackgroundSpecht::Wait() {
+  CommandResult r;
+  int status = 0;
+  if (pid_ > 0 && waitpid(pid_, &status, 0) == pid_)
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  pid_ = -1;
+  r.out = ReadFile(out_);
+  r.err = ReadFile(err_);
   return r;
 }
 

@@ -33,6 +33,26 @@ struct CommandResult {
 // (shell-quoted by the caller).
 CommandResult RunSpecht(const std::string& args);
 
+// The specht binary started in the background (for tests of signals): Signal() it
+// part-way, then Wait() for its exit code and output. The destructor kills it if
+// it still runs.
+class BackgroundSpecht {
+ public:
+  explicit BackgroundSpecht(const std::string& args);
+  ~BackgroundSpecht();
+  BackgroundSpecht(const BackgroundSpecht&) = delete;
+  BackgroundSpecht& operator=(const BackgroundSpecht&) = delete;
+  void Signal(int signal);
+  // Waits until `path` exists or the process ended (at most `timeout_s`); true if it exists.
+  bool WaitForFile(const std::string& path, double timeout_s);
+  // The exit code (128 + the signal when a signal ended it), stdout and stderr.
+  CommandResult Wait();
+
+ private:
+  int pid_ = -1;
+  std::string out_, err_;
+};
+
 std::string ReadFile(const std::string& path);
 void WriteFile(const std::string& path, const std::string& bytes);
 // The decompressed bytes of a (possibly gzip) file.

@@ -8,6 +8,7 @@
 
 #include "specht/classify/baseline.h"
 #include "specht/classify/trajectory_classifier.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
 
 namespace specht::ais {
@@ -155,7 +156,7 @@ classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, 
       batch.clear();
     };
     Vessel v;
-    while (reader.Next(v)) {
+    while (!InterruptRequested() && reader.Next(v)) {  // an interrupt keeps the vessels read
       report.points += static_cast<long>(v.reports.size());
       const bool unknown_type = v.ship_type <= 0;  // none reported, or 0 "not available"
       if (ClassOfShipType(v.ship_type).empty() && !(ais.unlabelled && unknown_type)) {

@@ -11,6 +11,7 @@
 #include <boost/math/distributions/students_t.hpp>
 
 #include "specht/classify/baseline.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
 
 #include "internal/object_hash.h"
@@ -148,6 +149,7 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
   const bool pseudo_labels = o.pseudo_labels.on();
   char line[256];
   for (int f = 0; f < o.folds; ++f) {
+    ThrowIfInterrupted("cross-validation");  // the folds finished are in the log
     const size_t slot = static_cast<size_t>(r) * o.folds + f;
     std::vector<size_t> train_rows, test_rows;
     for (size_t i = 0; i < fold.size(); ++i) (fold[i] == f ? test_rows : train_rows).push_back(i);
@@ -232,6 +234,7 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
         tuned_epochs = model.FineTune(long_train.Subset(tune_fit), long_train.Subset(tune_val),
                                       o.fine_tune_learning_rate).size();
       }
+      ThrowIfInterrupted("cross-validation");  // a network cut short is not scored
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (pseudo_labels) {
         result.pseudo_labelled[slot] = per_round.front();  // the forest's: the same for every network

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "specht/classify/metrics.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
 #include "specht/io/atomic_file.h"
 
@@ -398,8 +399,10 @@ std::vector<EpochReport> Classifier::Fit(const Dataset& train, const Dataset& va
     throw InputError("classify: distillation needs the teacher's probabilities for every training window");
   const auto teacher_all = alpha > 0 ? torch::tensor(train.teacher).reshape({static_cast<int64_t>(train.size()), k})
                                      : torch::Tensor();
-  for (int epoch = state.epoch + 1; epoch <= options_.epochs && state.since_best < options_.early_stop_patience;
-       ++epoch) {
+  // An interrupt (core/interrupt.h) stops at the epoch boundary: the checkpoint holds
+  // every finished epoch, so a resumed run continues to the same result.
+  for (int epoch = state.epoch + 1;
+       epoch <= options_.epochs && state.since_best < options_.early_stop_patience && !InterruptRequested(); ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
     torch::manual_seed(static_cast<uint64_t>(options_.seed) * 100003u + static_cast<uint64_t>(epoch));
     net_->train();

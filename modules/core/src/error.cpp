@@ -1,5 +1,7 @@
 #include "specht/core/error.h"
 
+#include "specht/core/interrupt.h"
+
 namespace specht {
 
 std::string Where(const std::string& file, int line) {
@@ -8,6 +10,7 @@ std::string Where(const std::string& file, int line) {
 }
 
 int ExitCodeFor(const std::exception& e) {
+  if (dynamic_cast<const Interrupted*>(&e) != nullptr) return InterruptExitCode();
   return dynamic_cast<const InputError*>(&e) != nullptr ? 2 : 1;
 }
 

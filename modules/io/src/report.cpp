@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "specht/core/interrupt.h"
 #include "specht/io/atomic_file.h"
 
 namespace specht::io {
@@ -45,6 +46,11 @@ RunReport::RunReport(std::string command) {
 void RunReport::SetIncomplete(const std::string& error) {
   json_["status"] = "incomplete";
   json_["error"] = error;
+}
+
+void RunReport::SetInterrupted(const std::string& done) {
+  json_["status"] = "interrupted";
+  json_["error"] = "interrupted by " + InterruptName() + " after " + done;
 }
 
 void RunReport::AddOutput(const std::string& file) { json_["outputs"].push_back(file); }

@@ -10,6 +10,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/sim/simulator.h"
 
 namespace specht::pipeline {
@@ -442,6 +443,11 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   bool touching = false;
   while (!machine.Final()) {
     const double t = sim.time_s();
+    if (InterruptRequested()) {  // stop at this control step; what was driven is the result
+      r.interrupted = true;
+      r.failure = "interrupted by " + InterruptName() + " at " + std::to_string(t) + " s";
+      break;
+    }
     if (t > config.loop.time_limit_s) {
       r.failure = "time limit of " + std::to_string(config.loop.time_limit_s) + " s";
       machine.Handle(MissionEvent::kTimeLimit, t, r.failure);
@@ -497,6 +503,7 @@ nlohmann::json ClosedLoopResult::ToJson() const {
   }
   return {{"success", success},
           {"failure", failure},
+          {"interrupted", interrupted},
           {"collisions", collisions},
           {"collision_events", collision_events},
           {"min_clearance_m", min_clearance_m},

@@ -9,6 +9,7 @@
 #include "internal/map_outputs.h"
 #include "internal/perception_video.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/log.h"
 #include "specht/core/progress.h"
 #include "specht/core/transform_tree.h"
@@ -45,6 +46,12 @@ DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, const Consu
   const auto wall0 = std::chrono::steady_clock::now();
   long scans = 0;
   while (true) {
+    if (InterruptRequested()) {  // stop at this record boundary, keep everything so far
+      spdlog::warn("{}: stopping after {} scans", InterruptName(), scans);
+      report.SetInterrupted(std::to_string(scans) + " scans");
+      exit_code = InterruptExitCode();
+      break;
+    }
     std::optional<io::Observation> obs;
     try {
       auto t = timer.Time("read");
@@ -80,6 +87,18 @@ DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, const Consu
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   progress.Finish();
   return r;
+}
+
+// A run that placed no scan has no result to write: an error naming the reason (the
+// record it broke off at, or what the replay window held), not an empty map. An
+// interrupt before the first scan still ends as an interrupt.
+void RequireScans(long scans, const DriveResult& run, io::RunReport& report, const std::string& dataset) {
+  if (scans > 0 || InterruptRequested()) return;
+  if (report.json().contains("error")) throw InputError(report.json()["error"].get<std::string>());
+  std::string held;
+  for (const auto& [type, n] : run.observations) held += (held.empty() ? "" : ", ") + std::to_string(n) + " " + type;
+  throw InputError(dataset + ": no laser scan to map with" +
+                   (held.empty() ? std::string(" (no record in the replay window)") : " (it holds " + held + ")"));
 }
 
 // What SLAM (or the localizer) ends with.
@@ -157,6 +176,7 @@ Estimate Replay::State::Localize(io::ReplayClock& clock, PerceptionPipeline& per
                 return std::make_pair(localizer.stats().scans, std::string());
               },
               timer, report, quiet, exit_code);
+  RequireScans(localizer.stats().scans, run, report, in.dataset);
   if (localizer.global_score()) report.json()["metrics"]["global_search_score"] = *localizer.global_score();
   return {localizer.trajectory(), {}, saved.grid, localizer.stats()};
 }
@@ -206,6 +226,7 @@ Estimate Replay::State::Map(io::ReplayClock& clock, PerceptionPipeline& percepti
                                       "loops " + std::to_string(slam.stats().loops_accepted));
               },
               timer, report, quiet, exit_code);
+  RequireScans(slam.front_end_stats().scans, run, report, in.dataset);
   {
     auto t = timer.Time("slam");
     slam.Finish();
@@ -336,7 +357,7 @@ int Replay::Run(const std::string& out, bool quiet) {
   report.Write(out);
   spdlog::info("{}: {} scans, {:.1f} m, {:.2f} ms/scan, {:.0f}x real time{}", s.command, e.front_end.scans,
                PathLength(e.trajectory), e.front_end.scans ? slam_ms / e.front_end.scans : 0.0,
-               run.wall_s > 0 ? data_s / run.wall_s : 0.0, exit_code ? " (INCOMPLETE)" : "");
+               run.wall_s > 0 ? data_s / run.wall_s : 0.0, exit_code == 0 ? "" : InterruptRequested() ? " (INTERRUPTED)" : " (INCOMPLETE)");
   return exit_code;
 }
 

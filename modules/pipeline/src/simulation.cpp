@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/log.h"
 #include "specht/core/progress.h"
 #include "specht/core/statistics.h"
@@ -94,7 +95,7 @@ mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index,
 
 }  // namespace
 
-void RecordSimulation(const SimulationOptions& a) {
+int RecordSimulation(const SimulationOptions& a) {
   sim::Scenario scenario = sim::LoadScenario(a.scenario);
   if (a.seed) scenario.seed = *a.seed;
   if (a.duration_s) {
@@ -124,7 +125,7 @@ void RecordSimulation(const SimulationOptions& a) {
   const long steps = std::lround(scenario.duration_s / sim::Simulator::kStepS);
   {
     auto t = timer.Time("simulate");
-    for (long k = 0; k < steps; ++k) {
+    for (long k = 0; k < steps && !InterruptRequested(); ++k) {
       simulator.Step(
           [&](Stamp, const mrpt::obs::CObservation::Ptr& obs) {
             rawlog.Write(*obs);
@@ -181,6 +182,7 @@ void RecordSimulation(const SimulationOptions& a) {
   j["inputs"] = {{"scenario", a.scenario}, {"name", scenario.name}, {"seed", scenario.seed},
                  {"sprites", sprites ? scenario.stereo->sprites + " (" + std::to_string(sprites->size()) + ")" : "none"},
                  {"duration_s", scenario.duration_s}};
+  if (InterruptRequested()) report.SetInterrupted(std::to_string(simulator.time_s()) + " s simulated");
   j["counts"] = {{"observations", counts},
                  {"scans", truth.size()},
                  {"agents", scenario.agents.size()},
@@ -199,15 +201,16 @@ void RecordSimulation(const SimulationOptions& a) {
   const double sim_s = timer.TotalMs("simulate") / 1000.0 - render_s;
   if (stereo_frames > 0) j["timing"]["ms_per_stereo_frame"] = 1000.0 * render_s / stereo_frames;
   j["timing"]["stages"] = timer.ToJson();
-  j["timing"]["simulated_s_per_wall_s"] = sim_s > 0 ? scenario.duration_s / sim_s : 0.0;
+  j["timing"]["simulated_s_per_wall_s"] = sim_s > 0 ? simulator.time_s() / sim_s : 0.0;
   for (const char* f : {"sim.rawlog", "ground_truth.tum", "true_map.yaml", "true_map.pgm", "true_map.gridmap",
                         "agents.csv", "world.png"}) {
     report.AddOutput(f);
   }
   report.Write(out);
   spdlog::info("sim: {} ({}), seed {}, {:.0f} s simulated, {} scans, ego drove {:.1f} m, {:.0f}x real time",
-               scenario.name, a.scenario, scenario.seed, scenario.duration_s, truth.size(), PathLength(truth),
-               sim_s > 0 ? scenario.duration_s / sim_s : 0.0);
+               scenario.name, a.scenario, scenario.seed, simulator.time_s(), truth.size(), PathLength(truth),
+               sim_s > 0 ? simulator.time_s() / sim_s : 0.0);
+  return InterruptExitCode();
 }
 
 }  // namespace specht::pipeline

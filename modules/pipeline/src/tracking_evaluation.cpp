@@ -7,6 +7,7 @@
 
 #include "internal/perception_video.h"
 #include "specht/classify/metrics.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/progress.h"
 #include "specht/eval/mot.h"
 #include "specht/io/map_io.h"
@@ -72,7 +73,7 @@ TrackingEvaluation::TrackingEvaluation(const params::Params& params, TrackingEva
         classify::TrajectoryClassifier::LoadDirectory(in_.model_dir, in_.network_only));
 }
 
-void TrackingEvaluation::Run(const std::string& out, bool quiet) {
+int TrackingEvaluation::Run(const std::string& out, bool quiet) {
   // Per labelled track-frame the classifier_ saw: truth, classifier_, tracker vote.
   std::vector<int> online_truth, online_predicted, online_vote;
   double online_s = 0;
@@ -90,7 +91,7 @@ void TrackingEvaluation::Run(const std::string& out, bool quiet) {
   nlohmann::json runs = nlohmann::json::array();
   for (size_t i = 0; i < scenarios_.size(); ++i) {
     const classify::MapFeatures map = classifier_ ? ScenarioMapFeatures(scenarios_[i]) : classify::MapFeatures{};
-    for (uint64_t seed = seeds_[i].first; seed <= seeds_[i].second; ++seed) {
+    for (uint64_t seed = seeds_[i].first; seed <= seeds_[i].second && !InterruptRequested(); ++seed) {
       const std::string prefix = "s" + std::to_string(seed) + "/" + scenarios_[i].name + "/";
       std::optional<OnlineClassifier> online_classifier;
       if (classifier_) online_classifier.emplace(classifier_, OnlineClassifier::Averaging::kLatest);
@@ -159,6 +160,7 @@ void TrackingEvaluation::Run(const std::string& out, bool quiet) {
                 online_truth.size(), by_classifier.macro_f1, by_vote.macro_f1, frames ? 1000.0 * online_s / frames : 0.0);
   }
   for (const char* f : {"truth.csv", "tracks.csv", "tracks.png"}) report.AddOutput(f);
+  if (InterruptRequested()) report.SetInterrupted(std::to_string(runs.size()) + " runs");
   report.Write(out);
   progress.Finish();
   std::printf("track: %zu runs, %.0f track-seconds: MOTA %.3f, MOTP %.3f m, ID switches %ld (%.2f per 100 s), "
@@ -166,6 +168,7 @@ void TrackingEvaluation::Run(const std::string& out, bool quiet) {
               runs.size(), total.track_seconds, total.mota, total.motp_m, total.id_switches,
               total.id_switches_per_100s, total.false_positives, total.false_negatives,
               frames ? 1000.0 * tracker_s / frames : 0.0);
+  return InterruptExitCode();
 }
 
 }  // namespace specht::pipeline

@@ -11,6 +11,7 @@
 
 #include "specht/core/csv.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 
 namespace specht::tune {
 namespace {
@@ -120,7 +121,10 @@ RunResult RunTuning(const SearchSpace& space, const RunOptions& o, const Evaluat
     if (o.progress) o.progress(done, planned, r.best >= 0 ? r.evaluations[r.best] : e);
   };
   // Runs one candidate's repeats; false when stop_after says not to start it.
+  // An interrupt (core/interrupt.h) stops the same way, and an evaluation it cut short
+  // is not logged: a resumed search runs it again.
   const auto run_one = [&](Evaluation e) {
+    if (InterruptRequested()) return false;
     if (o.stop_after > 0 && started.fetch_add(1) >= o.stop_after) return false;
     const auto t0 = std::chrono::steady_clock::now();
     double sum = 0;
@@ -141,6 +145,7 @@ RunResult RunTuning(const SearchSpace& space, const RunOptions& o, const Evaluat
       e.error = out.error;
       sum += out.value;
     }
+    if (InterruptRequested()) return false;
     e.value = e.ok ? sum / o.repeats : std::numeric_limits<double>::quiet_NaN();
     e.seconds = std::max(1e-9, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     record(std::move(e), false);

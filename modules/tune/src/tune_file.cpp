@@ -14,6 +14,7 @@
 
 #include "internal/nearest.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 
 namespace specht::tune {
 namespace {
@@ -137,10 +138,15 @@ ProcessResult RunProcess(const std::vector<std::string>& argv, const std::string
     const pid_t done = waitpid(pid, &status, WNOHANG);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (done == pid) break;
+    if (InterruptRequested() && !r.interrupted) {
+      kill(-pid, SIGTERM);
+      r.interrupted = true;
+      timeout_s = r.seconds + 5.0;  // then SIGKILL below
+    }
     if (r.seconds > timeout_s) {
       kill(-pid, SIGKILL);
       waitpid(pid, &status, 0);
-      r.timed_out = true;
+      r.timed_out = !r.interrupted;
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));

@@ -31,7 +31,8 @@ class RuntimeError : public Error {
 // "file:line: " (line omitted when < 1), the prefix of every located message.
 std::string Where(const std::string& file, int line = 0);
 
-// Exit code for an exception caught at the top of an app: 2 for InputError, 1 else.
+// Exit code for an exception caught at the top of an app: 2 for InputError, 128 +
+// the signal for Interrupted (core/interrupt.h), 1 else.
 int ExitCodeFor(const std::exception& e);
 
 }  // namespace specht

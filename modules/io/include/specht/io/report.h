@@ -3,7 +3,7 @@
 // real-time factor, metrics, status) and report.md (the same for people).
 //
 // JSON layout (keys are stable; the tuner reads metrics from it):
-//   { "command", "status": "complete"|"incomplete"|"failed", "error",
+//   { "command", "status": "complete"|"incomplete"|"interrupted"|"failed", "error",
 //     "inputs": {...}, "counts": {...}, "timing": {"stages": {name: {"total_ms",
 //     "calls", "ms_per_call"}}, "wall_s", "data_s", "real_time_factor"},
 //     "metrics": {...}, "outputs": [file, ...] }
@@ -49,7 +49,10 @@ class RunReport {
  public:
   explicit RunReport(std::string command);
   nlohmann::json& json() { return json_; }
+  // The input broke off (a corrupt record): what was computed before it is reported.
   void SetIncomplete(const std::string& error);
+  // A signal stopped the run (core/interrupt.h) after `done` (e.g. "5210 scans").
+  void SetInterrupted(const std::string& done);
   void AddOutput(const std::string& file);
   // Writes report.json and report.md into `dir` (atomically).
   void Write(const std::string& dir) const;

@@ -127,6 +127,7 @@ struct ClosedLoopOptions {
 struct ClosedLoopResult {
   bool success = false;
   std::string failure;
+  bool interrupted = false;            // a signal stopped the drive (core/interrupt.h)
   int collisions = 0;                  // contacts (static or agent) begun while moving
   std::vector<std::string> collision_events;  // e.g. "12.30 s: pedestrian 7"
   double min_clearance_m = 1e9;        // footprint to static obstacles

@@ -37,8 +37,9 @@ class Replay {
   Replay(const Replay&) = delete;
   Replay& operator=(const Replay&) = delete;
 
-  // Runs to the end of the data, or to where it breaks off, and writes everything
-  // computed into `out_dir` (which exists). Returns 0, or 2 when the input broke off.
+  // Runs to the end of the data, to where it breaks off or to an interrupt
+  // (core/interrupt.h), and writes everything computed into `out_dir` (which exists).
+  // Returns 0, 2 when the input broke off, 128 + the signal when interrupted.
   int Run(const std::string& out_dir, bool quiet);
 
  private:

@@ -35,7 +35,8 @@ struct SimulationOptions {
 };
 
 // Throws InputError (file, key, reason) on a bad scenario, an unknown sprite set or
-// sprite, or a missing sprites directory, before anything is written.
-void RecordSimulation(const SimulationOptions& options);
+// sprite, or a missing sprites directory, before anything is written. Returns 0, or
+// 128 + the signal when interrupted (the drive so far is written).
+int RecordSimulation(const SimulationOptions& options);
 
 }  // namespace specht::pipeline

@@ -43,7 +43,9 @@ class TrackingEvaluation {
   // Loads the scenarios and the model: InputError (file, reason) before anything is written.
   TrackingEvaluation(const params::Params& params, TrackingEvaluationInputs inputs);
   // Runs every scenario and seed and writes the outputs into `out_dir` (which exists).
-  void Run(const std::string& out_dir, bool quiet);
+  // An interrupt (core/interrupt.h) stops after the run in progress, writing the runs
+  // done; returns 0, or 128 + the signal.
+  int Run(const std::string& out_dir, bool quiet);
 
  private:
   TrackingEvaluationInputs in_;

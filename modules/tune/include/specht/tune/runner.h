@@ -59,7 +59,7 @@ struct RunOptions {
 struct RunResult {
   std::vector<Evaluation> evaluations;  // by index
   int best = -1;                        // index of the best ok evaluation (−1: none)
-  bool complete = false;                // false when stopped by stop_after
+  bool complete = false;                // false when stopped by stop_after or an interrupt
   int reused = 0;                       // results taken from the log
   int duplicates = 0;                   // candidates whose values an earlier one had: its outcome, not run
 };

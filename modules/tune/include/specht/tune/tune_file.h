@@ -46,10 +46,13 @@ TuneFile LoadTuneFile(const std::string& path, const std::vector<params::ParamIn
 double MetricFromReport(const std::string& report_path, const std::string& metric);
 
 // Runs `argv` (argv[0] a path, or a name looked up in PATH) in its own process group with stdout and stderr
-// appended to `log_path`; kills the group after `timeout_s`.
+// appended to `log_path`; kills the group after `timeout_s`. On an interrupt of this
+// process (core/interrupt.h) the group gets SIGTERM (SIGKILL 5 s later): the worker
+// stops with its parent.
 struct ProcessResult {
   int exit_code = -1;
   bool timed_out = false;
+  bool interrupted = false;
   double seconds = 0;
 };
 ProcessResult RunProcess(const std::vector<std::string>& argv, const std::string& log_path, double timeout_s);
