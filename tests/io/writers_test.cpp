@@ -121,6 +121,16 @@ TEST(TrajectoryIoTest, MalformedLinesNameFileAndLine) {
   } catch (const InputError& e) {
     EXPECT_THAT(std::string(e.what()), ::testing::HasSubstr("gt.txt:2: 'nan' is not a finite number"));
   }
+  // Found by fuzz_trajectory: a quaternion of no length escaped as MRPT's exception.
+  testing::WriteFile(dir + "/q.tum", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 0\n3 0 0 0 0 0 0 2\n");
+  try {
+    ReadTum(dir + "/q.tum");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + "/q.tum:2: the quaternion (qx qy qz qw) has no length");
+  }
+  testing::WriteFile(dir + "/q2.tum", "1 0 0 0 0 0 0 1\n3 0 0 0 0 0 0 2\n");  // not unit length: normalised
+  EXPECT_EQ(ReadTum(dir + "/q2.tum").size(), 2u);
 }
 
 TEST(AtomicFileTest, AFailedWriteLeavesTheOldFileAndNoTemporary) {

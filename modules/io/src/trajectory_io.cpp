@@ -39,7 +39,11 @@ void ReadNumberLines(const std::string& path, size_t expect, const char* layout,
       throw InputError(Where(path, number) + "expected " + std::to_string(expect) + " numbers (" + layout +
                        "), got " + std::to_string(v.size()));
     }
-    on_line(v);
+    try {
+      on_line(v);
+    } catch (const InputError& e) {  // what the line means is wrong: name the line
+      throw InputError(Where(path, number) + e.what());
+    }
   }
 }
 
@@ -64,8 +68,10 @@ void WriteTum(const Trajectory& trajectory, const std::string& path) {
 Trajectory ReadTum(const std::string& path) {
   Trajectory out;
   ReadNumberLines(path, 8, "t x y z qx qy qz qw", [&](const std::vector<double>& v) {
-    mrpt::math::CQuaternionDouble q(v[7], v[4], v[5], v[6]);
-    q.normalize();
+    // Normalised here: MRPT's quaternion rejects one that is not of unit length.
+    const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+    if (!(norm > 1e-9) || !std::isfinite(norm)) throw InputError("the quaternion (qx qy qz qw) has no length");
+    const mrpt::math::CQuaternionDouble q(v[7] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
     out.push_back({Stamp::FromSeconds(v[0]), mrpt::poses::CPose3D(q, v[1], v[2], v[3])});
   });
   return out;

@@ -36,8 +36,9 @@ class Reader {
  public:
   Reader(std::string file, std::vector<std::string>& errors) : file_(std::move(file)), errors_(errors) {}
 
+  // `at` may be a key that is not there (an invalid node, which has no line).
   void Error(const YAML::Node& at, const std::string& key, const std::string& why) {
-    errors_.push_back(Where(file_, at.Mark().line + 1) + key + ": " + why);
+    errors_.push_back(Where(file_, at.IsDefined() ? at.Mark().line + 1 : 0) + key + ": " + why);
   }
 
   // Every key of `map` must be one of `allowed`.
@@ -110,6 +111,35 @@ class Reader {
       Error(n, Join(ctx, key), "expected true or false");
       return fallback;
     }
+  }
+
+  // `n` is a list (of entries named `what`); else an error and false.
+  bool List(const YAML::Node& n, const std::string& ctx, const std::string& what) {
+    if (n.IsSequence()) return true;
+    Error(n, ctx, "expected a list of " + what);
+    return false;
+  }
+
+  // A list of exactly `count` finite numbers (`layout` names them for the message).
+  bool Numbers(const YAML::Node& n, const std::string& ctx, size_t count, const std::string& layout,
+               std::vector<double>& out) {
+    if (!n.IsSequence() || n.size() != count) {
+      Error(n, ctx, "expected " + layout);
+      return false;
+    }
+    out.clear();
+    try {
+      for (size_t i = 0; i < count; ++i) out.push_back(n[i].as<double>());
+    } catch (const YAML::Exception&) {
+      Error(n, ctx, "expected " + layout + ": " + std::to_string(count) + " numbers");
+      return false;
+    }
+    for (double v : out)
+      if (!std::isfinite(v)) {
+        Error(n, ctx, "numbers must be finite");
+        return false;
+      }
+    return true;
   }
 
   // One [x, y] point.
@@ -242,20 +272,17 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
 
   // world
   if (const YAML::Node w = root["world"]; w && r.Map(w, "world", {"bounds", "objects", "parking_bays"})) {
-    if (const YAML::Node b = w["bounds"]) {
-      if (!b.IsSequence() || b.size() != 4) {
-        r.Error(b, "world.bounds", "expected [xmin, ymin, xmax, ymax]");
-      } else {
-        for (int i = 0; i < 4; ++i) s.bounds[i] = b[i].as<double>();
-        if (s.bounds[2] <= s.bounds[0] || s.bounds[3] <= s.bounds[1]) r.Error(b, "world.bounds", "empty area");
-      }
+    std::vector<double> v;
+    if (const YAML::Node b = w["bounds"]; b && r.Numbers(b, "world.bounds", 4, "[xmin, ymin, xmax, ymax]", v)) {
+      for (int i = 0; i < 4; ++i) s.bounds[i] = v[i];
+      if (s.bounds[2] <= s.bounds[0] || s.bounds[3] <= s.bounds[1]) r.Error(b, "world.bounds", "empty area");
     }
     const std::map<std::string, ObjectType> types = {{"wall", ObjectType::kWall},
                                                      {"parked_car", ObjectType::kParkedCar},
                                                      {"cone", ObjectType::kCone},
                                                      {"boundary", ObjectType::kBoundary},
                                                      {"building", ObjectType::kBuilding}};
-    if (const YAML::Node objects = w["objects"]) {
+    if (const YAML::Node objects = w["objects"]; objects && r.List(objects, "world.objects", "objects")) {
       for (size_t i = 0; i < objects.size(); ++i) {
         const YAML::Node o = objects[i];
         const std::string ctx = "world.objects[" + std::to_string(i) + "]";
@@ -279,15 +306,15 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
         s.objects.push_back(std::move(obj));
       }
     }
-    if (const YAML::Node bays = w["parking_bays"]) {
+    if (const YAML::Node bays = w["parking_bays"]; bays && r.List(bays, "world.parking_bays", "bays")) {
       for (size_t i = 0; i < bays.size(); ++i) {
         const std::string ctx = "world.parking_bays[" + std::to_string(i) + "]";
         if (!r.Map(bays[i], ctx, {"name", "pose", "size_m"})) continue;
         ParkingBay bay;
         bay.name = r.String(bays[i], ctx, "name", "bay" + std::to_string(i));
         bay.pose = r.Pose(bays[i], ctx, "pose", {});
-        if (const YAML::Node size = bays[i]["size_m"]; size && size.IsSequence() && size.size() == 2) {
-          bay.length_m = size[0].as<double>(), bay.width_m = size[1].as<double>();
+        if (const YAML::Node size = bays[i]["size_m"]; size && r.Numbers(size, ctx + ".size_m", 2, "[length_m, width_m]", v)) {
+          bay.length_m = v[0], bay.width_m = v[1];
         }
         s.bays.push_back(bay);
       }
@@ -326,7 +353,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
   }
 
   // agents
-  if (const YAML::Node agents = root["agents"]) {
+  if (const YAML::Node agents = root["agents"]; agents && r.List(agents, "agents", "agents")) {
     std::set<int> ids;
     for (size_t i = 0; i < agents.size(); ++i) {
       const YAML::Node a = agents[i];
@@ -365,13 +392,11 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
       x.focal_px = r.Number(st, ctx, "focal_px", x.focal_px, 10, 10000);
       x.baseline_m = r.Number(st, ctx, "baseline_m", x.baseline_m, 0.01, 5);
       x.sprites = r.String(st, ctx, "sprites", x.sprites, {"tuning", "held_out", "all"});
-      if (const YAML::Node m = st["mount"]) {
-        if (!m.IsSequence() || m.size() != 5) {
-          r.Error(m, ctx + ".mount", "expected [x_m, y_m, z_m, yaw_deg, pitch_deg]");
-        } else {
-          x.x_m = m[0].as<double>(), x.y_m = m[1].as<double>(), x.z_m = m[2].as<double>();
-          x.yaw_rad = m[3].as<double>() * kDeg, x.pitch_rad = m[4].as<double>() * kDeg;
-        }
+      std::vector<double> m;
+      if (const YAML::Node n = st["mount"];
+          n && r.Numbers(n, ctx + ".mount", 5, "[x_m, y_m, z_m, yaw_deg, pitch_deg]", m)) {
+        x.x_m = m[0], x.y_m = m[1], x.z_m = m[2];
+        x.yaw_rad = m[3] * kDeg, x.pitch_rad = m[4] * kDeg;
       }
       s.stereo = x;
     }

@@ -207,9 +207,9 @@ StereoCalibration MrptIni(const std::string& path, const std::string& text) {
       break;
     }
   }
-  mrpt::config::CConfigFile file(path);
   mrpt::img::TStereoCamera camera;
   try {
+    mrpt::config::CConfigFile file(path);
     camera.loadFromConfigFile(section, file);
   } catch (const std::exception& e) {
     throw InputError(path + ": MRPT stereo camera section [" + section + "_...]: " + e.what());

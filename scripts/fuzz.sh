@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Runs every libFuzzer target (tests/fuzz, built by `cmake --build --preset fuzz`)
+# for a bounded time on seed corpora cut from real files: the data directory's logs,
+# graphs, AIS feeds and calibrations, MRPT's shipped rawlogs and specht's own
+# parameter, scenario, mission and tune files. Seeds are the first 16 KB of each file
+# (libFuzzer mutates short inputs far faster); the corpora live in a scratch folder,
+# never in the project. Two targets run at a time (one per core).
+#
+#   scripts/fuzz.sh [seconds per target, default 30] [target ...]
+#
+# A finding (crash, sanitizer report, an exception that is not specht's own error)
+# fails the script; its reproducer is kept in $SPECHT_FUZZ_DIR/<target>/ (crash-*),
+# to become a regression test in the ordinary suite.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+seconds=${1:-30}
+shift || true
+bin="$root/build/fuzz/tests/fuzz"
+data=${SPECHT_DATA_DIR:-$root/../shared/data}
+work=${SPECHT_FUZZ_DIR:-$(mktemp -d /tmp/specht-fuzz.XXXXXX)}
+mrpt=/usr/share/mrpt/datasets
+
+# seed <target> <file>...: the first 16 KB of each file (decompressed) as a seed.
+seed() {
+  local target=$1
+  shift
+  mkdir -p "$work/$target/seeds"
+  for f in "$@"; do
+    [[ -f "$f" ]] || continue
+    local name
+    name=$(basename "$f")
+    case "$f" in
+      *.gz) (zcat "$f" 2>/dev/null || true) | head -c 16384 > "$work/$target/seeds/$name" ;;
+      *.bz2) (bzcat "$f" 2>/dev/null || true) | head -c 16384 > "$work/$target/seeds/$name" ;;
+      *) head -c 16384 "$f" > "$work/$target/seeds/$name" ;;
+    esac
+  done
+}
+
+seed fuzz_rawlog "$mrpt"/*.rawlog "$data"/slam/freiburg/*.rawlog
+seed fuzz_carmen "$data"/slam/carmen/*.log.gz "$data"/slam/freiburg/*.clf.bz2
+seed fuzz_g2o "$data"/slam/g2o/*.g2o "$mrpt"/graph_2d_circle_50nodes.graph
+seed fuzz_trajectory "$mrpt"/*ground_truth*.txt "$data"/slam/carmen/intel-corrected.log.gz
+seed fuzz_nmea "$data"/ais/nmea/*.log "$data"/ais/nmea/*.aivdm
+seed fuzz_ais_positions "$data"/ais/tracks/*.csv.gz
+seed fuzz_params "$root"/params/*.yaml "$root"/params/tune/*.yaml
+seed fuzz_scenario "$root"/datasets/scenarios/*.yaml "$root"/datasets/missions/*.yaml
+seed fuzz_calibration "$data"/stereo/kitti_object/calib.txt
+
+targets=("$@")
+if [[ ${#targets[@]} -eq 0 ]]; then
+  for t in "$bin"/fuzz_*; do targets+=("$(basename "$t")"); done
+fi
+
+run() {
+  local t=$1 dir="$work/$1"
+  mkdir -p "$dir/corpus" "$dir/seeds"
+  # -rss_limit_mb: a bounded parser on bounded input; -timeout: no input may hang it.
+  # MRPT's deserializer sizes strings and containers from the record's 32-bit counts
+  # before reading them, so a corrupt rawlog record may allocate and fill gigabytes
+  # before it fails (cleanly, as a DatasetError): an upstream limit, not ours.
+  # Filling those takes seconds and gigabytes: that target runs in libFuzzer's fork
+  # mode, which counts out-of-memory and slow inputs and goes on; crashes still fail.
+  local mode=()
+  [[ $t == fuzz_rawlog ]] && mode=(-fork=1 -ignore_ooms=1 -ignore_timeouts=1 -ignore_crashes=0)
+  if (cd "$dir" && "$bin/$t" "${mode[@]}" -max_total_time="$seconds" -max_len=16384 -timeout=10 \
+        -rss_limit_mb=2048 -print_final_stats=1 corpus seeds > log.txt 2>&1); then
+    local execs cov
+    execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$dir/log.txt" | grep -o '[0-9]*$' ||
+            grep -o '^#[0-9]*' "$dir/log.txt" | tail -1 | tr -d '#')
+    cov=$(grep -o 'cov: [0-9]*' "$dir/log.txt" | tail -1 | grep -o '[0-9]*' || echo '?')
+    local skipped
+    skipped=$(grep -o 'oom/timeout/crash: [0-9/]*' "$dir/log.txt" | tail -1 || true)
+    echo "fuzz: $t: $execs executions in ${seconds} s, coverage $cov edges, no finding${skipped:+ ($skipped)}"
+  else
+    echo "fuzz: $t: FINDING (see $dir/log.txt; reproducer in $dir)" >&2
+    tail -40 "$dir/log.txt" >&2
+    return 1
+  fi
+}
+
+failed=0
+pids=()
+for t in "${targets[@]}"; do
+  run "$t" &
+  pids+=($!)
+  if [[ ${#pids[@]} -ge 2 ]]; then
+    wait "${pids[0]}" || failed=1
+    pids=("${pids[@]:1}")
+  fi
+done
+for p in "${pids[@]}"; do wait "$p" || failed=1; done
+[[ "${SPECHT_FUZZ_DIR:-}" ]] || { [[ $failed -eq 0 ]] && rm -rf "$work"; }
+exit $failed
