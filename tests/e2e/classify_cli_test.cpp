@@ -26,7 +26,7 @@ void ExpectCrossValidationDisjointByTrack(const std::string& dir) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("3-fold CV by track"));
   const auto cv = Report(dir + "/cv");
-  EXPECT_GT(cv["models"]["forest"]["macro_f1"]["mean"].get<double>(), 0.75);  // 0.856 measured
+  EXPECT_GT(cv["models"]["forest"]["macro_f1"]["mean"].get<double>(), 0.82);  // 0.856 measured
   std::stringstream csv(testing::ReadFile(dir + "/cv/predictions.csv"));
   std::string line;
   std::getline(csv, line);

@@ -51,7 +51,7 @@ TEST(StereoCliTest, KittiFrameScoredWithFilledHoles) {
                                     "disp_occ_0/000000_10.png' -o '" + out + "/eval'");
   ASSERT_EQ(e.exit_code, 0) << e.err;
   const auto report = nlohmann::json::parse(testing::ReadFile(out + "/eval/report.json"));
-  EXPECT_LT(report["metrics"]["d1_all"].get<double>(), 0.09);
+  EXPECT_LT(report["metrics"]["d1_all"].get<double>(), 0.080);  // 7.43 % measured
   EXPECT_GT(report["metrics"]["density_gt"].get<double>(), 0.99);
 }
 

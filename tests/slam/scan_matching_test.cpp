@@ -363,7 +363,7 @@ class BuiltInRawlogTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
     rawlog_ = testing::BuiltInRawlog();
-    if (rawlog_.empty()) GTEST_SKIP() << "mrpt-common's rawlog not installed";
+    if (rawlog_.empty()) SPECHT_SKIP() << "mrpt-common's rawlog not installed";
     SlamOptions slam;
     slam.method = GetParam();
     slam_ = std::make_unique<GraphSlam>(slam, ScanMatchingOptions{}, LoopClosureOptions{}, PoseGraphOptions{},
@@ -377,8 +377,7 @@ class BuiltInRawlogTest : public ::testing::TestWithParam<std::string> {
 };
 
 // Scans of the second pass, registered (ICP) against the grid of the first pass: the
-// mean correction must be below 0.5 m and 5° for scan matching alone (foundation)
-// and below 0.1 m and 1° for graph SLAM.
+// mean correction stays within a margin of what both front ends reach.
 TEST_P(BuiltInRawlogTest, SecondPassAgreesWithTheFirstPassGrid) {
   const Pass pass = SplitAtReturn(slam_->keyframes());
   ASSERT_GT(pass.first.size(), 50u);
@@ -395,8 +394,8 @@ TEST_P(BuiltInRawlogTest, SecondPassAgreesWithTheFirstPassGrid) {
   std::printf("%s: second pass %zu keyframes, mean ICP correction %.3f m, %.2f deg\n", GetParam().c_str(),
               pass.second.size(), mean_m, mean_deg);
   const bool graph = GetParam() == "graph";
-  EXPECT_LT(mean_m, graph ? 0.1 : 0.5);
-  EXPECT_LT(mean_deg, graph ? 1.0 : 5.0);
+  EXPECT_LT(mean_m, 0.05);                   // measured 0.026 m (graph), 0.032 m (scan matching)
+  EXPECT_LT(mean_deg, graph ? 0.5 : 0.25);   // measured 0.26°, 0.07°
 }
 
 // Walls are thin: on the centre line of every occupied band, 95 % of the band is at
