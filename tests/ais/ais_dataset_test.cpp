@@ -124,7 +124,7 @@ TEST(AisPositionsTest, UngroupedInputAndUnknownHeaderAreClearErrors) {
 }
 
 TEST(AisPositionsTest, TruncatedGzipIsAnErrorNamingTheFile) {
-  if (DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const std::string whole = specht::testing::ReadFile(DataDir() + "/ais/tracks/brest-dev.csv.gz");
   const std::string path = TempDir() + "/cut.csv.gz";
   WriteFile(path, whole.substr(0, 200000));
@@ -155,7 +155,7 @@ TEST(AisGeoTest, GreatCircleDistancesAndNearestPointMatchBruteForce) {
 }
 
 TEST(AisGeoTest, CoastlineAndPortsFromTheDataDirectory) {
-  if (DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const auto coast = ReadShapefileVertices(DataDir() + "/ais/geo/GSHHS_l_coastline.shp");
   EXPECT_GT(coast.size(), 90000u);
   EXPECT_EQ(ReadWorldPortIndex(DataDir() + "/ais/geo/wpi-UpdatedPub150.csv.gz", {"Large"}).size(), 171u);
@@ -182,7 +182,7 @@ std::string SliceOfTracks(const std::string& file, int lines) {
 }
 
 TEST(AisDatasetTest, PreparationIsIndependentOfThreadsAndBatches) {
-  if (DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const std::string path = SliceOfTracks("brest-dev", 60000);
   const Geography geo = Geography::Load(AisOptions(), DataDir());
   AisPreprocessOptions o;
@@ -205,7 +205,7 @@ TEST(AisDatasetTest, PreparationIsIndependentOfThreadsAndBatches) {
 // windows come as well, labelled "unlabelled" with class −1, and the labelled
 // windows are the same, in the same order.
 TEST(AisDatasetTest, VesselsOfUnknownTypeArePreparedOnRequest) {
-  if (DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const std::string path = SliceOfTracks("mpa-dev", 40000);  // its first vessels report no ship type
   const Geography geo = Geography::Load(AisOptions(), DataDir());
   const AisPreprocessOptions o;

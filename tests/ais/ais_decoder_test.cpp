@@ -67,7 +67,7 @@ void ExpectSameFields(const nlohmann::json& gpsd, const Message& m, int index) {
 const std::set<int> kSupported = {1, 2, 3, 4, 5, 9, 11, 18, 19, 24, 27};
 
 TEST(AisDecoderTest, GpsdSampleDecodesToGpsdsFieldsAndValues) {
-  if (NmeaDir().empty()) GTEST_SKIP() << "no data dir";
+  if (NmeaDir().empty()) SPECHT_SKIP() << "no data dir";
   const auto messages = DecodeAll(NmeaDir() + "/gpsd-sample.aivdm");
   std::vector<nlohmann::json> expected;
   std::ifstream chk(NmeaDir() + "/gpsd-sample.aivdm.js.chk");
@@ -92,7 +92,7 @@ TEST(AisDecoderTest, GpsdSampleDecodesToGpsdsFieldsAndValues) {
 }
 
 TEST(AisDecoderTest, OtherLogsDecodeAndEveryRejectionHasAReason) {
-  if (NmeaDir().empty()) GTEST_SKIP() << "no data dir";
+  if (NmeaDir().empty()) SPECHT_SKIP() << "no data dir";
   for (const char* name : {"gpsd-ais-nmea.log", "libais-test.aivdm", "pyais-nmea-sample.txt",
                            "signalk-nais400-merrimac.log"}) {
     SCOPED_TRACE(name);
@@ -109,7 +109,7 @@ TEST(AisDecoderTest, OtherLogsDecodeAndEveryRejectionHasAReason) {
 }
 
 TEST(AisDecoderTest, SignalkLogHasOtherTalkersAndMultipartType5) {
-  if (NmeaDir().empty()) GTEST_SKIP() << "no data dir";
+  if (NmeaDir().empty()) SPECHT_SKIP() << "no data dir";
   DecoderStats s;
   const auto messages = DecodeAll(NmeaDir() + "/signalk-nais400-merrimac.log", &s);
   EXPECT_GT(s.sentences.other, 50);  // $GPGLL, $GPRMC, … interleaved
@@ -246,7 +246,7 @@ TEST(AisMessageTest, NotAvailableValuesAreNull) {
 // deleted characters, shuffled lines. Nothing may crash (run under ASan/UBSan in
 // CI) and every rejection has a reason.
 TEST(AisDecoderFuzzTest, RandomCorruptionOfRealLogsNeverCrashes) {
-  if (NmeaDir().empty()) GTEST_SKIP() << "no data dir";
+  if (NmeaDir().empty()) SPECHT_SKIP() << "no data dir";
   std::mt19937 rng(7);
   for (const char* name : {"gpsd-sample.aivdm", "gpsd-ais-nmea.log", "libais-test.aivdm", "pyais-nmea-sample.txt",
                            "signalk-nais400-merrimac.log"}) {

@@ -25,7 +25,7 @@ void WriteSliceOfTracks(const std::string& file, int lines, const std::string& d
 }
 
 TEST(AisCliTest, DecodeWritesMessagesPositionsAndRejectionReasons) {
-  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (testing::DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const std::string out = testing::TempDir("ais_decode");
   const auto r = testing::RunSpecht("ais decode '" + testing::DataDir() + "/ais/nmea/gpsd-sample.aivdm' '" +
                                     testing::DataDir() + "/ais/nmea/signalk-nais400-merrimac.log' -q -o '" + out + "'");
@@ -40,7 +40,7 @@ TEST(AisCliTest, DecodeWritesMessagesPositionsAndRejectionReasons) {
 }
 
 TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
-  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (testing::DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const std::string dir = testing::TempDir("ais_pipeline");
   WriteSliceOfTracks("brest-dev", 40000, dir);
   const std::string data = " --data-dir '" + testing::DataDir() + "'";
@@ -168,7 +168,7 @@ void PrepareShortAndLongWindows(const std::string& dir) {
 }
 
 TEST(AisCliTest, EvalTrainsOnTheShortWindowsOfTheSameTracks) {
-  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (testing::DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const std::string dir = testing::TempDir("ais_train_on");
   PrepareShortAndLongWindows(dir);
   EXPECT_THAT(testing::ReadFile(dir + "/data180/windows.csv"),
@@ -206,7 +206,7 @@ TEST(AisCliTest, EvalTrainsOnTheShortWindowsOfTheSameTracks) {
 // the 180-point windows alone — by the mean over the 60-point windows within
 // (classify_test checks that mean against eval's). Bad combinations exit 2 with why.
 TEST(AisCliTest, TrainOnTheShortWindowsOfTheSameTracks) {
-  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (testing::DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const std::string dir = testing::TempDir("ais_train_short");
   PrepareShortAndLongWindows(dir);
   const std::string quick = " -q --set ais_model.epochs=2";
@@ -261,7 +261,7 @@ TEST(AisCliTest, TrainOnTheShortWindowsOfTheSameTracks) {
 // forest for the network in `eval` (per fold) and `train`, and the forest's own
 // figures are those of a run without them.
 TEST(AisCliTest, PseudoLabelsFromVesselsOfUnknownType) {
-  if (testing::DataDir().empty()) GTEST_SKIP() << "no data dir";
+  if (testing::DataDir().empty()) SPECHT_SKIP() << "no data dir";
   const std::string dir = testing::TempDir("ais_pseudo");
   WriteSliceOfTracks("mpa-dev", 40000, dir);  // its first vessels report no ship type
   auto r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' -q -o '" + dir + "/data' --set ais.unlabelled=true" +

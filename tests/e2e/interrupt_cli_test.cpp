@@ -46,7 +46,7 @@ TEST(InterruptCliTest, SlamStoppedBySigintWritesWhatItMapped) {
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data);
   const std::string log = data + "/slam/freiburg/intel.clf.bz2";
-  if (!fs::exists(log)) GTEST_SKIP() << log << " not here";
+  if (!fs::exists(log)) SPECHT_SKIP() << log << " not here";
   const std::string out = testing::TempDir("slam_sigint") + "/out";
   const auto r = InterruptAfter("slam '" + log + "' -q -o '" + out + "'", out, 4.0, SIGINT);
   ASSERT_EQ(r.exit_code, 130) << r.err;

@@ -135,6 +135,11 @@ CommandResult BackgroundSpecht::Wait() {
   return r;
 }
 
+bool DataRequired() {
+  const char* v = std::getenv("SPECHT_REQUIRE_DATA");
+  return v != nullptr && std::string(v) == "1";
+}
+
 std::string ReadFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream s;

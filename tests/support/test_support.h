@@ -58,9 +58,24 @@ void WriteFile(const std::string& path, const std::string& bytes);
 // The decompressed bytes of a (possibly gzip) file.
 std::string ReadDecompressed(const std::string& path);
 
+// True when SPECHT_REQUIRE_DATA=1 (set by .ci/run): a test whose input is missing
+// then fails instead of skipping, so a misplaced data directory cannot pass CI.
+bool DataRequired();
+
 }  // namespace specht::testing
 
-#define SPECHT_REQUIRE_FILE(path)                                        \
-  do {                                                                   \
-    if ((path).empty()) GTEST_SKIP() << "test data not available here"; \
+// Skips the test for missing input (stream the reason into it), or fails it when
+// the input is required (DataRequired).
+#define SPECHT_SKIP()                                  \
+  switch (0)                                           \
+  case 0:                                              \
+  default:                                             \
+    if (::specht::testing::DataRequired())             \
+      FAIL() << "input missing (SPECHT_REQUIRE_DATA=1): "; \
+    else                                               \
+      GTEST_SKIP()
+
+#define SPECHT_REQUIRE_FILE(path)                                   \
+  do {                                                              \
+    if ((path).empty()) SPECHT_SKIP() << "test data not available here"; \
   } while (0)
