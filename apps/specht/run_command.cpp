@@ -51,7 +51,6 @@ int RunRun(const RunArgs& a) {
   double min_clearance = 1e9, min_pedestrian = 1e9, max_park_m = 0, max_park_deg = 0;
   ProgressLine progress("run", "runs", !a.common.quiet, 0.0);
   for (uint64_t seed = first; seed <= last; ++seed) {
-    if (seed > first && InterruptRequested()) break;  // between drives: the next is not started
     std::string steps;
     const pipeline::ClosedLoopResult r = pipeline::RunClosedLoop(
         scenario, seed, mission, config, [&](double t, const std::string& state, const plan::Pose& p) {
@@ -85,7 +84,7 @@ int RunRun(const RunArgs& a) {
     if (r.park_error_m >= 0) max_park_m = std::max(max_park_m, r.park_error_m), max_park_deg = std::max(max_park_deg, r.park_error_deg);
     progress.Update(static_cast<double>(seed - first + 1), static_cast<double>(seed - first + 1) / (last - first + 1),
                     r.success ? "ok" : "failed: " + r.failure);
-    if (r.interrupted) break;  // the drive cut short is written; the seeds after it are not started
+    if (InterruptRequested()) break;  // this drive (cut short or not) is written; the next is not started
   }
   progress.Finish();
   const int n = static_cast<int>(runs.size());

@@ -135,7 +135,7 @@ int RunTune(const TuneArgs& a) {
   if (InterruptRequested() && r.best < 0) {  // nothing to report but that the log holds no result yet
     io::RunReport report("tune");
     report.SetInterrupted("no finished evaluation");
-    report.json()["outputs"] = {"evaluations.csv"};
+    report.AddOutput("evaluations.csv");
     report.Write(out);
     return InterruptExitCode();
   }

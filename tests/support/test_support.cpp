@@ -76,13 +76,21 @@ std::string TempDir(const std::string& suffix) {
   return dir.string();
 }
 
-CommandResult RunSpecht(const std::string& args) {
+namespace {
+
+// The shell command running the binary with `args`, its output into `out` and `err`.
+std::string SpechtCommand(const std::string& args, const std::string& out, const std::string& err) {
   const std::string bin = EnvOr("SPECHT_BINARY", SPECHT_DEFAULT_BINARY);
+  return "'" + bin + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+}
+
+}  // namespace
+
+CommandResult RunSpecht(const std::string& args) {
   CommandResult r;
   const std::string dir = TempDir("-cmd");
   const std::string out = dir + "/stdout", err = dir + "/stderr";
-  const std::string cmd = std::string("'") + bin + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
-  const int status = std::system(cmd.c_str());
+  const int status = std::system(SpechtCommand(args, out, err).c_str());
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = ReadFile(out);
   r.err = ReadFile(err);
@@ -90,11 +98,10 @@ CommandResult RunSpecht(const std::string& args) {
 }
 
 BackgroundSpecht::BackgroundSpecht(const std::string& args) {
-  const std::string bin = EnvOr("SPECHT_BINARY", SPECHT_DEFAULT_BINARY);
   const std::string dir = TempDir("-bg");
   out_ = dir + "/stdout", err_ = dir + "/stderr";
   // `exec`: the shell becomes specht, so the signals go to it.
-  const std::string cmd = "exec '" + bin + "' " + args + " >'" + out_ + "' 2>'" + err_ + "' </dev/null";
+  const std::string cmd = "exec " + SpechtCommand(args, out_, err_);
   pid_ = fork();
   if (pid_ == 0) {
     execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));

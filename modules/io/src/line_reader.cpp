@@ -36,16 +36,13 @@ class LineReader::Bz2 {
     while (bz_ != nullptr) {
       int status = BZ_OK;
       const int got = BZ2_bzRead(&status, bz_, out, static_cast<int>(n));
-      if (status == BZ_OK && got > 0) return static_cast<size_t>(got);
-      if (status == BZ_STREAM_END) {
-        NextStream();
-        if (got > 0) return static_cast<size_t>(got);
-        continue;
-      }
-      if (status != BZ_OK) {
+      if (status == BZ_OK) return static_cast<size_t>(got);
+      if (status != BZ_STREAM_END) {
         error = "bzip2 error " + std::to_string(status);
         return 0;
       }
+      NextStream();
+      if (got > 0) return static_cast<size_t>(got);
     }
     return 0;
   }

@@ -89,7 +89,7 @@ int TrackingEvaluation::Run(const std::string& out, bool quiet) {
   double done_s = 0, tracker_s = 0;
   long frames = 0;
   nlohmann::json runs = nlohmann::json::array();
-  for (size_t i = 0; i < scenarios_.size(); ++i) {
+  for (size_t i = 0; i < scenarios_.size() && !InterruptRequested(); ++i) {
     const classify::MapFeatures map = classifier_ ? ScenarioMapFeatures(scenarios_[i]) : classify::MapFeatures{};
     for (uint64_t seed = seeds_[i].first; seed <= seeds_[i].second && !InterruptRequested(); ++seed) {
       const std::string prefix = "s" + std::to_string(seed) + "/" + scenarios_[i].name + "/";

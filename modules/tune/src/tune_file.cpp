@@ -141,7 +141,7 @@ ProcessResult RunProcess(const std::vector<std::string>& argv, const std::string
     if (InterruptRequested() && !r.interrupted) {
       kill(-pid, SIGTERM);
       r.interrupted = true;
-      timeout_s = r.seconds + 5.0;  // then SIGKILL below
+      timeout_s = std::min(timeout_s, r.seconds + 5.0);  // then SIGKILL below
     }
     if (r.seconds > timeout_s) {
       kill(-pid, SIGKILL);
