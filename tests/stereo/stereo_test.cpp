@@ -330,6 +330,29 @@ TEST(CalibrationTest, MalformedFilesNameFileLineAndKey) {
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("bad.ini: MRPT stereo camera section [CAMERA_...]"));
   }
+  // Found by fuzz_calibration: matrices and sizes holding what is not a number
+  // escaped as yaml-cpp's exceptions.
+  std::ofstream(dir + "/scalar.yaml") << "M1: 7.2e+03 08000H1\n";
+  try {
+    LoadCalibration({dir + "/scalar.yaml"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("scalar.yaml:1: 'M1' must be a matrix"));
+  }
+  std::ofstream(dir + "/words.yaml") << "M1: [a, b, c, d, e, f, g, h, i]\n";
+  try {
+    LoadCalibration({dir + "/words.yaml"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("words.yaml:1: 'M1' holds something that is not a number"));
+  }
+  std::ofstream(dir + "/size.yaml") << "image_width: wide\nimage_height: 2\nM1: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n";
+  try {
+    LoadCalibration({dir + "/size.yaml"});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("size.yaml:1: image_width and image_height must be integers"));
+  }
   // A calibration for other images.
   std::ofstream(dir + "/small.yaml") << "%YAML:1.0\nimage_width: 320\nimage_height: 240\n";
   StereoCalibration c;

@@ -128,20 +128,27 @@ cv::Mat NeedYamlMatrix(const std::string& path, const YAML::Node& root, const st
   if (!node) throw InputError(path + ": missing '" + key + "'");
   const int line = node.Mark().line + 1;
   // OpenCV FileStorage (!!opencv-matrix) and ROS camera_info both write rows, cols, data.
-  const YAML::Node data = node["data"] ? node["data"] : node;
+  const YAML::Node data = node.IsMap() && node["data"] ? node["data"] : node;
   if (!data.IsSequence()) throw InputError(Where(path, line) + "'" + key + "' must be a matrix (rows, cols, data)");
   std::vector<double> values;
-  for (const auto& v : data) values.push_back(v.as<double>());
+  try {
+    for (const auto& v : data) values.push_back(v.as<double>());
+  } catch (const YAML::Exception&) {
+    throw InputError(Where(path, line) + "'" + key + "' holds something that is not a number");
+  }
   if (rows > 0 && static_cast<int>(values.size()) != rows * cols)
     throw InputError(Where(path, line) + "'" + key + "' needs " + std::to_string(rows * cols) + " numbers, has " +
                      std::to_string(values.size()));
   return cv::Mat(values, true).reshape(1, rows > 0 ? rows : 1);
 }
 
-cv::Size YamlSize(const YAML::Node& root) {
-  if (root["image_width"] && root["image_height"])
+cv::Size YamlSize(const std::string& path, const YAML::Node& root) {
+  if (!root["image_width"] || !root["image_height"]) return cv::Size();
+  try {
     return cv::Size(root["image_width"].as<int>(), root["image_height"].as<int>());
-  return cv::Size();
+  } catch (const YAML::Exception&) {
+    throw InputError(Where(path, root["image_width"].Mark().line + 1) + "image_width and image_height must be integers");
+  }
 }
 
 YAML::Node LoadYaml(const std::string& path) {
@@ -158,7 +165,7 @@ YAML::Node LoadYaml(const std::string& path) {
 StereoCalibration OpenCvYaml(const std::string& path, const YAML::Node& root) {
   StereoCalibration c;
   c.source = path;
-  c.size = YamlSize(root);
+  c.size = YamlSize(path, root);
   c.k_left = cv::Matx33d(NeedYamlMatrix(path, root, "M1", 3, 3));
   c.k_right = cv::Matx33d(NeedYamlMatrix(path, root, "M2", 3, 3));
   c.d_left = NeedYamlMatrix(path, root, "D1", -1, 0);
@@ -176,8 +183,8 @@ StereoCalibration RosPair(const std::string& left_path, const std::string& right
   const cv::Mat p_right = NeedYamlMatrix(right_path, right, "projection_matrix", 3, 4);
   StereoCalibration c;
   c.source = left_path + "," + right_path;
-  c.size = YamlSize(left);
-  if (YamlSize(right) != c.size)
+  c.size = YamlSize(left_path, left);
+  if (YamlSize(right_path, right) != c.size)
     throw InputError(right_path + ": image size differs from " + left_path);
   // The raw images: K, D, and the rectifying rotations, turned into R, T.
   c.k_left = cv::Matx33d(NeedYamlMatrix(left_path, left, "camera_matrix", 3, 3));
