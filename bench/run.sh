@@ -20,6 +20,11 @@ if [[ -d "$data/slam/carmen" ]]; then
     run "$build/bench/slam_bench" "$data/slam/carmen/$f-corrected.log.gz" "carmen-$f"
   done
 fi
+if [[ -d "$data/slam/freiburg" ]]; then
+  for f in intel fr079 aces fr-clinic_robotlaser; do
+    run "$build/bench/slam_bench" "$data/slam/freiburg/$f.clf.bz2" "freiburg-$f"
+  done
+fi
 if [[ -d "$data/slam/g2o" ]]; then
   run "$build/bench/pose_graph_bench" "$data"/slam/g2o/{intel,CSAIL,manhattan,city10000}.g2o
 fi

@@ -3,7 +3,9 @@
 // Prints one JSON object: ms per scan p50/p95/mean (each scan's whole SLAM step,
 // loop search and optimisation included), real-time factor (data seconds per wall
 // second, whole pipeline), peak memory, and, where the dataset carries a reference
-// (CARMEN corrected poses, MRPT <rawlog>.GT.txt), relation error and ATE.
+// (CARMEN corrected poses, MRPT <rawlog>.GT.txt), relation error and ATE; where a
+// published relations file lies beside it (the Freiburg benchmark's <log>.relations),
+// the Kümmerle metric on it.
 #include <chrono>
 #include <iostream>
 
@@ -15,6 +17,7 @@
 #include "specht/eval/trajectory_error.h"
 #include "specht/io/reference.h"
 #include "specht/io/dataset.h"
+#include "specht/io/trajectory_io.h"
 #include "specht/slam/graph_slam.h"
 
 using Clock = std::chrono::steady_clock;
@@ -72,6 +75,11 @@ int main(int argc, char** argv) {
     const auto ate = eval::AbsoluteTrajectoryError2D(slam.trajectory(), reference, 0.05);
     result["relation_error"] = eval::ToJson(rel.all);
     result["ate_rmse_m"] = ate.rmse_m;
+  }
+  const std::string relations_path = io::DefaultRelationsPath(dataset);
+  if (!relations_path.empty()) {
+    const auto rel = eval::ComputePublishedRelationError(slam.trajectory(), io::ReadRelations(relations_path));
+    result["published_relations"] = {{"relations", rel.relations}, {"absolute", eval::ToJson(rel.absolute)}};
   }
   bench::Emit(result);
   return 0;

@@ -40,7 +40,7 @@ seed() {
 seed fuzz_rawlog "$mrpt"/*.rawlog "$data"/slam/freiburg/*.rawlog
 seed fuzz_carmen "$data"/slam/carmen/*.log.gz "$data"/slam/freiburg/*.clf.bz2
 seed fuzz_g2o "$data"/slam/g2o/*.g2o "$mrpt"/graph_2d_circle_50nodes.graph
-seed fuzz_trajectory "$mrpt"/*ground_truth*.txt "$data"/slam/carmen/intel-corrected.log.gz
+seed fuzz_trajectory "$mrpt"/*ground_truth*.txt "$data"/slam/carmen/intel-corrected.log.gz "$data"/slam/freiburg/intel.relations
 seed fuzz_nmea "$data"/ais/nmea/*.log "$data"/ais/nmea/*.aivdm
 seed fuzz_ais_positions "$data"/ais/tracks/*.csv.gz
 seed fuzz_params "$root"/params/*.yaml "$root"/params/tune/*.yaml

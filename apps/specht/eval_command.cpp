@@ -1,6 +1,8 @@
 // `specht eval slam --estimate traj.tum --reference REF`: relation error (Kümmerle et
 // al. 2009) and ATE of an estimated trajectory against a reference, with a plot.
-// REF is a CARMEN log (its corrected laser poses), a TUM file or a "t x y theta" file.
+// REF is a corrected CARMEN log (its laser poses), a TUM file or a "t x y theta" file.
+// `--relations FILE` scores it on a published relations file instead (or as well),
+// with a picture of the worst relations (on `--map map.yaml` when given).
 //
 // `specht eval track --truth truth.csv --tracks tracks.csv`: CLEAR MOT (eval/mot.h).
 //
@@ -35,20 +37,64 @@ namespace {
 struct EvalSlamArgs {
   std::string estimate;
   std::string reference;
+  std::string relations_file;
+  std::string map_yaml;
   std::string out_dir = "specht-out/eval-slam";
   eval::RelationOptions relations;
+  eval::PublishedRelationOptions published;
 };
 
+void PrintPublished(const eval::PublishedRelationError& rel) {
+  const auto& a = rel.absolute;
+  const auto& q = rel.squared;
+  std::printf("published relations %zu (all matched)\n", rel.relations);
+  std::printf("  absolute  %.4f ± %.4f m (max %.4f)   %.3f ± %.3f deg (max %.3f)\n", a.mean_m, a.std_m, a.max_m,
+              a.mean_deg, a.std_deg, a.max_deg);
+  std::printf("  squared   %.5f ± %.5f m²            %.3f ± %.3f deg²\n", q.mean_m, q.std_m, q.mean_deg, q.std_deg);
+  std::printf("worst published relations (scan i, j: stamps, error)\n");
+  for (const eval::Relation& r : rel.worst) {
+    std::printf("  %6zu %6zu   %.6f s %.6f s   %.4f m   %.3f deg\n", r.i, r.j, r.stamp_i.Seconds(),
+                r.stamp_j.Seconds(), r.m, r.deg);
+  }
+}
+
+// The published relations: metrics and relations.png (the worst relations on the map).
+void EvalPublishedRelations(const EvalSlamArgs& a, const Trajectory& estimate, io::RunReport& report) {
+  eval::PublishedRelationOptions options = a.published;
+  options.worst_count = a.relations.worst_count;
+  const eval::PublishedRelationError rel =
+      eval::ComputePublishedRelationError(estimate, io::ReadRelations(a.relations_file), options);
+  report.json()["metrics"]["published_relations"] = eval::ToJson(rel);
+  const Trajectory worst = eval::RelationSegments(estimate, rel.worst);
+  const std::vector<io::PathOverlay> overlays{
+      {&estimate, {30, 90, 220}, "estimate"},
+      {&worst, {220, 30, 30}, "the " + std::to_string(rel.worst.size()) + " worst relations", false, true}};
+  if (a.map_yaml.empty()) {
+    io::WriteTrajectoryPng(overlays, a.out_dir + "/relations.png");
+  } else {
+    io::WriteMapPng(io::ReadRosMap(a.map_yaml), overlays, a.out_dir + "/relations.png");
+  }
+  report.AddOutput("relations.png");
+  PrintPublished(rel);
+}
+
 int RunEvalSlam(const EvalSlamArgs& a) {
+  if (a.reference.empty() && a.relations_file.empty()) {
+    throw InputError("eval slam: give --reference (a trajectory) or --relations (a relations file), or both");
+  }
   const Trajectory estimate = io::ReadTum(a.estimate);
+  io::RunReport report("eval slam");
+  auto& j = report.json();
+  j["inputs"] = {{"estimate", a.estimate}, {"reference", a.reference}, {"relations", a.relations_file}};
+  io::MakeOutputDir(a.out_dir);
+  if (!a.relations_file.empty()) EvalPublishedRelations(a, estimate, report);
+  if (a.reference.empty()) {
+    report.Write(a.out_dir);
+    return 0;
+  }
   const Trajectory reference = io::ReadReference(a.reference);
   const eval::RelationError rel = eval::ComputeRelationError(estimate, reference, a.relations);
   const eval::AteResult ate = eval::AbsoluteTrajectoryError2D(estimate, reference, a.relations.max_dt_s);
-  io::MakeOutputDir(a.out_dir);
-
-  io::RunReport report("eval slam");
-  auto& j = report.json();
-  j["inputs"] = {{"estimate", a.estimate}, {"reference", a.reference}};
   j["metrics"]["relation"] = eval::ToJson(rel);
   j["metrics"]["ate"] = eval::ToJson(ate);
   const Trajectory aligned = eval::Transform(estimate, ate.alignment);
@@ -144,7 +190,14 @@ void AddEvalCommand(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<EvalSlamArgs>();
   CLI::App* slam = eval->add_subcommand("slam", "relation error (Kuemmerle et al. 2009) and ATE of a trajectory");
   slam->add_option("--estimate", args->estimate, "estimated trajectory (TUM)")->required();
-  slam->add_option("--reference", args->reference, "CARMEN log, TUM or 't x y theta' reference")->required();
+  slam->add_option("--reference", args->reference, "corrected CARMEN log, TUM or 't x y theta' reference");
+  slam->add_option("--relations", args->relations_file,
+                   "published relations file (t1 t2 x y z roll pitch yaw, Kuemmerle et al. 2009): every relation "
+                   "must match the estimate by stamp");
+  slam->add_option("--relations-max-dt", args->published.max_dt_s,
+                   "a relation's stamps match the estimate's within this (s)")
+      ->capture_default_str();
+  slam->add_option("--map", args->map_yaml, "draw the worst relations on this map (map_server YAML)");
   slam->add_option("-o,--out", args->out_dir, "output directory")->capture_default_str();
   slam->add_option("--loop-distance", args->relations.loop_max_distance_m,
                    "loop relations: reference poses closer than this (m)")->capture_default_str();

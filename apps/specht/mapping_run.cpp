@@ -24,7 +24,10 @@ void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& defa
   AddCommonOptions(cmd, args.common, default_out);
   cmd.add_option("--ground-truth", args.ground_truth,
                  "reference trajectory (TUM, 't x y theta' or CARMEN log); default <dataset>.GT.txt when present, "
-                 "or the corrected poses of a CARMEN log");
+                 "or the corrected poses of a corrected CARMEN log");
+  cmd.add_option("--relations", args.relations,
+                 "published relations file (t1 t2 x y z roll pitch yaw) to score on; default <log stem>.relations "
+                 "beside the dataset, when present");
   cmd.add_option("--map", args.map_dir,
                  "localize on the map artefact in this directory (written by `specht slam`) instead of mapping");
   cmd.add_option("--continue", args.continue_dir,
@@ -48,7 +51,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
   // Everything that can be wrong with the input is checked before anything is written.
   const params::Params params = LoadParams(common);
   pipeline::Replay replay(params,
-                          {a.dataset, a.ground_truth, a.map_dir, a.continue_dir,
+                          {a.dataset, a.ground_truth, a.relations, a.map_dir, a.continue_dir,
                            io::ResolveDataDir(common.data_dir).value_or(""), common.param_files, common.overrides},
                           command);
   PrepareOutputDir(common, params);

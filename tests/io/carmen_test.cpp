@@ -3,10 +3,13 @@
 
 #include <bzlib.h>
 
+#include <set>
+
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
 #include "specht/io/line_reader.h"
+#include "specht/io/trajectory_io.h"
 #include "test_support.h"
 
 namespace specht::io {
@@ -57,16 +60,36 @@ TEST(CarmenTest, ReadsTheIntelLogAndItsReference) {
   EXPECT_LT(odometry_end.distanceTo(last), 65.0);
 }
 
-std::string Log(const std::string& body) {
+// A corrected log (its NEFF line says so: laser poses are the reference, ODOM is
+// re-anchored at each laser message), or a raw one.
+std::string Log(const std::string& body, bool corrected = true) {
   const std::string path = testing::TempDir() + "/test.log";
-  testing::WriteFile(path, "# CARMEN log\nPARAM robot_frontlaser_offset 0.1 host 0\n" + body);
+  testing::WriteFile(path, "# CARMEN log\nPARAM robot_frontlaser_offset 0.1 host 0\n" + body + (corrected ? "NEFF 10\n" : ""));
   return path;
 }
 
-std::string Flaser(int beams, const std::string& first_range = "1.5", double t = 1.0) {
+std::string Flaser(int beams, const std::string& first_range = "1.5", double t = 1.0,
+                   const std::string& pose = "1 2 0.5 1 2 0.5") {
   std::string line = "FLASER " + std::to_string(beams) + " " + first_range;
   for (int i = 1; i < beams; ++i) line += " 2.0";
-  return line + " 1 2 0.5 1 2 0.5 " + std::to_string(t) + " host " + std::to_string(t) + "\n";
+  return line + " " + pose + " " + std::to_string(t) + " host " + std::to_string(t) + "\n";
+}
+
+// Every observation in order: kind ('O' odometry, 'S' scan), stamp, odometry x.
+struct Record {
+  char kind;
+  double t, x;
+};
+// The source's notes once it has read everything go to `notes`.
+std::vector<Record> Records(const std::string& path, std::vector<std::string>* notes = nullptr) {
+  std::vector<Record> out;
+  auto source = OpenDataset(path);
+  while (auto obs = source->Next()) {
+    auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs->data);
+    out.push_back({odo ? 'O' : 'S', obs->stamp.Seconds(), odo ? odo->odometry.x() : 0.0});
+  }
+  if (notes) *notes = source->Notes();
+  return out;
 }
 
 TEST(CarmenTest, ParsesFlaserAndOdometryWithTheLaserOffset) {
@@ -163,6 +186,68 @@ TEST(CarmenTest, LogsWithoutTimeStampsAreStampedInOrder) {
   ASSERT_EQ(t.size(), 3u);
   EXPECT_LT(t[0].stamp, t[1].stamp);
   EXPECT_LT(t[1].stamp, t[2].stamp);
+  const auto notes = OpenDataset(path)->Notes();
+  ASSERT_FALSE(notes.empty());
+  EXPECT_THAT(notes.front(), HasSubstr("a corrected log"));
+}
+
+// A raw log: a scan's odometry is its own line's (the logger's odometry at the scan),
+// delivered at the scan's stamp just before it, not the ODOM line stamped after the
+// scan that precedes it in the file; stamps that go backwards are kept and counted.
+TEST(CarmenTest, RawLogPairsEachScanWithItsOwnOdometryAndKeepsItsStamps) {
+  const std::string path = Log("ODOM 1.0 0 0 0 0 0 1.0 host 1.0\n"
+                               "ODOM 2.0 0 0 0 0 0 1.2 host 1.2\n" +
+                                   Flaser(10, "1.5", 1.1, "1.5 0 0 1.5 0 0") +
+                                   Flaser(10, "1.5", 1.05, "1.7 0 0 1.7 0 0") + "ODOM 2.5 0 0 0 0 0 1.3 host 1.3\n",
+                               /*corrected=*/false);
+  std::vector<std::string> notes;
+  const auto r = Records(path, &notes);
+  ASSERT_EQ(r.size(), 7u);
+  const std::string kinds{r[0].kind, r[1].kind, r[2].kind, r[3].kind, r[4].kind, r[5].kind, r[6].kind};
+  EXPECT_EQ(kinds, "OOOSOSO");
+  EXPECT_DOUBLE_EQ(r[2].t, 1.1);  // the scan's own odometry, at its stamp
+  EXPECT_DOUBLE_EQ(r[2].x, 1.5);
+  EXPECT_DOUBLE_EQ(r[3].t, 1.1);
+  EXPECT_DOUBLE_EQ(r[5].t, 1.05);  // backwards, kept as logged
+  EXPECT_DOUBLE_EQ(r[6].x, 2.5);   // ODOM lines are absolute odometry in a raw log
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_THAT(notes[0], HasSubstr("a raw log"));
+  EXPECT_THAT(notes[1], HasSubstr("laser: 1 stamps go backwards (by up to 0.050 s): kept as logged"));
+  try {
+    ReadCarmenReference(path);
+    FAIL() << "a raw log's odometry taken as a reference";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("test.log: a raw CARMEN log"));
+  }
+}
+
+// The Freiburg benchmark's raw logs: the scans carry the log's own stamps, so every
+// published relation of Intel (whose laser stamps go backwards 631 times) and FR079
+// (whose ODOM lines run ahead of the scans after them) finds its two scans.
+TEST(CarmenTest, RawFreiburgScansCarryTheStampsThePublishedRelationsName) {
+  const std::string data = testing::DataDir();
+  SPECHT_REQUIRE_FILE(data);
+  for (const char* name : {"intel", "fr079"}) {
+    const std::string log = data + "/slam/freiburg/" + std::string(name) + ".clf.bz2";
+    SPECHT_REQUIRE_FILE(log);
+    auto source = OpenDataset(log);
+    Trajectory scans;
+    while (auto obs = source->Next()) {
+      if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data)) scans.push_back({obs->stamp, {}});
+    }
+    const auto relations = ReadRelations(DefaultRelationsPath(log));
+    std::set<int64_t> stamps;
+    for (const auto& s : scans) stamps.insert(s.stamp.ns);
+    size_t matched = 0;
+    for (const auto& r : relations.relations) {
+      matched += stamps.count(r.t1.ns) && stamps.count(r.t2.ns);
+    }
+    EXPECT_EQ(matched, relations.relations.size()) << name;
+    if (std::string(name) == "intel") {
+      EXPECT_EQ(scans.size(), 13631u);
+      EXPECT_THAT(source->Notes().at(1), HasSubstr("laser: 631 stamps go backwards"));
+    }
+  }
 }
 
 TEST(CarmenTest, TruncatedGzipStopsWithTheLineWhereItBreaks) {

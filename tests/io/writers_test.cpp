@@ -133,6 +133,29 @@ TEST(TrajectoryIoTest, MalformedLinesNameFileAndLine) {
   EXPECT_EQ(ReadTum(dir + "/q2.tum").size(), 2u);
 }
 
+TEST(TrajectoryIoTest, RelationsFilesAreReadWithTheirLinesAndFoundBesideTheLog) {
+  const std::string dir = testing::TempDir();
+  testing::WriteFile(dir + "/log.relations", "976052905.167303 976052911.885496 -0.05699 -0.12843 0 0 0 -1.68221\n");
+  const RelationsFile file = ReadRelations(dir + "/log.relations");
+  ASSERT_EQ(file.relations.size(), 1u);
+  EXPECT_EQ(file.relations[0].line, 1);
+  EXPECT_EQ(file.relations[0].t1.ns, Stamp::FromSeconds(976052905.167303).ns);
+  EXPECT_NEAR(file.relations[0].delta.phi(), -1.68221, 1e-12);
+  testing::WriteFile(dir + "/log.clf.bz2", "");
+  EXPECT_EQ(DefaultRelationsPath(dir + "/log.clf.bz2"), dir + "/log.relations");
+  EXPECT_EQ(DefaultRelationsPath(dir + "/other.clf"), "");
+  testing::WriteFile(dir + "/bad.relations", "1 2 0 0 0 0 0 0\n1 2 0 0 0 0 0\n");
+  try {
+    ReadRelations(dir + "/bad.relations");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              dir + "/bad.relations:2: expected 8 numbers (t1 t2 x y z roll pitch yaw), got 7");
+  }
+  testing::WriteFile(dir + "/empty.relations", "# nothing\n");
+  EXPECT_THROW(ReadRelations(dir + "/empty.relations"), InputError);
+}
+
 TEST(AtomicFileTest, AFailedWriteLeavesTheOldFileAndNoTemporary) {
   const std::string dir = testing::TempDir();
   WriteTextAtomically(dir + "/a.txt", "old");

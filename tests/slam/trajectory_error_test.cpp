@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 namespace specht::eval {
@@ -88,6 +89,42 @@ TEST(RelationErrorTest, AGlitchAtOneScanShowsInItsTwoConsecutiveRelationsAndHead
 
   options.worst_count = 0;
   EXPECT_TRUE(ComputeRelationError(estimate, reference, options).worst.empty());
+}
+
+// Published relations: the estimate's motion between the two named scans against the
+// relation's; a scan pushed 0.3 m aside shows in the relations that name it, stamps
+// going backwards in the estimate do not matter, and a relation whose scan is not in
+// the estimate is an error naming its line.
+TEST(PublishedRelationErrorTest, ScoresEveryRelationByStampAndNamesOneThatDoesNotMatch) {
+  Trajectory estimate = Circle(300);
+  std::swap(estimate[10], estimate[11]);  // stamps out of order, as Intel's
+  io::RelationsFile file{"test.relations", {}};
+  for (size_t i = 0; i + 1 < 300; i += 3) {
+    const CPose2D a(estimate[i].pose), b(estimate[i + 1].pose);
+    file.relations.push_back({estimate[i].stamp, estimate[i + 1].stamp, b - a, static_cast<int64_t>(i / 3 + 1)});
+  }
+  estimate[150].pose.x_incr(0.3);  // relation 150 → 151 (i = 150 is a multiple of 3)
+  PublishedRelationOptions options;
+  options.worst_count = 2;
+  const PublishedRelationError e = ComputePublishedRelationError(estimate, file, options);
+  EXPECT_EQ(e.relations, 100u);
+  EXPECT_EQ(e.absolute.count, 100u);
+  EXPECT_NEAR(e.absolute.max_m, 0.3, 0.01);
+  EXPECT_NEAR(e.absolute.mean_m, e.absolute.max_m / 100, 1e-12);
+  EXPECT_NEAR(e.squared.mean_m, e.absolute.max_m * e.absolute.max_m / 100, 1e-12);
+  ASSERT_EQ(e.worst.size(), 2u);
+  EXPECT_EQ(e.worst[0].i, 150u);
+  EXPECT_EQ(e.worst[0].j, 151u);
+  EXPECT_EQ(RelationSegments(estimate, e.worst).size(), 4u);
+
+  file.relations[7].t2 = Stamp{file.relations[7].t2.ns + 5'000'000};  // 5 ms off: no scan there
+  try {
+    ComputePublishedRelationError(estimate, file, options);
+    FAIL() << "a relation without its scan was scored";
+  } catch (const InputError& err) {
+    EXPECT_THAT(err.what(), ::testing::HasSubstr("test.relations:8: the relation's stamp"));
+    EXPECT_THAT(err.what(), ::testing::HasSubstr("1 of 100 relations do not match"));
+  }
 }
 
 }  // namespace

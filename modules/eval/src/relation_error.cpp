@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <queue>
 
 #include <mrpt/math/wrap2pi.h>
@@ -46,6 +47,36 @@ bool Worse(const Relation& a, const Relation& b) {
   return a.i != b.i ? a.i < b.i : a.j < b.j;
 }
 
+// The `count` worst relations seen, kept in a heap with the least bad on top.
+class WorstRelations {
+ public:
+  explicit WorstRelations(size_t count) : count_(count), heap_(&Worse) {}
+  void Offer(const Relation& r) {
+    if (heap_.size() < count_) {
+      heap_.push(r);
+    } else if (count_ > 0 && Worse(r, heap_.top())) {
+      heap_.pop();
+      heap_.push(r);
+    }
+  }
+  std::vector<Relation> TakeWorstFirst() {
+    std::vector<Relation> out;
+    for (; !heap_.empty(); heap_.pop()) out.push_back(heap_.top());
+    std::reverse(out.begin(), out.end());
+    return out;
+  }
+
+ private:
+  size_t count_;
+  std::priority_queue<Relation, std::vector<Relation>, decltype(&Worse)> heap_;
+};
+
+// ε = δ̂ ⊖ δ*: translational (m) and rotational (deg) size.
+std::pair<double, double> RelationErrorOf(const CPose2D& estimated, const CPose2D& reference) {
+  const CPose2D e = estimated - reference;
+  return {e.norm(), std::abs(mrpt::RAD2DEG(mrpt::math::wrapToPi(e.phi())))};
+}
+
 }  // namespace
 
 RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory& reference,
@@ -60,20 +91,12 @@ RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory&
     ref.emplace_back(reference[j].pose);
   }
   Accumulator consecutive, loop, all;
-  // The worst_count worst so far, the least bad on top.
-  std::priority_queue<Relation, std::vector<Relation>, decltype(&Worse)> worst(&Worse);
+  WorstRelations worst(options.worst_count);
   auto add = [&](size_t i, size_t j, Accumulator& kind) {
-    const CPose2D e = (est[j] - est[i]) - (ref[j] - ref[i]);
-    const double m = e.norm(), deg = std::abs(mrpt::RAD2DEG(mrpt::math::wrapToPi(e.phi())));
+    const auto [m, deg] = RelationErrorOf(est[j] - est[i], ref[j] - ref[i]);
     kind.Add(m, deg);
     all.Add(m, deg);
-    const Relation r{i, j, estimate[pairs[i].first].stamp, estimate[pairs[j].first].stamp, &kind == &loop, m, deg};
-    if (worst.size() < options.worst_count) {
-      worst.push(r);
-    } else if (options.worst_count > 0 && Worse(r, worst.top())) {
-      worst.pop();
-      worst.push(r);
-    }
+    worst.Offer({i, j, estimate[pairs[i].first].stamp, estimate[pairs[j].first].stamp, &kind == &loop, m, deg});
   };
   const size_t n = est.size();
   for (size_t i = 0; i + 1 < n; ++i) add(i, i + 1, consecutive);
@@ -84,10 +107,39 @@ RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory&
       if (dx * dx + dy * dy <= r2) add(i, j, loop);
     }
   }
-  RelationError result{consecutive.Stats(), loop.Stats(), all.Stats(), n, {}};
-  for (; !worst.empty(); worst.pop()) result.worst.push_back(worst.top());
-  std::reverse(result.worst.begin(), result.worst.end());
-  return result;
+  return RelationError{consecutive.Stats(), loop.Stats(), all.Stats(), n, worst.TakeWorstFirst()};
+}
+
+PublishedRelationError ComputePublishedRelationError(const Trajectory& estimate, const io::RelationsFile& file,
+                                                     const PublishedRelationOptions& options) {
+  const StampLookup lookup(estimate, options.max_dt_s);
+  Accumulator absolute, squared;
+  WorstRelations worst(options.worst_count);
+  size_t unmatched = 0;
+  const io::ReferenceRelation* first_unmatched = nullptr;
+  for (const io::ReferenceRelation& r : file.relations) {
+    const auto i = lookup.Find(r.t1), j = lookup.Find(r.t2);
+    if (!i || !j) {
+      if (!first_unmatched) first_unmatched = &r;
+      ++unmatched;
+      continue;
+    }
+    const CPose2D a(estimate[*i].pose), b(estimate[*j].pose);
+    const auto [m, deg] = RelationErrorOf(b - a, r.delta);
+    absolute.Add(m, deg);
+    squared.Add(m * m, deg * deg);
+    worst.Offer({*i, *j, r.t1, r.t2, false, m, deg});
+  }
+  if (first_unmatched) {
+    const bool t1_missing = !lookup.Find(first_unmatched->t1);
+    char stamp[64];
+    std::snprintf(stamp, sizeof stamp, "%.6f", (t1_missing ? first_unmatched->t1 : first_unmatched->t2).Seconds());
+    throw InputError(Where(file.path, static_cast<int>(first_unmatched->line)) + "the relation's stamp " + stamp +
+                     " is not in the trajectory (within " + std::to_string(options.max_dt_s * 1e3) + " ms); " +
+                     std::to_string(unmatched) + " of " + std::to_string(file.relations.size()) +
+                     " relations do not match");
+  }
+  return PublishedRelationError{absolute.Stats(), squared.Stats(), file.relations.size(), worst.TakeWorstFirst()};
 }
 
 nlohmann::json ToJson(const RelationStats& s) {
@@ -95,14 +147,42 @@ nlohmann::json ToJson(const RelationStats& s) {
           {"mean_deg", s.mean_deg}, {"std_deg", s.std_deg}, {"max_deg", s.max_deg}};
 }
 
-nlohmann::json ToJson(const RelationError& e) {
-  nlohmann::json worst = nlohmann::json::array();
-  for (const Relation& r : e.worst) {
-    worst.push_back({{"i", r.i}, {"j", r.j}, {"t_i", r.stamp_i.Seconds()}, {"t_j", r.stamp_j.Seconds()},
-                     {"kind", r.loop ? "loop" : "consecutive"}, {"m", r.m}, {"deg", r.deg}});
+Trajectory RelationSegments(const Trajectory& estimate, const std::vector<Relation>& relations) {
+  Trajectory out;
+  for (const Relation& r : relations) {
+    if (r.i >= estimate.size() || r.j >= estimate.size()) continue;
+    out.push_back(estimate[r.i]);
+    out.push_back(estimate[r.j]);
   }
+  return out;
+}
+
+namespace {
+
+nlohmann::json ToJson(const std::vector<Relation>& relations, bool with_kind) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Relation& r : relations) {
+    out.push_back({{"i", r.i}, {"j", r.j}, {"t_i", r.stamp_i.Seconds()}, {"t_j", r.stamp_j.Seconds()}, {"m", r.m},
+                   {"deg", r.deg}});
+    if (with_kind) out.back()["kind"] = r.loop ? "loop" : "consecutive";
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json ToJson(const RelationError& e) {
   return {{"consecutive", ToJson(e.consecutive)}, {"loop", ToJson(e.loop)}, {"all", ToJson(e.all)},
-          {"paired_poses", e.paired_poses}, {"worst", worst}};
+          {"paired_poses", e.paired_poses}, {"worst", ToJson(e.worst, true)}};
+}
+
+nlohmann::json ToJson(const PublishedRelationError& e) {
+  const RelationStats& q = e.squared;
+  const nlohmann::json squared = {{"count", q.count},       {"mean_m2", q.mean_m},     {"std_m2", q.std_m},
+                                  {"max_m2", q.max_m},      {"mean_deg2", q.mean_deg}, {"std_deg2", q.std_deg},
+                                  {"max_deg2", q.max_deg}};
+  return {{"relations", e.relations}, {"absolute", ToJson(e.absolute)}, {"squared", squared},
+          {"worst", ToJson(e.worst, false)}};
 }
 
 }  // namespace specht::eval

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
@@ -10,23 +11,32 @@
 
 namespace specht::eval {
 
+StampLookup::StampLookup(const Trajectory& trajectory, double max_dt_s)
+    : trajectory_(trajectory), by_stamp_(trajectory.size()), max_dt_ns_(static_cast<int64_t>(max_dt_s * 1e9)) {
+  std::iota(by_stamp_.begin(), by_stamp_.end(), size_t{0});
+  std::stable_sort(by_stamp_.begin(), by_stamp_.end(),
+                   [&](size_t a, size_t b) { return trajectory_[a].stamp < trajectory_[b].stamp; });
+}
+
+std::optional<size_t> StampLookup::Find(Stamp t) const {
+  auto it = std::lower_bound(by_stamp_.begin(), by_stamp_.end(), t,
+                             [&](size_t k, Stamp s) { return trajectory_[k].stamp < s; });
+  std::optional<size_t> best;
+  int64_t best_dt = max_dt_ns_ + 1;
+  for (auto c : {it, it == by_stamp_.begin() ? it : it - 1}) {
+    if (c == by_stamp_.end()) continue;
+    const int64_t dt = std::llabs(trajectory_[*c].stamp.ns - t.ns);
+    if (dt < best_dt) best_dt = dt, best = *c;
+  }
+  return best;
+}
+
 std::vector<std::pair<size_t, size_t>> AssociateByTime(const Trajectory& estimate, const Trajectory& reference,
                                                        double max_dt_s) {
   std::vector<std::pair<size_t, size_t>> pairs;
-  if (reference.empty()) return pairs;
-  const int64_t max_dt_ns = static_cast<int64_t>(max_dt_s * 1e9);
+  const StampLookup lookup(reference, max_dt_s);
   for (size_t i = 0; i < estimate.size(); ++i) {
-    const Stamp t = estimate[i].stamp;
-    auto it = std::lower_bound(reference.begin(), reference.end(), t,
-                               [](const StampedPose& p, Stamp s) { return p.stamp < s; });
-    size_t best = reference.size();
-    int64_t best_dt = max_dt_ns + 1;
-    for (auto c : {it, it == reference.begin() ? it : it - 1}) {
-      if (c == reference.end()) continue;
-      const int64_t dt = std::llabs(c->stamp.ns - t.ns);
-      if (dt < best_dt) best_dt = dt, best = static_cast<size_t>(c - reference.begin());
-    }
-    if (best < reference.size()) pairs.emplace_back(i, best);
+    if (auto j = lookup.Find(estimate[i].stamp)) pairs.emplace_back(i, *j);
   }
   return pairs;
 }

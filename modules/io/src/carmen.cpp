@@ -2,12 +2,15 @@
 
 #include "specht/io/line_reader.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -17,12 +20,17 @@ namespace {
 
 using mrpt::poses::CPose2D;
 
+// A corrected log's first NEFF line follows its first laser message closely (line 4
+// to 194 on the Radish logs); this many lines are looked at.
+constexpr int kCorrectedProbeLines = 20000;
+
 struct LaserMessage {
   std::vector<float> ranges;
   double start_angle = -M_PI / 2;
   double increment = 0;
   double max_range = 0;
-  CPose2D pose;          // reference (corrected) pose: the laser's in a FLASER line, the robot's in ROBOTLASER1
+  CPose2D pose;          // the laser's pose in a FLASER line, the robot's in ROBOTLASER1 (corrected logs: the reference)
+  CPose2D odometry;      // the robot's odometry at this scan (FLASER odom_*, ROBOTLASER1 robot_*)
   CPose2D laser_offset;  // laser on the robot (ROBOTLASER1), else from PARAM
   bool has_offset = false;
   double stamp = 0;
@@ -94,6 +102,7 @@ LaserMessage ParseFlaser(const Fields& f) {
   m.ranges = Ranges(f, 2, n);
   m.increment = FlaserIncrement(n);
   m.pose = CPose2D(f.Number(2 + n, "x"), f.Number(3 + n, "y"), f.Number(4 + n, "theta"));
+  m.odometry = CPose2D(f.Number(5 + n, "odom_x"), f.Number(6 + n, "odom_y"), f.Number(7 + n, "odom_theta"));
   m.stamp = f.Number(8 + n, "ipc_timestamp");
   return m;
 }
@@ -116,11 +125,55 @@ LaserMessage ParseRobotLaser(const Fields& f) {
   }
   const CPose2D laser(f.Number(p, "laser_pose_x"), f.Number(p + 1, "laser_pose_y"), f.Number(p + 2, "laser_pose_theta"));
   m.pose = CPose2D(f.Number(p + 3, "robot_pose_x"), f.Number(p + 4, "robot_pose_y"), f.Number(p + 5, "robot_pose_theta"));
+  m.odometry = m.pose;
   m.laser_offset = laser - m.pose;
   m.has_offset = true;
   m.stamp = f.Number(p + 11, "ipc_timestamp");
   return m;
 }
+
+// One sensor's stamps, as logged. A stamp equal to the previous one's (logs without
+// stamps write 0 throughout) is moved 1 ms after the previous stamp given out, so scans
+// stay apart; a stamp that goes backwards is kept as logged and counted.
+class StampStream {
+ public:
+  explicit StampStream(std::string sensor) : sensor_(std::move(sensor)) {}
+  Stamp Take(double t) {
+    Stamp s = Stamp::FromSeconds(t);
+    if (last_logged_ && s.ns == last_logged_->ns) {
+      ++repeated_;
+      s = Stamp{last_given_->ns + 1'000'000};
+    } else if (last_logged_ && s.ns < last_logged_->ns) {
+      ++backwards_;
+      max_back_s_ = std::max(max_back_s_, SecondsBetween(s, *last_logged_));
+    }
+    if (!last_logged_ || s.ns != last_logged_->ns) last_logged_ = Stamp::FromSeconds(t);
+    last_given_ = s;
+    return s;
+  }
+  // What happened to this sensor's stamps, for the report; empty when nothing did.
+  std::optional<std::string> Note() const {
+    std::string note;
+    if (backwards_ > 0) {
+      char back[64];
+      std::snprintf(back, sizeof back, "%.3f", max_back_s_);
+      note = std::to_string(backwards_) + " stamps go backwards (by up to " + back +
+             " s): kept as logged, taken in file order";
+    }
+    if (repeated_ > 0) {
+      note += (note.empty() ? "" : "; ") + std::to_string(repeated_) +
+              " stamps repeat the previous one: moved 1 ms after it";
+    }
+    if (note.empty()) return std::nullopt;
+    return sensor_ + ": " + note;
+  }
+
+ private:
+  std::string sensor_;
+  std::optional<Stamp> last_logged_, last_given_;
+  long repeated_ = 0, backwards_ = 0;
+  double max_back_s_ = 0;
+};
 
 // The event stream of a CARMEN log, shared by the dataset source and the reference
 // reader so both stamp scans identically.
@@ -129,12 +182,13 @@ class CarmenReader {
   struct Event {
     enum Kind { kOdometry, kLaser } kind;
     Stamp stamp;
-    CPose2D odometry;   // kOdometry: raw chained odometry
+    CPose2D odometry;    // the robot's raw odometry (at the scan, for kLaser)
     LaserMessage laser;  // kLaser
     int64_t line = 0;
   };
 
-  CarmenReader(std::string path, OnBadRecord on_bad) : path_(std::move(path)), lines_(path_), on_bad_(on_bad) {
+  CarmenReader(std::string path, OnBadRecord on_bad)
+      : path_(std::move(path)), corrected_(IsCorrectedCarmenLog(path_)), lines_(path_), on_bad_(on_bad) {
     std::error_code ec;
     file_size_ = std::filesystem::file_size(path_, ec);
   }
@@ -154,9 +208,23 @@ class CarmenReader {
   double Fraction() const { return lines_.Fraction(file_size_); }
   const std::vector<std::string>& skipped() const { return skipped_; }
   double front_laser_offset() const { return front_laser_offset_; }
-  double front_laser_max() const { return front_laser_max_; }
+  bool corrected() const { return corrected_; }
+  std::vector<std::string> Notes() const {
+    std::vector<std::string> notes{corrected_ ? kCorrectedNote : kRawNote};
+    for (const StampStream* s : {&laser_stamps_, &odometry_stamps_}) {
+      if (auto note = s->Note()) notes.push_back(*note);
+    }
+    return notes;
+  }
 
  private:
+  static constexpr const char* kCorrectedNote =
+      "a corrected log (it holds NEFF lines): laser poses are the reference; odometry is the chain of ODOM "
+      "increments, re-anchored at each laser message";
+  static constexpr const char* kRawNote =
+      "a raw log (no NEFF lines): laser poses are the robot's odometry, not a reference; each scan's odometry is "
+      "its own line's";
+
   std::optional<Event> Parse(const std::string& line) {
     const Fields f(line);
     if (f.size() == 0 || f[0][0] == '#') return std::nullopt;
@@ -170,39 +238,40 @@ class CarmenReader {
       if (f.size() < 8) throw Fields::Bad("ODOM needs at least 8 fields, got " + std::to_string(f.size()));
       const CPose2D odom(f.Number(1, "x"), f.Number(2, "y"), f.Number(3, "theta"));
       const double t = f.Number(7, "ipc_timestamp");
-      if (anchor_) raw_ = raw_ + (odom - *anchor_);
-      anchor_ = odom;
-      return Event{Event::kOdometry, StampFor(t), raw_, {}, lines_.number()};
+      if (!corrected_) {
+        raw_ = odom;
+      } else {
+        if (anchor_) raw_ = raw_ + (odom - *anchor_);
+        anchor_ = odom;
+      }
+      return Event{Event::kOdometry, odometry_stamps_.Take(t), raw_, {}, lines_.number()};
     }
     if (kind == "FLASER" || kind == "ROBOTLASER1") {
       LaserMessage m = kind == "FLASER" ? ParseFlaser(f) : ParseRobotLaser(f);
       if (m.max_range <= 0) m.max_range = front_laser_max_;
-      anchor_ = m.pose;  // following ODOM lines are relative to the logged pose
+      if (corrected_) {
+        anchor_ = m.pose;  // following ODOM lines are relative to the logged pose
+      } else {
+        raw_ = m.odometry;  // the logger's odometry at this scan
+      }
       // CARMEN logs a FLASER's pose as the laser's (its logger writes laser_pose there),
       // and the corrected logs correct that pose: the robot sits the PARAM offset behind.
       if (!m.has_offset) m.pose = m.pose + CPose2D(-front_laser_offset_, 0, 0);
-      const Stamp stamp = StampFor(m.stamp);
+      const Stamp stamp = laser_stamps_.Take(m.stamp);
       return Event{Event::kLaser, stamp, raw_, std::move(m), lines_.number()};
     }
     return std::nullopt;  // NEFF, SYNC, TRUEPOS, RLASER, ...
   }
 
-  // max(t, previous + 1 ms): logs without usable stamps still order and pair.
-  Stamp StampFor(double t) {
-    Stamp s = Stamp::FromSeconds(t);
-    if (last_ && s.ns <= last_->ns) s = Stamp{last_->ns + 1'000'000};
-    last_ = s;
-    return s;
-  }
-
   std::string path_;
+  bool corrected_;
   LineReader lines_;
   OnBadRecord on_bad_;
   uint64_t file_size_ = 0;
   std::vector<std::string> skipped_;
   CPose2D raw_;
   std::optional<CPose2D> anchor_;
-  std::optional<Stamp> last_;
+  StampStream laser_stamps_{"laser"}, odometry_stamps_{"odometry"};
   double front_laser_offset_ = 0;
   double front_laser_max_ = 81.9;
 };
@@ -232,26 +301,37 @@ class CarmenSource final : public DatasetSource {
  public:
   CarmenSource(std::string path, OnBadRecord on_bad) : path_(std::move(path)), reader_(path_, on_bad) {}
 
+  // A raw log's scan comes after an odometry reading at its own stamp (its line's), so
+  // the odometry a scan is paired with is the one at that scan, not the latest ODOM
+  // line, whose stamp may be later.
   std::optional<Observation> Next() override {
+    if (pending_scan_) return std::exchange(pending_scan_, std::nullopt);
     auto e = reader_.Next();
     if (!e) return std::nullopt;
-    if (e->kind == CarmenReader::Event::kOdometry) {
-      auto odo = mrpt::obs::CObservationOdometry::Create();
-      odo->odometry = e->odometry;
-      odo->timestamp = ToMrpt(e->stamp);
-      odo->sensorLabel = "ODOMETRY";
-      return Observation{e->stamp, odo, e->line};
-    }
-    return Observation{e->stamp, ToScan(e->laser, reader_.front_laser_offset(), e->stamp), e->line};
+    if (e->kind == CarmenReader::Event::kOdometry) return Odometry(e->stamp, e->odometry, e->line);
+    Observation scan{e->stamp, ToScan(e->laser, reader_.front_laser_offset(), e->stamp), e->line};
+    if (reader_.corrected()) return scan;
+    pending_scan_ = std::move(scan);
+    return Odometry(e->stamp, e->odometry, e->line);
   }
   std::string Path() const override { return path_; }
   std::string Format() const override { return "carmen"; }
   double FractionRead() const override { return reader_.Fraction(); }
   const std::vector<std::string>& SkippedRecords() const override { return reader_.skipped(); }
+  std::vector<std::string> Notes() const override { return reader_.Notes(); }
 
  private:
+  static Observation Odometry(Stamp stamp, const CPose2D& pose, int64_t line) {
+    auto odo = mrpt::obs::CObservationOdometry::Create();
+    odo->odometry = pose;
+    odo->timestamp = ToMrpt(stamp);
+    odo->sensorLabel = "ODOMETRY";
+    return Observation{stamp, odo, line};
+  }
+
   std::string path_;
   CarmenReader reader_;
+  std::optional<Observation> pending_scan_;
 };
 
 }  // namespace
@@ -274,8 +354,21 @@ std::unique_ptr<DatasetSource> OpenCarmen(const std::string& path, OnBadRecord o
   return std::make_unique<CarmenSource>(path, on_bad);
 }
 
+bool IsCorrectedCarmenLog(const std::string& path) {
+  LineReader lines(path);
+  std::string line;
+  for (int i = 0; i < kCorrectedProbeLines && lines.Next(line); ++i) {
+    if (line.rfind("NEFF", 0) == 0) return true;
+  }
+  return false;
+}
+
 Trajectory ReadCarmenReference(const std::string& path) {
   CarmenReader reader(path, OnBadRecord::kSkip);
+  if (!reader.corrected()) {
+    throw InputError(path + ": a raw CARMEN log (no NEFF lines), not a corrected one: its laser poses are the "
+                            "robot's odometry, not a reference (score it with --relations, or give --reference)");
+  }
   Trajectory t;
   while (auto e = reader.Next()) {
     if (e->kind == CarmenReader::Event::kLaser) t.push_back({e->stamp, mrpt::poses::CPose3D(e->laser.pose)});

@@ -27,7 +27,7 @@ Trajectory ReadReference(const std::string& path) {
 }
 
 std::string DefaultReferencePath(const std::string& dataset, const std::string& format) {
-  if (format == "carmen") return dataset;
+  if (format == "carmen") return IsCorrectedCarmenLog(dataset) ? dataset : "";
   if (std::filesystem::exists(dataset + ".GT.txt")) return dataset + ".GT.txt";
   const std::filesystem::path path(dataset);
   const auto simulated = path.parent_path() / "ground_truth.tum";

@@ -13,7 +13,9 @@ std::vector<std::string> ReplayOptions::Relations() const {
 ReplayClock::Verdict ReplayClock::Classify(Stamp stamp) {
   if (!first_) first_ = stamp;
   const double t = SecondsBetween(*first_, stamp);
-  if (t < options_.from_s) return Verdict::kBefore;
+  // Only a window that starts later drops records: a stamp before the first one (a
+  // sensor whose stamps go backwards) is still inside a window from the start.
+  if (options_.from_s > 0 && t < options_.from_s) return Verdict::kBefore;
   if (options_.to_s > 0 && t > options_.to_s) return Verdict::kAfter;
   return Verdict::kInside;
 }

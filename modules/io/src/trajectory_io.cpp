@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -14,6 +15,7 @@ namespace specht::io {
 namespace {
 
 // Parses whitespace-separated numbers of each non-comment line; `expect` per line.
+// on_line(numbers, line number).
 template <class Fn>
 void ReadNumberLines(const std::string& path, size_t expect, const char* layout, Fn&& on_line) {
   std::ifstream in(path);
@@ -40,7 +42,7 @@ void ReadNumberLines(const std::string& path, size_t expect, const char* layout,
                        "), got " + std::to_string(v.size()));
     }
     try {
-      on_line(v);
+      on_line(v, number);
     } catch (const InputError& e) {  // what the line means is wrong: name the line
       throw InputError(Where(path, number) + e.what());
     }
@@ -67,7 +69,7 @@ void WriteTum(const Trajectory& trajectory, const std::string& path) {
 
 Trajectory ReadTum(const std::string& path) {
   Trajectory out;
-  ReadNumberLines(path, 8, "t x y z qx qy qz qw", [&](const std::vector<double>& v) {
+  ReadNumberLines(path, 8, "t x y z qx qy qz qw", [&](const std::vector<double>& v, int) {
     // Normalised here: MRPT's quaternion rejects one that is not of unit length.
     const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
     if (!(norm > 1e-9) || !std::isfinite(norm)) throw InputError("the quaternion (qx qy qz qw) has no length");
@@ -79,10 +81,27 @@ Trajectory ReadTum(const std::string& path) {
 
 Trajectory ReadPose2DText(const std::string& path) {
   Trajectory out;
-  ReadNumberLines(path, 4, "t x y theta", [&](const std::vector<double>& v) {
+  ReadNumberLines(path, 4, "t x y theta", [&](const std::vector<double>& v, int) {
     out.push_back({Stamp::FromSeconds(v[0]), mrpt::poses::CPose3D(v[1], v[2], 0, v[3], 0, 0)});
   });
   return out;
+}
+
+RelationsFile ReadRelations(const std::string& path) {
+  RelationsFile out{path, {}};
+  ReadNumberLines(path, 8, "t1 t2 x y z roll pitch yaw", [&](const std::vector<double>& v, int line) {
+    out.relations.push_back(
+        {Stamp::FromSeconds(v[0]), Stamp::FromSeconds(v[1]), mrpt::poses::CPose2D(v[2], v[3], v[7]), line});
+  });
+  if (out.relations.empty()) throw InputError(path + ": no relations (an empty file, or only comments)");
+  return out;
+}
+
+std::string DefaultRelationsPath(const std::string& dataset) {
+  std::filesystem::path p(dataset);
+  if (p.extension() == ".bz2" || p.extension() == ".gz") p = p.parent_path() / p.stem();
+  p = p.parent_path() / (p.stem().string() + ".relations");
+  return std::filesystem::exists(p) ? p.string() : "";
 }
 
 }  // namespace specht::io

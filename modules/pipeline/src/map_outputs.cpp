@@ -40,6 +40,28 @@ Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& r
   }
 }
 
+void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::RelationsFile& relations,
+                                 const mrpt::maps::COccupancyGridMap2D& grid, const std::string& out,
+                                 nlohmann::json& metrics) {
+  auto& m = metrics["published_relations"];
+  m["file"] = relations.path;
+  try {
+    const auto rel = eval::ComputePublishedRelationError(trajectory, relations);
+    m.update(eval::ToJson(rel));
+    const auto& a = rel.absolute;
+    spdlog::info("published relations ({}): {:.4f} ± {:.4f} m (max {:.3f}), {:.3f} ± {:.3f} deg (max {:.2f})",
+                 rel.relations, a.mean_m, a.std_m, a.max_m, a.mean_deg, a.std_deg, a.max_deg);
+    const Trajectory worst = eval::RelationSegments(trajectory, rel.worst);
+    io::WriteMapPng(grid,
+                    {{&trajectory, {30, 90, 220}, "estimate"},
+                     {&worst, {220, 30, 30}, "the " + std::to_string(rel.worst.size()) + " worst relations", false, true}},
+                    out + "/relations.png");
+  } catch (const InputError& e) {
+    m["error"] = e.what();
+    spdlog::warn("published relations not scored: {}", e.what());
+  }
+}
+
 // Mean map entropy of the keyframe scans at the estimated poses and, with a
 // reference, of the same scans at the estimate's and at the reference's poses
 // (eval/map_quality.h): whether the reference's map is sharper than ours.

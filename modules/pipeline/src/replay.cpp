@@ -118,6 +118,7 @@ struct Replay::State {
   std::unique_ptr<io::DatasetSource> source;
   std::string reference_path;
   Trajectory reference;
+  std::optional<io::RelationsFile> relations;
   internal::SavedMap saved;
   std::unique_ptr<PerceptionPipeline> perception;
 
@@ -130,7 +131,7 @@ struct Replay::State {
 };
 
 Replay::Replay(const params::Params& params, ReplayInputs in, std::string command)
-    : state_(std::make_unique<State>(State{params, std::move(in), std::move(command), nullptr, "", {}, {}, nullptr})) {
+    : state_(std::make_unique<State>(State{params, std::move(in), std::move(command), nullptr, "", {}, {}, {}, nullptr})) {
   State& s = *state_;
   if (s.in.dataset.empty()) s.in.dataset = io::DefaultRawlog();
   const auto& replay = params.Get<io::ReplayOptions>("replay");
@@ -139,6 +140,8 @@ Replay::Replay(const params::Params& params, ReplayInputs in, std::string comman
   s.reference_path =
       s.in.ground_truth.empty() ? io::DefaultReferencePath(s.in.dataset, s.source->Format()) : s.in.ground_truth;
   if (!s.reference_path.empty()) s.reference = io::ReadReference(s.reference_path);
+  const std::string relations = s.in.relations.empty() ? io::DefaultRelationsPath(s.in.dataset) : s.in.relations;
+  if (!relations.empty()) s.relations = io::ReadRelations(relations);
   if (!s.in.map_dir.empty()) s.saved = internal::ReadMapArtefact(s.in.map_dir);
   if (!s.in.continue_dir.empty()) s.saved = internal::ReadMapArtefact(s.in.continue_dir);
   s.perception = std::make_unique<PerceptionPipeline>(params, s.in.data_dir);
@@ -308,7 +311,8 @@ int Replay::Run(const std::string& out, bool quiet) {
   io::RunReport report(s.command);
   auto& j = report.json();
   j["inputs"] = {{"dataset", s.in.dataset},      {"format", s.source->Format()},
-                 {"ground_truth", s.reference_path}, {"map", s.in.map_dir},
+                 {"ground_truth", s.reference_path}, {"relations", s.relations ? s.relations->path : ""},
+                 {"map", s.in.map_dir},
                  {"continue", s.in.continue_dir}, {"params_files", s.in.param_files},
                  {"overrides", s.in.overrides}};
   int exit_code = 0;
@@ -327,6 +331,8 @@ int Replay::Run(const std::string& out, bool quiet) {
     exit_code = 2;
   }
   for (const auto& skipped : s.source->SkippedRecords()) spdlog::warn("skipped {}", skipped);
+  j["input_notes"] = s.source->Notes();
+  for (const auto& note : s.source->Notes()) spdlog::info("{}: {}", s.in.dataset, note);
 
   AddCounts(e.front_end, *s.source, run, j["counts"]);
   const double data_s = run.first ? SecondsBetween(*run.first, *run.last) : 0.0;
@@ -337,6 +343,11 @@ int Replay::Run(const std::string& out, bool quiet) {
   j["metrics"]["wall_thickness_p95_m"] = walls.p95_m;
   j["metrics"]["map_size_m"] = {e.grid.getXMax() - e.grid.getXMin(), e.grid.getYMax() - e.grid.getYMin()};
   const Trajectory reference_in_map = internal::AddReferenceMetrics(e.trajectory, s.reference, j["metrics"]);
+  if (s.relations) {
+    auto t = timer.Time("write");
+    internal::AddPublishedRelationMetrics(e.trajectory, *s.relations, e.grid, out, j["metrics"]);
+    if (j["metrics"]["published_relations"].contains("worst")) report.AddOutput("relations.png");
+  }
   if (!e.keyframes.empty()) {
     auto t = timer.Time("map_entropy");
     internal::AddMapEntropy(e.keyframes, s.reference, j["metrics"]);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "specht/core/trajectory.h"
+#include "specht/io/trajectory_io.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/pose_graph_optimizer.h"
 
@@ -17,6 +18,13 @@ namespace specht::pipeline::internal {
 // Metrics against the reference, when there is one; returns the reference moved into
 // the map frame for the picture.
 Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& reference, nlohmann::json& metrics);
+
+// The Kümmerle metric on a published relations file (eval/relation_error.h), and
+// relations.png: the worst relations on the map. A trajectory that does not hold
+// every relation's scans (a run cut short) gets the reason instead of figures.
+void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::RelationsFile& relations,
+                                 const mrpt::maps::COccupancyGridMap2D& grid, const std::string& out,
+                                 nlohmann::json& metrics);
 
 // Mean map entropy of the keyframe scans at the estimated poses and, with a
 // reference, of the same scans at the estimate's and at the reference's poses

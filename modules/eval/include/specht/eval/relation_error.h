@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "specht/core/trajectory.h"
+#include "specht/io/trajectory_io.h"
 
 namespace specht::eval {
 
@@ -52,9 +53,37 @@ struct RelationOptions {
 RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory& reference,
                                    const RelationOptions& options = {});
 
+// The same metric on published relations (the Freiburg benchmark's .relations
+// files): each relation names its two scans by stamp, and its reference motion is
+// the hand-verified one. Kümmerle et al. report the errors absolute and squared:
+//   ε = δ̂ ⊖ δ*,  |t(ε)| m and |θ(ε)| deg,  and t(ε)² m², θ(ε)² deg².
+struct PublishedRelationError {
+  RelationStats absolute;  // m, deg
+  RelationStats squared;   // m², deg²
+  size_t relations = 0;    // in the file, all matched
+  std::vector<Relation> worst;  // largest translational error first (i, j: estimate indices)
+};
+
+struct PublishedRelationOptions {
+  double max_dt_s = 1e-4;  // a relation's stamps match the estimate's within this (the benchmark's 0.1 ms)
+  size_t worst_count = 10;
+};
+
+// Throws InputError naming the file, the first relation whose stamp is not in the
+// estimate (its line) and how many are not: a score on part of the relations is not
+// the benchmark's.
+PublishedRelationError ComputePublishedRelationError(const Trajectory& estimate, const io::RelationsFile& relations,
+                                                     const PublishedRelationOptions& options = {});
+
+// The relations as pose pairs (i, j, i, j, …) of `estimate`, for a picture with
+// io::PathOverlay::segments.
+Trajectory RelationSegments(const Trajectory& estimate, const std::vector<Relation>& relations);
+
 // For reports: {count, mean_m, std_m, max_m, mean_deg, std_deg, max_deg}, and
 // {consecutive, loop, all, paired_poses, worst: [{i, j, t_i, t_j, kind, m, deg}]}.
 nlohmann::json ToJson(const RelationStats& stats);
 nlohmann::json ToJson(const RelationError& error);
+// {relations, absolute, squared, worst: [...]}.
+nlohmann::json ToJson(const PublishedRelationError& error);
 
 }  // namespace specht::eval

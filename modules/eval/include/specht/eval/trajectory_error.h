@@ -10,6 +10,7 @@
 #pragma once
 
 #include <utility>
+#include <optional>
 #include <vector>
 
 #include <mrpt/poses/CPose2D.h>
@@ -25,6 +26,19 @@ struct AteResult {
   double rmse_deg = 0, max_deg = 0;
   double final_error_m = 0;       // at the last pair, after alignment
   mrpt::poses::CPose2D alignment;  // reference_from_estimate
+};
+
+// The pose of a trajectory nearest a stamp, within max_dt_s; the trajectory's stamps
+// need not increase (a log's may go backwards). Keeps a reference to `trajectory`.
+class StampLookup {
+ public:
+  StampLookup(const Trajectory& trajectory, double max_dt_s);
+  std::optional<size_t> Find(Stamp t) const;
+
+ private:
+  const Trajectory& trajectory_;
+  std::vector<size_t> by_stamp_;  // indices in stamp order
+  int64_t max_dt_ns_;
 };
 
 // Pairs of indices (estimate, reference) whose stamps differ by at most max_dt_s.

@@ -54,6 +54,9 @@ class DatasetSource {
   virtual double FractionRead() const = 0;
   // Bad records skipped so far, with the reason for each (OnBadRecord::kSkip).
   virtual const std::vector<std::string>& SkippedRecords() const { return no_skips_; }
+  // What the reader decided about the data, for the report (e.g. how stamps that go
+  // backwards were handled); empty when there is nothing to say.
+  virtual std::vector<std::string> Notes() const { return {}; }
 
  private:
   std::vector<std::string> no_skips_;
