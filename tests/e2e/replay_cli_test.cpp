@@ -203,6 +203,55 @@ TEST(SlamCliTest, SimulatedCourseLoopLiesOnItsGroundTruth) {
   EXPECT_LT(metrics["relation"]["all"]["max_m"].get<double>(), 0.5);
 }
 
+// A raw Freiburg log, as the benchmark ships it: its poses are odometry (no reference
+// error is reported), its published relations beside it are scored, and a window that
+// leaves relations out says so instead of scoring part of them; `eval slam
+// --relations` scores the trajectory on the relations it holds and names the first
+// relation it does not.
+TEST(SlamCliTest, RawFreiburgLogIsScoredOnItsPublishedRelations) {
+  const std::string data = testing::DataDir();
+  SPECHT_REQUIRE_FILE(data);
+  const std::string log = data + "/slam/freiburg/fr079.clf.bz2", relations = data + "/slam/freiburg/fr079.relations";
+  SPECHT_REQUIRE_FILE(log);
+  const std::string dir = testing::TempDir();
+  ASSERT_EQ(testing::RunSpecht("slam -q '" + log + "' --to 120 -o '" + dir + "/run'").exit_code, 0);
+  const auto report = Report(dir + "/run");
+  EXPECT_THAT(report["input_notes"][0].get<std::string>(), HasSubstr("a raw log"));
+  EXPECT_FALSE(report["metrics"].contains("relation"));
+  EXPECT_THAT(report["metrics"]["published_relations"]["error"].get<std::string>(), HasSubstr("do not match"));
+
+  const std::string estimate = dir + "/run/trajectory.tum";
+  auto r = testing::RunSpecht("eval slam --estimate '" + estimate + "' --relations '" + relations + "' -o '" + dir +
+                              "/eval-all'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("fr079.relations:"));
+  EXPECT_THAT(r.err, HasSubstr("is not in the trajectory"));
+  r = testing::RunSpecht("eval slam --estimate '" + estimate + "' --reference '" + log + "' -o '" + dir + "/eval-ref'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("a raw CARMEN log"));
+
+  // The relations whose two scans lie in the window: all matched, a sub-decimetre error.
+  const Trajectory scans = io::ReadTum(estimate);
+  const Stamp end = scans.back().stamp;
+  std::istringstream all(testing::ReadFile(relations));
+  std::string inside;
+  int kept = 0;
+  for (std::string line; std::getline(all, line);) {
+    std::istringstream f(line);
+    double t1 = 0, t2 = 0;
+    if (f >> t1 >> t2 && std::max(t1, t2) <= end.Seconds()) inside += line + "\n", ++kept;
+  }
+  ASSERT_GT(kept, 50);
+  testing::WriteFile(dir + "/inside.relations", inside);
+  r = testing::RunSpecht("eval slam --estimate '" + estimate + "' --relations '" + dir + "/inside.relations' -o '" +
+                         dir + "/eval'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("published relations " + std::to_string(kept) + " (all matched)"));
+  const auto eval = Report(dir + "/eval");
+  EXPECT_LT(eval["metrics"]["published_relations"]["absolute"]["mean_m"].get<double>(), 0.1);
+  EXPECT_TRUE(fs::exists(dir + "/eval/relations.png"));
+}
+
 TEST(ReplayCliTest, HelpListsEveryOption) {
   const auto r = testing::RunSpecht("replay --help");
   EXPECT_EQ(r.exit_code, 0);
