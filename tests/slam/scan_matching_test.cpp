@@ -422,6 +422,22 @@ TEST(WallThicknessTest, MeasuresBandWidthOnTheCentreLine) {
   EXPECT_NEAR(walls.p95_m, 0.7, 0.001);
 }
 
+// A grid taller than the bands the measure works in: a 1-cell wall running across
+// every band boundary, and a 9-cell band lying across one, measure as on a small grid.
+TEST(WallThicknessTest, BandsOfRowsMeasureAsTheWholeGrid) {
+  mrpt::maps::COccupancyGridMap2D grid(0.0f, 10.0f, 0.0f, 150.0f, 0.1f);  // 1,500 rows
+  for (unsigned y = 10; y < 1490; ++y) grid.setCell(20, y, 0.0f);          // thin wall, vertical
+  for (unsigned x = 40; x < 90; ++x)
+    for (unsigned y = 508; y < 517; ++y) grid.setCell(x, y, 0.0f);  // band over rows 508–516 (a band edge at 512)
+  const auto walls = eval::MeasureWallThickness(grid);
+  EXPECT_NEAR(walls.p50_m, 0.1, 0.001);
+  EXPECT_NEAR(walls.p95_m, 0.1, 0.001);  // the band's centre line holds few cells beside the wall's
+  mrpt::maps::COccupancyGridMap2D band_only(0.0f, 10.0f, 0.0f, 150.0f, 0.1f);
+  for (unsigned x = 40; x < 90; ++x)
+    for (unsigned y = 508; y < 517; ++y) band_only.setCell(x, y, 0.0f);
+  EXPECT_NEAR(eval::MeasureWallThickness(band_only).p50_m, 0.9, 0.001);
+}
+
 // Mean map entropy: two scans of one straight wall, the second placed δ off it.
 // Half the neighbourhood on each line gives σ⊥² = δ²/4, so h grows by ln 2 when δ
 // doubles (det Σ ∝ δ²); placed together the scans are far sharper.

@@ -6,7 +6,6 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <opencv2/imgproc.hpp>
 
-#include "specht/core/statistics.h"
 #include "specht/eval/trajectory_error.h"
 #include "specht/slam/indexed_points.h"
 
@@ -14,47 +13,64 @@ namespace specht::eval {
 namespace {
 
 constexpr float kOccupiedFree = 1.0f - 0.65f;  // cell value (p_free) below this is occupied
+// The wall-thickness transform runs on bands of this many rows (a 9,000-cell-wide
+// grid's transform would hold 200 MB at once), overlapping by enough rows to measure a
+// wall up to 2·kWallBandOverlap cells thick exactly.
+constexpr int kWallBandRows = 512;
+constexpr int kWallBandOverlap = 64;
 
 }  // namespace
 
 WallThickness MeasureWallThickness(const mrpt::maps::COccupancyGridMap2D& grid) {
   const int w = static_cast<int>(grid.getSizeX()), h = static_cast<int>(grid.getSizeY());
-  cv::Mat occupied(h + 2, w + 2, CV_8U, cv::Scalar(0));  // 1-cell border of free space
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      if (grid.getCell(x, y) < kOccupiedFree) occupied.at<unsigned char>(y + 1, x + 1) = 255;
-    }
-  }
-  cv::Mat dist;
-  cv::distanceTransform(occupied, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  std::vector<double> thickness;
+  std::vector<float> thickness;  // one per centre-line cell: millions on a building's grid
   double sum = 0;
-  for (int y = 1; y <= h; ++y) {
-    for (int x = 1; x <= w; ++x) {
-      const float d = dist.at<float>(y, x);
-      if (d <= 0) continue;
-      bool ridge = true;
-      for (int dy = -1; dy <= 1 && ridge; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (dist.at<float>(y + dy, x + dx) > d) {
-            ridge = false;
-            break;
+  // In bands of rows, each with kWallBandOverlap rows either side: the distance of a
+  // cell whose nearest non-occupied cell lies within the overlap is the whole grid's.
+  for (int first = 0; first < h; first += kWallBandRows) {
+    const int last = std::min(h, first + kWallBandRows) - 1;
+    const int lo = std::max(0, first - kWallBandOverlap), hi = std::min(h - 1, last + kWallBandOverlap);
+    cv::Mat occupied(hi - lo + 3, w + 2, CV_8U, cv::Scalar(0));  // 1-cell border of free space
+    for (int y = lo; y <= hi; ++y) {
+      for (int x = 0; x < w; ++x) {
+        if (grid.getCell(x, y) < kOccupiedFree) occupied.at<unsigned char>(y - lo + 1, x + 1) = 255;
+      }
+    }
+    cv::Mat dist;
+    cv::distanceTransform(occupied, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    for (int y = first - lo + 1; y <= last - lo + 1; ++y) {
+      for (int x = 1; x <= w; ++x) {
+        const float d = dist.at<float>(y, x);
+        if (d <= 0) continue;
+        bool ridge = true;
+        for (int dy = -1; dy <= 1 && ridge; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (dist.at<float>(y + dy, x + dx) > d) {
+              ridge = false;
+              break;
+            }
           }
         }
+        if (!ridge) continue;
+        const float t = static_cast<float>((2.0 * d - 1.0) * grid.getResolution());
+        thickness.push_back(t);
+        sum += t;
       }
-      if (!ridge) continue;
-      const double t = (2.0 * d - 1.0) * grid.getResolution();
-      thickness.push_back(t);
-      sum += t;
     }
   }
   WallThickness r;
   r.centre_cells = thickness.size();
   if (thickness.empty()) return r;
   r.mean_m = sum / thickness.size();
-  r.p50_m = Percentile(thickness, 0.5);
-  r.p90_m = Percentile(thickness, 0.9);
-  r.p95_m = Percentile(thickness, 0.95);
+  // In place (Percentile would copy the vector each time); nearest rank as Percentile.
+  auto at = [&](double q) {
+    const size_t k = std::min(thickness.size() - 1, static_cast<size_t>(q * (thickness.size() - 1) + 0.5));
+    std::nth_element(thickness.begin(), thickness.begin() + k, thickness.end());
+    return static_cast<double>(thickness[k]);
+  };
+  r.p50_m = at(0.5);
+  r.p90_m = at(0.9);
+  r.p95_m = at(0.95);
   return r;
 }
 

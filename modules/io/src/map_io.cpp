@@ -22,6 +22,10 @@ using mrpt::maps::COccupancyGridMap2D;
 namespace specht::io {
 namespace {
 
+// A map picture's longest side at most: a building-sized grid (9,000 cells across) is
+// drawn averaged rather than at one pixel a cell.
+constexpr int kMaxPictureSidePx = 4096;
+
 // MRPT cells hold the probability of being free; ROS and people think in occupancy.
 double Occupancy(const COccupancyGridMap2D& grid, unsigned cx, unsigned cy) {
   return 1.0 - grid.getCell(cx, cy);
@@ -148,23 +152,29 @@ void WriteMapPng(const COccupancyGridMap2D& grid, const std::vector<PathOverlay>
   x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
   x1 = std::min(w - 1, x1 + margin), y1 = std::min(h - 1, y1 + margin);
   const int cw = x1 - x0 + 1, ch = y1 - y0 + 1;
-  const int scale = std::max(1, (min_width_px + cw - 1) / cw);
-
-  cv::Mat img(ch * scale, cw * scale, CV_8UC3);
+  // One pixel per cell, scaled up (a whole number of pixels a cell) to min_width_px,
+  // or down (averaged) so that neither side exceeds kMaxPictureSidePx.
+  cv::Mat cells(ch, cw, CV_8UC1);
   for (int cy = y0; cy <= y1; ++cy) {
     for (int cx = x0; cx <= x1; ++cx) {
       const float free = grid.getCell(cx, cy);
       // Unknown light grey; known cells from black (occupied) to white (free).
-      const unsigned char g = std::abs(free - 0.5f) <= 0.05f ? 205 : static_cast<unsigned char>(255 * free);
-      cv::rectangle(img, cv::Rect((cx - x0) * scale, (y1 - cy) * scale, scale, scale), cv::Scalar(g, g, g),
-                    cv::FILLED);
+      cells.at<unsigned char>(y1 - cy, cx - x0) =
+          std::abs(free - 0.5f) <= 0.05f ? 205 : static_cast<unsigned char>(255 * free);
     }
   }
+  const double up = std::max(1, (min_width_px + cw - 1) / cw);
+  const double scale = std::min(up, static_cast<double>(kMaxPictureSidePx) / std::max(cw, ch));
+  cv::Mat grey;
+  cv::resize(cells, grey, cv::Size(), scale, scale, scale >= 1 ? cv::INTER_NEAREST : cv::INTER_AREA);
+  cells.release();
+  cv::Mat img;
+  cv::cvtColor(grey, img, cv::COLOR_GRAY2BGR);
   auto to_px = [&](double x, double y) {
     return cv::Point(static_cast<int>((grid.x2idx(x) - x0 + 0.5) * scale),
                      static_cast<int>((y1 - grid.y2idx(y) + 0.5) * scale));
   };
-  const int thickness = std::max(1, scale / 2 + 1);
+  const int thickness = std::max(1, static_cast<int>(scale) / 2 + 1);
   int legend_y = 24;
   for (const auto& overlay : paths) {
     const cv::Scalar color(overlay.rgb[2], overlay.rgb[1], overlay.rgb[0]);
