@@ -153,6 +153,9 @@ TEST(CarmenTest, MalformedLinesAreNamedByLine) {
   EXPECT_THAT(ReadAll(Log("ODOM 1 x 0 0 0 0 1 host 1\n")).error,
               HasSubstr("test.log:3: field 'y' is not a number: 'x'"));
   EXPECT_THAT(ReadAll(Log("FLASER 0\n")).error, HasSubstr("test.log:3: 'num_readings' must be a positive count"));
+  // Found by fuzz_carmen: a stamp no clock holds overflowed the stamp arithmetic.
+  EXPECT_THAT(ReadAll(Log("ODOM 1 2 0 0 0 0 1 host 1\nODOM 1 2 0 0 0 0 -9.7e17 host 1\n")).error,
+              HasSubstr("test.log:4: 'ipc_timestamp' is out of range: -9.7e17"));
   // fr-clinic's ROBOTLASER1, cut short after its remissions: the fields it lacks.
   EXPECT_THAT(ReadAll(Log("ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 0 1.3 0 0 1 0\n")).error,
               HasSubstr("test.log:3: ROBOTLASER1 with 5 beams needs at least 27 fields, got 20"));

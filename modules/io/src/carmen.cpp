@@ -23,6 +23,7 @@ using mrpt::poses::CPose2D;
 // A corrected log's first NEFF line follows its first laser message closely (line 4
 // to 194 on the Radish logs); this many lines are looked at.
 constexpr int kCorrectedProbeLines = 20000;
+constexpr double kMaxStampS = 4e9;  // ±126 years about the epoch (nanoseconds in 64 bits reach ±292)
 
 struct LaserMessage {
   std::vector<float> ranges;
@@ -53,6 +54,12 @@ class Fields {
     const double v = std::strtod(s, &end);
     if (end == s || *end != '\0') throw Bad(std::string("field '") + what + "' is not a number: '" + tokens_[i] + "'");
     if (!std::isfinite(v)) throw Bad(std::string("field '") + what + "' is " + tokens_[i]);
+    return v;
+  }
+  // A stamp in seconds, within ±kMaxStampS (so it converts to nanoseconds exactly).
+  double Seconds(size_t i, const char* what) const {
+    const double v = Number(i, what);
+    if (std::abs(v) > kMaxStampS) throw Bad(std::string("'") + what + "' is out of range: " + tokens_[i]);
     return v;
   }
   int Count(size_t i, const char* what) const {
@@ -103,7 +110,7 @@ LaserMessage ParseFlaser(const Fields& f) {
   m.increment = FlaserIncrement(n);
   m.pose = CPose2D(f.Number(2 + n, "x"), f.Number(3 + n, "y"), f.Number(4 + n, "theta"));
   m.odometry = CPose2D(f.Number(5 + n, "odom_x"), f.Number(6 + n, "odom_y"), f.Number(7 + n, "odom_theta"));
-  m.stamp = f.Number(8 + n, "ipc_timestamp");
+  m.stamp = f.Seconds(8 + n, "ipc_timestamp");
   return m;
 }
 
@@ -128,7 +135,7 @@ LaserMessage ParseRobotLaser(const Fields& f) {
   m.odometry = m.pose;
   m.laser_offset = laser - m.pose;
   m.has_offset = true;
-  m.stamp = f.Number(p + 11, "ipc_timestamp");
+  m.stamp = f.Seconds(p + 11, "ipc_timestamp");
   return m;
 }
 
@@ -145,7 +152,7 @@ class StampStream {
       s = Stamp{last_given_->ns + 1'000'000};
     } else if (last_logged_ && s.ns < last_logged_->ns) {
       ++backwards_;
-      max_back_s_ = std::max(max_back_s_, SecondsBetween(s, *last_logged_));
+      max_back_s_ = std::max(max_back_s_, last_logged_->Seconds() - s.Seconds());
     }
     if (!last_logged_ || s.ns != last_logged_->ns) last_logged_ = Stamp::FromSeconds(t);
     last_given_ = s;
@@ -237,7 +244,7 @@ class CarmenReader {
     if (kind == "ODOM") {
       if (f.size() < 8) throw Fields::Bad("ODOM needs at least 8 fields, got " + std::to_string(f.size()));
       const CPose2D odom(f.Number(1, "x"), f.Number(2, "y"), f.Number(3, "theta"));
-      const double t = f.Number(7, "ipc_timestamp");
+      const double t = f.Seconds(7, "ipc_timestamp");
       if (!corrected_) {
         raw_ = odom;
       } else {
