@@ -117,10 +117,11 @@ PublishedRelationError ComputePublishedRelationError(const Trajectory& estimate,
   WorstRelations worst(options.worst_count);
   size_t unmatched = 0;
   const io::ReferenceRelation* first_unmatched = nullptr;
+  Stamp missing;  // first_unmatched's stamp that is not in the estimate
   for (const io::ReferenceRelation& r : file.relations) {
     const auto i = lookup.Find(r.t1), j = lookup.Find(r.t2);
     if (!i || !j) {
-      if (!first_unmatched) first_unmatched = &r;
+      if (!first_unmatched) first_unmatched = &r, missing = i ? r.t2 : r.t1;
       ++unmatched;
       continue;
     }
@@ -131,9 +132,8 @@ PublishedRelationError ComputePublishedRelationError(const Trajectory& estimate,
     worst.Offer({*i, *j, r.t1, r.t2, false, m, deg});
   }
   if (first_unmatched) {
-    const bool t1_missing = !lookup.Find(first_unmatched->t1);
     char stamp[64];
-    std::snprintf(stamp, sizeof stamp, "%.6f", (t1_missing ? first_unmatched->t1 : first_unmatched->t2).Seconds());
+    std::snprintf(stamp, sizeof stamp, "%.6f", missing.Seconds());
     throw InputError(Where(file.path, static_cast<int>(first_unmatched->line)) + "the relation's stamp " + stamp +
                      " is not in the trajectory (within " + std::to_string(options.max_dt_s * 1e3) + " ms); " +
                      std::to_string(unmatched) + " of " + std::to_string(file.relations.size()) +

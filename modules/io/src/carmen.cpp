@@ -146,15 +146,16 @@ class StampStream {
  public:
   explicit StampStream(std::string sensor) : sensor_(std::move(sensor)) {}
   Stamp Take(double t) {
-    Stamp s = Stamp::FromSeconds(t);
-    if (last_logged_ && s.ns == last_logged_->ns) {
+    const Stamp logged = Stamp::FromSeconds(t);
+    Stamp s = logged;
+    if (last_logged_ && logged == *last_logged_) {
       ++repeated_;
       s = Stamp{last_given_->ns + 1'000'000};
-    } else if (last_logged_ && s.ns < last_logged_->ns) {
+    } else if (last_logged_ && logged < *last_logged_) {
       ++backwards_;
-      max_back_s_ = std::max(max_back_s_, last_logged_->Seconds() - s.Seconds());
+      max_back_s_ = std::max(max_back_s_, last_logged_->Seconds() - logged.Seconds());
     }
-    if (!last_logged_ || s.ns != last_logged_->ns) last_logged_ = Stamp::FromSeconds(t);
+    last_logged_ = logged;
     last_given_ = s;
     return s;
   }
