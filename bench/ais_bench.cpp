@@ -54,8 +54,9 @@ int main(int argc, char** argv) {
   const double geo_s = Since(g0);
   specht::ais::PrepareReport report;
   const auto p0 = std::chrono::steady_clock::now();
-  const auto d = specht::ais::PrepareDataset({data + "/ais/tracks/brest-dev.csv.gz", data + "/ais/tracks/mpa-dev.csv.gz"},
-                                             o, specht::ais::AisPreprocessOptions(), geo, report);
+  const auto d =
+      specht::ais::PrepareDataset({data + "/ais/tracks/brest-dev.csv.gz", data + "/ais/tracks/mpa-dev.csv.gz"}, o,
+                                  specht::ais::AisPreprocessOptions(), geo, report);
   const double prepare_s = Since(p0);
   specht::bench::Emit({{"name", "ais/prepare"},
                        {"points", report.points},

@@ -1,10 +1,9 @@
 // bench/bench_support.h: what every benchmark reports besides its own figures.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/core/progress.h"
 

@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <future>
 #include <iostream>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "bench_support.h"

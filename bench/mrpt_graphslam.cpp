@@ -12,15 +12,12 @@
 // which is how specht places scans between its keyframes.
 //
 // Usage: mrpt_graphslam <config.ini> <in.rawlog> <out.tum>
-#include <cmath>
-#include <cstdio>
-#include <fstream>
-#include <iostream>
-#include <string>
-#include <vector>
+// CLevMarqGSO_impl.h uses CSphere without including it, so it comes first.
+// clang-format off
+#include <mrpt/opengl/CSphere.h>
+// clang-format on
 
 #include <mrpt/graphs/CNetworkOfPoses.h>
-#include <mrpt/opengl/CSphere.h>  // CLevMarqGSO_impl.h uses it without including it
 #include <mrpt/graphslam/CGraphSlamEngine.h>
 #include <mrpt/graphslam/ERD/CICPCriteriaERD.h>
 #include <mrpt/graphslam/GSO/CLevMarqGSO.h>
@@ -30,6 +27,13 @@
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
 
 namespace {
 

@@ -1,13 +1,11 @@
-// plan_bench [--quick] [--hybrid-only] [--per-problem] [scenario.yaml]...: planning time on a 60 m × 60 m map at 0.1 m (600 ×
-// 600 cells): a seeded clutter field of 45 parked cars (2 m × 4.5 m, random
-// headings) and 6 walls, 50 start/goal pairs drawn in free space at least 20 m
-// apart (many goals sit in pockets: a hard set); then each scenario's marked bays
-// from 25 random free poses each. Pairs not in one free component are left out. Per problem: hybrid A*
-// (grid heuristic computed fresh, as for a new goal; the fine search where the
-// default finds no path, `fine_search_share`) + the Ceres smoother, and
-// plain OMPL RRT (geometric, Reeds-Shepp state space, same collision check, 1 s
-// limit, first solution simplified by OMPL's default shortcutting) on the same
-// problems. JSON: p50/p90/max ms, success rate, mean path length.
+// plan_bench [--quick] [--hybrid-only] [--per-problem] [scenario.yaml]...: planning time on a 60 m × 60 m map at 0.1 m
+// (600 × 600 cells): a seeded clutter field of 45 parked cars (2 m × 4.5 m, random headings) and 6 walls, 50 start/goal
+// pairs drawn in free space at least 20 m apart (many goals sit in pockets: a hard set); then each scenario's marked
+// bays from 25 random free poses each. Pairs not in one free component are left out. Per problem: hybrid A* (grid
+// heuristic computed fresh, as for a new goal; the fine search where the default finds no path, `fine_search_share`) +
+// the Ceres smoother, and plain OMPL RRT (geometric, Reeds-Shepp state space, same collision check, 1 s limit, first
+// solution simplified by OMPL's default shortcutting) on the same problems. JSON: p50/p90/max ms, success rate, mean
+// path length.
 //
 // The kinodynamic planner (plan/kinodynamic.h, OMPL control SST / RRT / KPIECE1
 // over the bicycle model):
@@ -23,21 +21,21 @@
 // --quick skips the 10 s quality runs; --hybrid-only runs hybrid A* + smoothing
 // alone (no slalom, RRT or kinodynamic runs); --per-problem prints, per hybrid A*
 // problem, the heuristic, search and smoothing times and the expansions to stderr.
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <cstdio>
-#include <random>
-
 #include <ompl/base/spaces/ReedsSheppStateSpace.h>
 #include <ompl/geometric/SimpleSetup.h>
 #include <ompl/geometric/planners/rrt/RRT.h>
 #include <ompl/util/Console.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "bench_support.h"
-#include "specht/pipeline/closed_loop.h"
 #include "specht/decide/mission.h"
+#include "specht/pipeline/closed_loop.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/kinodynamic.h"
 #include "specht/plan/smoother.h"
@@ -65,8 +63,10 @@ cv::Mat Field(std::mt19937& rng) {
   std::uniform_int_distribution<int> cell(60, 540);
   for (int i = 0; i < 6; ++i) {
     const int x = cell(rng), y = cell(rng);
-    if (i % 2) cv::rectangle(m, {x - 80, y}, {x + 80, y + 2}, cv::Scalar(1), cv::FILLED);
-    else cv::rectangle(m, {x, y - 80}, {x + 2, y + 80}, cv::Scalar(1), cv::FILLED);
+    if (i % 2)
+      cv::rectangle(m, {x - 80, y}, {x + 80, y + 2}, cv::Scalar(1), cv::FILLED);
+    else
+      cv::rectangle(m, {x, y - 80}, {x + 2, y + 80}, cv::Scalar(1), cv::FILLED);
   }
   return m;
 }
@@ -78,7 +78,9 @@ struct Stats {
   nlohmann::json Json(const std::string& name) const {
     std::vector<double> t = ms;
     std::sort(t.begin(), t.end());
-    const auto q = [&](double p) { return t.empty() ? 0.0 : t[std::min(t.size() - 1, static_cast<size_t>(p * t.size()))]; };
+    const auto q = [&](double p) {
+      return t.empty() ? 0.0 : t[std::min(t.size() - 1, static_cast<size_t>(p * t.size()))];
+    };
     double mean_length = 0;
     for (double l : length) mean_length += l / std::max<size_t>(1, length.size());
     return {{"name", name},
@@ -115,8 +117,8 @@ bool Connected(const cv::Mat& labels, const specht::plan::DistanceMap& map, cons
 
 // Hybrid A* + smoothing and plain OMPL RRT on the same problems; two JSON lines.
 void Compare(const std::string& name, const std::shared_ptr<specht::plan::DistanceMap>& map,
-             const specht::plan::CarOptions& car, const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems,
-             const Flags& flags) {
+             const specht::plan::CarOptions& car,
+             const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems, const Flags& flags) {
   using namespace specht::plan;
   const HybridAStarOptions search_options;
   const SmootherOptions smoother;
@@ -251,8 +253,8 @@ void Slalom(bool quick) {
   for (const std::string planner : {"rrt", "kpiece", "sst"})
     specht::bench::Emit(Kinodynamic(map, car, problem, KinoOptions(planner, 10000, true), false, 20)
                             .Json("plan/kinodynamic/" + planner + "-first-solution/slalom-30x10m"));
-  specht::bench::Emit(
-      Kinodynamic(map, car, problem, KinoOptions("sst", 250, false), false, 20).Json("plan/kinodynamic/sst-250ms/slalom-30x10m"));
+  specht::bench::Emit(Kinodynamic(map, car, problem, KinoOptions("sst", 250, false), false, 20)
+                          .Json("plan/kinodynamic/sst-250ms/slalom-30x10m"));
   Stats astar;
   for (int run = 0; run < 20; ++run) {
     const auto t0 = Clock::now();
@@ -273,10 +275,14 @@ int main(int argc, char** argv) {
   std::vector<std::string> scenarios;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--quick") flags.quick = true;
-    else if (arg == "--hybrid-only") flags.hybrid_only = true;
-    else if (arg == "--per-problem") flags.per_problem = true;
-    else scenarios.push_back(arg);
+    if (arg == "--quick")
+      flags.quick = true;
+    else if (arg == "--hybrid-only")
+      flags.hybrid_only = true;
+    else if (arg == "--per-problem")
+      flags.per_problem = true;
+    else
+      scenarios.push_back(arg);
   }
   if (!flags.hybrid_only) Slalom(flags.quick);
   std::mt19937 rng(11);
@@ -297,11 +303,12 @@ int main(int argc, char** argv) {
     for (const std::string planner : {"sst", "rrt"}) {
       if (flags.hybrid_only) break;
       for (const bool guided : {false, true})
-        specht::bench::Emit(Kinodynamic(map, car, problems, KinoOptions(planner, 250, false), guided)
-                                .Json("plan/kinodynamic/" + planner + "-250ms" + (guided ? "-guided" : "") +
-                                      "/clutter-60m-0.1m"));
+        specht::bench::Emit(
+            Kinodynamic(map, car, problems, KinoOptions(planner, 250, false), guided)
+                .Json("plan/kinodynamic/" + planner + "-250ms" + (guided ? "-guided" : "") + "/clutter-60m-0.1m"));
     }
-    if (!flags.quick && !flags.hybrid_only) Quality("clutter-60m-0.1m", map, car, {problems.begin(), problems.begin() + 5}, 1, true);
+    if (!flags.quick && !flags.hybrid_only)
+      Quality("clutter-60m-0.1m", map, car, {problems.begin(), problems.begin() + 5}, 1, true);
   }
   // Scenario maps: from 25 random free poses to each marked bay (the car centred in
   // the bay, nose along it), with the scenario's own car.
@@ -322,7 +329,8 @@ int main(int argc, char** argv) {
         if (map->Free(car, a) && Connected(labels, *map, a, goal)) problems.push_back({a, goal}), ++k;
       }
     }
-    const int w = static_cast<int>(std::lround(map->cols() * 0.1)), h = static_cast<int>(std::lround(map->rows() * 0.1));
+    const int w = static_cast<int>(std::lround(map->cols() * 0.1)),
+              h = static_cast<int>(std::lround(map->rows() * 0.1));
     Compare(s.name + "-bays-" + std::to_string(w) + "x" + std::to_string(h) + "m-0.1m", map, car, problems, flags);
   }
   return 0;

@@ -3,12 +3,12 @@
 // shaped like a SLAM submap (walls seen by many overlapping scans, a little clutter).
 // Per cloud size, one JSON object: build ms, µs per nearest query within the ICP
 // gate, µs per 5-nearest query within the point-to-line gate (median of 9 runs).
+#include <mrpt/maps/CSimplePointsMap.h>
+
 #include <algorithm>
 #include <chrono>
 #include <random>
 #include <vector>
-
-#include <mrpt/maps/CSimplePointsMap.h>
 
 #include "bench_support.h"
 #include "specht/slam/indexed_points.h"
@@ -26,12 +26,34 @@ CSimplePointsMap SubmapLike(size_t n, std::mt19937& rng) {
   for (size_t i = 0; i < n; ++i) {
     const float t = u(rng);
     switch (i % 20) {
-      case 0: points.insertPoint(20 * u(rng), 12 * u(rng), 0); break;  // clutter
-      case 1: case 2: case 3: case 4: points.insertPoint(20 * t, noise(rng), 0); break;
-      case 5: case 6: case 7: case 8: points.insertPoint(20 * t, 12 + noise(rng), 0); break;
-      case 9: case 10: case 11: points.insertPoint(noise(rng), 12 * t, 0); break;
-      case 12: case 13: case 14: points.insertPoint(20 + noise(rng), 12 * t, 0); break;
-      default: points.insertPoint(8 + noise(rng), 8 * t, 0); break;  // the partition
+      case 0:
+        points.insertPoint(20 * u(rng), 12 * u(rng), 0);
+        break;  // clutter
+      case 1:
+      case 2:
+      case 3:
+      case 4:
+        points.insertPoint(20 * t, noise(rng), 0);
+        break;
+      case 5:
+      case 6:
+      case 7:
+      case 8:
+        points.insertPoint(20 * t, 12 + noise(rng), 0);
+        break;
+      case 9:
+      case 10:
+      case 11:
+        points.insertPoint(noise(rng), 12 * t, 0);
+        break;
+      case 12:
+      case 13:
+      case 14:
+        points.insertPoint(20 + noise(rng), 12 * t, 0);
+        break;
+      default:
+        points.insertPoint(8 + noise(rng), 8 * t, 0);
+        break;  // the partition
     }
   }
   return points;
@@ -74,7 +96,8 @@ int main() {
     const specht::slam::IndexedPoints ours(cloud);
     std::vector<specht::slam::IndexedPoints::Neighbour> near;
     const double ours_nearest = MedianMs([&] {
-      for (size_t i = 0; i < qx.size(); ++i) if (const auto m = ours.Nearest(qx[i], qy[i], 0.36f)) sink += m->distance2;
+      for (size_t i = 0; i < qx.size(); ++i)
+        if (const auto m = ours.Nearest(qx[i], qy[i], 0.36f)) sink += m->distance2;
     });
     const double ours_k5 = MedianMs([&] {
       for (size_t i = 0; i < qx.size(); ++i) ours.Nearest(qx[i], qy[i], 5, 0.04f, near), sink += near.size();
@@ -92,14 +115,15 @@ int main() {
       for (size_t i = 0; i < qx.size(); ++i) cloud.kdTreeNClosestPoint2DIdx(qx[i], qy[i], 5, idx, d2s), sink += d2s[0];
     });
     const double per_query_us = 1000.0 / static_cast<double>(qx.size());
-    specht::bench::Emit({{"name", "point_index/" + std::to_string(n)},
-                         {"points", n},
-                         {"build_ms", {{"specht", ours_build}, {"mrpt_nanoflann", mrpt_build - copy_only}}},
-                         {"nearest_us", {{"specht", ours_nearest * per_query_us}, {"mrpt_nanoflann", mrpt_nearest * per_query_us}}},
-                         {"k5_us", {{"specht", ours_k5 * per_query_us}, {"mrpt_nanoflann", mrpt_k5 * per_query_us}}},
-                         {"checksum", sink},
-                         {"peak_rss_mib", specht::bench::PeakRssMib()},
-                         {"machine", specht::bench::MachineNotes()}});
+    specht::bench::Emit(
+        {{"name", "point_index/" + std::to_string(n)},
+         {"points", n},
+         {"build_ms", {{"specht", ours_build}, {"mrpt_nanoflann", mrpt_build - copy_only}}},
+         {"nearest_us", {{"specht", ours_nearest * per_query_us}, {"mrpt_nanoflann", mrpt_nearest * per_query_us}}},
+         {"k5_us", {{"specht", ours_k5 * per_query_us}, {"mrpt_nanoflann", mrpt_k5 * per_query_us}}},
+         {"checksum", sink},
+         {"peak_rss_mib", specht::bench::PeakRssMib()},
+         {"machine", specht::bench::MachineNotes()}});
   }
   return 0;
 }

@@ -3,11 +3,11 @@
 // default tolerances — the setup of Ceres' own pose_graph_2d example, with g2o's
 // error convention so both minimise the same χ²). Both start from the same initial
 // guess. One JSON object per graph and solver: χ², iterations, seconds.
+#include <ceres/ceres.h>
+
 #include <chrono>
 #include <cmath>
 #include <iostream>
-
-#include <ceres/ceres.h>
 
 #include "bench_support.h"
 #include "specht/io/g2o.h"
@@ -60,9 +60,9 @@ double PlainCeres(specht::PoseGraph2D graph, int* iterations) {
     const Eigen::Matrix3d sqrt_info = Eigen::LLT<Eigen::Matrix3d>(e.information).matrixU();
     auto& a = s[e.from];
     auto& b = s[e.to];
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AutodiffError, 3, 1, 1, 1, 1, 1, 1>(
-                                 new AutodiffError(e, sqrt_info)),
-                             nullptr, &a[0], &a[1], &a[2], &b[0], &b[1], &b[2]);
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<AutodiffError, 3, 1, 1, 1, 1, 1, 1>(new AutodiffError(e, sqrt_info)), nullptr,
+        &a[0], &a[1], &a[2], &b[0], &b[1], &b[2]);
   }
   for (auto& [id, v] : s) problem.SetManifold(&v[2], angle);
   auto& first = s.begin()->second;
@@ -97,14 +97,15 @@ int main(int argc, char** argv) {
       plain_chi2 = PlainCeres(read.graph, &plain_it);
       plain_s = std::min(plain_s, std::chrono::duration<double>(Clock::now() - t1).count());
     }
-    specht::bench::Emit({{"name", "pose_graph/" + name},
-                         {"nodes", read.graph.nodes.size()},
-                         {"edges", read.graph.edges.size()},
-                         {"specht", {{"chi2", ours_chi2}, {"iterations", ours_it}, {"seconds", ours_s}}},
-                         {"plain_ceres_autodiff", {{"chi2", plain_chi2}, {"iterations", plain_it}, {"seconds", plain_s}}},
-                         {"speedup", plain_s / ours_s},
-                         {"peak_rss_mib", specht::bench::PeakRssMib()},
-                         {"machine", specht::bench::MachineNotes()}});
+    specht::bench::Emit(
+        {{"name", "pose_graph/" + name},
+         {"nodes", read.graph.nodes.size()},
+         {"edges", read.graph.edges.size()},
+         {"specht", {{"chi2", ours_chi2}, {"iterations", ours_it}, {"seconds", ours_s}}},
+         {"plain_ceres_autodiff", {{"chi2", plain_chi2}, {"iterations", plain_it}, {"seconds", plain_s}}},
+         {"speedup", plain_s / ours_s},
+         {"peak_rss_mib", specht::bench::PeakRssMib()},
+         {"machine", specht::bench::MachineNotes()}});
   }
   return 0;
 }

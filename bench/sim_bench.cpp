@@ -3,11 +3,11 @@
 // included), stereo frames rendered per second (scenarios with a camera), peak memory.
 // One JSON object per scenario. With --sprites DIR (<data>/sprites) agents are drawn
 // as photographs (sim/sprites.h), else as boxes.
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
 #include <chrono>
 #include <optional>
 #include <string>
-
-#include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include "bench_support.h"
 #include "specht/sim/simulator.h"
@@ -46,8 +46,8 @@ int main(int argc, char** argv) {
                          {"sprites", sprites ? sprites->size() : 0},
                          {"stereo_frames", stereo_frames},
                          {"stereo_frames_per_s", render > 0 ? stereo_frames / render : 0.0},
-                         {"stereo_resolution", s.stereo ? std::to_string(s.stereo->width) + "x" +
-                                                              std::to_string(s.stereo->height) : "-"},
+                         {"stereo_resolution",
+                          s.stereo ? std::to_string(s.stereo->width) + "x" + std::to_string(s.stereo->height) : "-"},
                          {"peak_rss_mib", specht::bench::PeakRssMib()},
                          {"machine", specht::bench::MachineNotes()}});
   }

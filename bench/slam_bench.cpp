@@ -6,17 +6,17 @@
 // (CARMEN corrected poses, MRPT <rawlog>.GT.txt), relation error and ATE; where a
 // published relations file lies beside it (the Freiburg benchmark's <log>.relations),
 // the Kümmerle metric on it.
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
 #include <chrono>
 #include <iostream>
-
-#include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include "bench_support.h"
 #include "specht/core/statistics.h"
 #include "specht/eval/relation_error.h"
 #include "specht/eval/trajectory_error.h"
-#include "specht/io/reference.h"
 #include "specht/io/dataset.h"
+#include "specht/io/reference.h"
 #include "specht/io/trajectory_io.h"
 #include "specht/slam/graph_slam.h"
 

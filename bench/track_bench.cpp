@@ -9,8 +9,8 @@
 #include <random>
 
 #include "bench_support.h"
-#include "specht/sim/scenario.h"
 #include "specht/pipeline/synthetic_tracking.h"
+#include "specht/sim/scenario.h"
 
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {

@@ -113,19 +113,20 @@ int RunDecode(const AisArgs& a) {
     std::printf("ais decode: %s: %lld sentences → %lld messages, %lld rejected\n", path.c_str(),
                 static_cast<long long>(s.sentences.sentences), static_cast<long long>(s.emitted),
                 static_cast<long long>(s.RejectedTotal()));
-    for (const auto& [reason, n] : s.sentences.rejected) std::printf("    %-45s %lld\n", reason.c_str(), static_cast<long long>(n));
-    for (const auto& [reason, n] : s.rejected_messages) std::printf("    %-45s %lld\n", reason.c_str(), static_cast<long long>(n));
+    for (const auto& [reason, n] : s.sentences.rejected)
+      std::printf("    %-45s %lld\n", reason.c_str(), static_cast<long long>(n));
+    for (const auto& [reason, n] : s.rejected_messages)
+      std::printf("    %-45s %lld\n", reason.c_str(), static_cast<long long>(n));
   }
   const double seconds = Seconds(t0);
   jsonl.close();
-  std::stable_sort(positions.begin(), positions.end(), [](const auto& p, const auto& q) {
-    return p.mmsi != q.mmsi ? p.mmsi < q.mmsi : p.t < q.t;
-  });
+  std::stable_sort(positions.begin(), positions.end(),
+                   [](const auto& p, const auto& q) { return p.mmsi != q.mmsi ? p.mmsi < q.mmsi : p.t < q.t; });
   std::string csv = "mmsi,time,lon,lat,sog,cog,heading,ship_type\n";
   for (const auto& p : positions) {
     const auto st = ship_type.find(p.mmsi);
-    csv += std::to_string(p.mmsi) + "," + Num(p.t, "%.3f") + "," + Num(p.lon, "%.7f") + "," + Num(p.lat, "%.7f") +
-           "," + Num(p.sog, "%.1f") + "," + Num(p.cog, "%.1f") + "," + Num(p.heading, "%.0f") + "," +
+    csv += std::to_string(p.mmsi) + "," + Num(p.t, "%.3f") + "," + Num(p.lon, "%.7f") + "," + Num(p.lat, "%.7f") + "," +
+           Num(p.sog, "%.1f") + "," + Num(p.cog, "%.1f") + "," + Num(p.heading, "%.0f") + "," +
            (st == ship_type.end() ? "" : std::to_string(st->second)) + "\n";
   }
   io::WriteTextAtomically(out + "/positions.csv", csv);
@@ -173,10 +174,10 @@ int RunPrepare(const AisArgs& a) {
   }
   classify::WritePrepared(d, out);
   const std::vector<std::string> steps = {"input", "split", "chunked", "moving"};
-  classify::WriteStepCountsPng(r.counts, steps, ais::VesselClasses(),
-                               "sequences per class after each step (" + std::to_string(o.length) + " points, " +
-                                   o.transform + ")",
-                               out + "/counts.png");
+  classify::WriteStepCountsPng(
+      r.counts, steps, ais::VesselClasses(),
+      "sequences per class after each step (" + std::to_string(o.length) + " points, " + o.transform + ")",
+      out + "/counts.png");
   io::RunReport report("ais prepare");
   auto& j = report.json();
   nlohmann::json files = nlohmann::json::array();
@@ -221,7 +222,8 @@ int RunPrepare(const AisArgs& a) {
 int RunPredict(const AisArgs& a) {
   const params::Params params = LoadParams(a.common);
   const auto& ais_o = params.Get<ais::AisOptions>("ais");
-  const classify::TrajectoryClassifier classifier = classify::TrajectoryClassifier::LoadDirectory(a.model_dir, a.network_only);
+  const classify::TrajectoryClassifier classifier =
+      classify::TrajectoryClassifier::LoadDirectory(a.model_dir, a.network_only);
   const ais::Geography geo = ais::Geography::Load(ais_o, DataDirOr(a.common));
   PrepareOutputDir(a.common, params);
   const auto& classes = classifier.classes();
@@ -255,8 +257,8 @@ int RunPredict(const AisArgs& a) {
       }
       // The vessel's class: the mean over all its windows (the last window's so far).
       const int best = running.back();
-      objects += std::to_string(v.mmsi) + "," + (v.ship_type >= 0 ? std::to_string(v.ship_type) : "") + "," +
-                 t.label + "," + std::to_string(ws.size()) + "," + classes[best];
+      objects += std::to_string(v.mmsi) + "," + (v.ship_type >= 0 ? std::to_string(v.ship_type) : "") + "," + t.label +
+                 "," + std::to_string(ws.size()) + "," + classes[best];
       AppendProbabilities(objects, so_far.data() + so_far.size() - k, k);
       objects += "\n";
       const auto it = std::find(classes.begin(), classes.end(), t.label);
@@ -287,7 +289,8 @@ int RunPredict(const AisArgs& a) {
 }  // namespace
 
 void AddAisCommand(CLI::App& app, int& exit_code) {
-  CLI::App* cmd = app.add_subcommand("ais", "AIS vessel classification: decode NMEA, prepare, train, evaluate, predict");
+  CLI::App* cmd =
+      app.add_subcommand("ais", "AIS vessel classification: decode NMEA, prepare, train, evaluate, predict");
   cmd->require_subcommand(1);
 
   auto dec = std::make_shared<AisArgs>();

@@ -35,19 +35,19 @@
 #include "commands.h"
 #include "probability_csv.h"
 #include "run_setup.h"
-#include "specht/pipeline/map_features.h"
 #include "specht/classify/baseline.h"
 #include "specht/classify/crossval.h"
 #include "specht/classify/dataset_io.h"
 #include "specht/classify/metrics.h"
 #include "specht/classify/model.h"
 #include "specht/classify/trajectory_classifier.h"
-#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/progress.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/object_tracks.h"
 #include "specht/io/report.h"
+#include "specht/pipeline/map_features.h"
 #include "specht/sim/scenario.h"
 
 namespace specht::app {
@@ -191,7 +191,8 @@ int RunEval(const ClassifyArgs& a) {
 }
 
 int RunPredict(const ClassifyArgs& a) {
-  const classify::TrajectoryClassifier classifier = classify::TrajectoryClassifier::LoadDirectory(a.model_dir, a.network_only);
+  const classify::TrajectoryClassifier classifier =
+      classify::TrajectoryClassifier::LoadDirectory(a.model_dir, a.network_only);
   const auto maps = ScenarioMaps(a.scenarios);
   const std::vector<classify::Trajectory> trajectories = ReadTrajectories(a.inputs, false);
   const std::vector<classify::Window> windows = classifier.Windows(trajectories);
@@ -265,8 +266,7 @@ int RunPredict(const ClassifyArgs& a) {
               windows.size(), last_and_count.size());
   for (const auto& [cls, n] : per_class) std::printf("  %-12s %ld\n", cls.c_str(), n);
   if (!truth.empty())
-    std::printf("  labelled windows: %zu, macro F1 %.3f\n", truth.size(),
-                j["metrics"]["macro_f1"].get<double>());
+    std::printf("  labelled windows: %zu, macro F1 %.3f\n", truth.size(), j["metrics"]["macro_f1"].get<double>());
   return 0;
 }
 
@@ -277,10 +277,11 @@ void AddTrainingOptions(CLI::App& cmd, TrainingArgs& args, const std::string& pr
   cmd.add_flag("--resume", args.resume, "continue from the output directory's checkpoint.pt");
   AddPseudoLabelOption(cmd, args.pseudo_labels);
   cmd.add_option("--train-on", args.train_on,
-                 "another directory written by " + prepare + " from the same tracks with shorter windows (a "
-                 "divisor of this dataset's length): both models learn from its windows of every object, also "
-                 "of objects too short for this dataset's windows, and the model classifies a window by the mean "
-                 "over the shorter windows within it, as eval --train-on scores it");
+                 "another directory written by " + prepare +
+                     " from the same tracks with shorter windows (a "
+                     "divisor of this dataset's length): both models learn from its windows of every object, also "
+                     "of objects too short for this dataset's windows, and the model classifies a window by the mean "
+                     "over the shorter windows within it, as eval --train-on scores it");
   cmd.add_option("--fine-tune", args.fine_tune,
                  "with --train-on: the network, once trained on the shorter windows, continues on this dataset's "
                  "windows at this learning rate (e.g. 1e-4) and classifies them itself; 0: off")
@@ -412,10 +413,9 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   if (a.fine_tune > 0) {
     std::string tuning_log = kEpochHeader;
     ProgressLine progress(label + " fine-tuning", "epochs", !common.quiet, 0.0);
-    const auto reports = model.FineTune(d.windows.Subset(long_train_rows), long_val, a.fine_tune,
-                                        [&](const classify::EpochReport& r) {
-                                          LogEpoch(r, o.epochs, tuning_log, progress);
-                                        });
+    const auto reports =
+        model.FineTune(d.windows.Subset(long_train_rows), long_val, a.fine_tune,
+                       [&](const classify::EpochReport& r) { LogEpoch(r, o.epochs, tuning_log, progress); });
     progress.Finish();
     tuned_epochs = reports.size(), trained_windows += long_train_rows.size() * reports.size();
     io::WriteTextAtomically(out + "/fine_tuning.csv", tuning_log);
@@ -442,12 +442,13 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
                      {"fine_tuning_epochs", tuned_epochs}};
   }
   if (a.pseudo_labels.on()) {
-    j["pseudo_labels"] = {{"votes", a.pseudo_labels.votes},   {"rounds", a.pseudo_labels.rounds},
-                          {"classes", d.classes},             {"per_class", pseudo_per_round.back()},
-                          {"per_round", pseudo_per_round},   {"unlabelled_windows", unlabelled.windows.size()}};
+    j["pseudo_labels"] = {{"votes", a.pseudo_labels.votes}, {"rounds", a.pseudo_labels.rounds},
+                          {"classes", d.classes},           {"per_class", pseudo_per_round.back()},
+                          {"per_round", pseudo_per_round},  {"unlabelled_windows", unlabelled.windows.size()}};
   }
   j["model"] = {{"variant", o.variant}, {"parameters", model.parameter_count()}, {"epochs", epochs}};
-  j["validation"] = {{"windows", long_val.size()}, {"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
+  j["validation"] = {
+      {"windows", long_val.size()}, {"resnet", resnet.ToJson(d.classes)}, {"forest", rf.ToJson(d.classes)}};
   j["timing"] = {{"train_s", train_s}, {"train_windows_per_s", trained_windows / train_s}};
   for (const char* f : {"model.pt", "model.json", "forest.yml", "training.csv"}) report.AddOutput(f);
   if (a.fine_tune > 0) report.AddOutput("fine_tuning.csv");
@@ -455,14 +456,16 @@ int RunClassifierTraining(const CommonArgs& common, const params::Params& params
   if (InterruptRequested()) report.SetInterrupted(std::to_string(epochs) + " epochs (continue with --resume)");
   report.Write(out);
   const std::string tuned = a.fine_tune > 0 ? " + " + std::to_string(tuned_epochs) + " fine-tuning" : "";
-  std::printf("%s: %zu epochs%s, %.1f s (%.0f windows/s); validation macro F1 (%zu windows): ResNet %.3f, forest %.3f\n",
-              label.c_str(), epochs, tuned.c_str(), train_s, trained_windows / train_s, long_val.size(),
-              resnet.macro_f1, rf.macro_f1);
+  std::printf(
+      "%s: %zu epochs%s, %.1f s (%.0f windows/s); validation macro F1 (%zu windows): ResNet %.3f, forest %.3f\n",
+      label.c_str(), epochs, tuned.c_str(), train_s, trained_windows / train_s, long_val.size(), resnet.macro_f1,
+      rf.macro_f1);
   return InterruptExitCode();
 }
 
 void AddClassifyCommand(CLI::App& app, int& exit_code) {
-  CLI::App* cmd = app.add_subcommand("classify", "trajectory classification: prepare windows, train, evaluate, predict");
+  CLI::App* cmd =
+      app.add_subcommand("classify", "trajectory classification: prepare windows, train, evaluate, predict");
   cmd->require_subcommand(1);
   auto prep = std::make_shared<ClassifyArgs>();
   CLI::App* p = cmd->add_subcommand("prepare", "object tracks (CSV) to feature windows");

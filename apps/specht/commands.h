@@ -2,9 +2,8 @@
 // and a callback that sets the exit code (0 ok, 1 runtime failure, 2 bad input).
 #pragma once
 
-#include <string>
-
 #include <CLI/CLI.hpp>
+#include <string>
 
 #include "run_setup.h"
 #include "specht/classify/crossval.h"
@@ -69,7 +68,7 @@ struct CrossValidationArgs {
   std::vector<double> train_fractions = {1.0};
   bool no_forest = false;
   classify::PseudoLabelOptions pseudo_labels;  // off unless --pseudo-labels
-  std::string train_on;  // another prepared dataset whose windows the models train on, or empty
+  std::string train_on;                        // another prepared dataset whose windows the models train on, or empty
   double fine_tune = 0;  // with train_on: the networks' learning rate on this dataset's windows after (0 = off)
 };
 // How a command names things: "ais eval", "ais prepare", "MMSI" (what the folds are

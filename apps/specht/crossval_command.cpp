@@ -17,8 +17,8 @@
 #include "specht/classify/crossval.h"
 #include "specht/classify/dataset_io.h"
 #include "specht/classify/metrics.h"
-#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/progress.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/report.h"
@@ -88,9 +88,10 @@ void PrintPaired(const std::string& title, const std::vector<classify::PairedCom
   if (comparisons.empty()) return;
   int width = 26;  // the longest "a vs b", for aligned columns
   for (const auto& c : comparisons) width = std::max(width, static_cast<int>((c.a + " vs " + c.b).size()));
-  std::printf("  %-*s macro F1 per fold, first minus second (mean ± std); folds ahead / behind; "
-              "corrected resampled t-test: p, 95 %% interval\n",
-              width, title.c_str());
+  std::printf(
+      "  %-*s macro F1 per fold, first minus second (mean ± std); folds ahead / behind; "
+      "corrected resampled t-test: p, 95 %% interval\n",
+      width, title.c_str());
   for (const auto& c : comparisons) {
     const std::string pair = c.a + " vs " + c.b;
     std::printf("  %-*s %+.3f ± %.3f  %2d / %2d of %-2d  p %.3f  [%+.3f, %+.3f]\n", width, pair.c_str(),
@@ -217,10 +218,12 @@ void AddCrossValidationOptions(CLI::App& cmd, CrossValidationArgs& args, const C
   cmd.add_flag("--no-forest", args.no_forest, "skip the random-forest baseline");
   AddPseudoLabelOption(cmd, args.pseudo_labels);
   cmd.add_option("--train-on", args.train_on,
-                 "another directory written by " + names.prepare + " from the same tracks with shorter windows: "
-                 "every model trains on its windows of the " + names.objects + " outside the test fold (also of " +
-                 names.objects + " too short for this dataset's windows) and scores a window by the mean over "
-                 "the shorter windows within it; the folds stay this dataset's");
+                 "another directory written by " + names.prepare +
+                     " from the same tracks with shorter windows: "
+                     "every model trains on its windows of the " +
+                     names.objects + " outside the test fold (also of " + names.objects +
+                     " too short for this dataset's windows) and scores a window by the mean over "
+                     "the shorter windows within it; the folds stay this dataset's");
   cmd.add_option("--fine-tune", args.fine_tune,
                  "with --train-on: each convolutional network, once trained on the shorter windows, continues on "
                  "this dataset's training windows at this learning rate (e.g. 1e-4) and scores its windows itself "
@@ -243,8 +246,8 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
                           const CrossValidationNames& names, std::string& comparison_error) {
   cv.train_fraction = train_fraction;
   // What decides the folds: the same in an earlier run means the same folds.
-  const nlohmann::json deal = {{"windows", d.windows.size()}, {"folds", a.folds}, {"repeats", a.repeats},
-                               {"seed", cv.seed}};
+  const nlohmann::json deal = {
+      {"windows", d.windows.size()}, {"folds", a.folds}, {"repeats", a.repeats}, {"seed", cv.seed}};
   const nlohmann::json earlier_report = a.compare_to.empty() ? nlohmann::json() : ReadEarlierReport(a.compare_to, deal);
   CommonArgs common = a.common;
   common.out_dir = out;
@@ -282,8 +285,10 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
   j["fold_objects_trained"] = result.trained_objects;  // per fold and class
   j["unlabelled_windows"] = unlabelled.windows.size();
   if (cv.pseudo_labels.on()) {
-    j["pseudo_labels"] = {{"votes", cv.pseudo_labels.votes}, {"rounds", cv.pseudo_labels.rounds},
-                          {"classes", d.classes}, {"per_fold", result.pseudo_labelled}};
+    j["pseudo_labels"] = {{"votes", cv.pseudo_labels.votes},
+                          {"rounds", cv.pseudo_labels.rounds},
+                          {"classes", d.classes},
+                          {"per_fold", result.pseudo_labelled}};
     if (cv.pseudo_labels.rounds > 1) j["pseudo_labels"]["per_fold_network_round"] = result.pseudo_labelled_by_round;
   }
   j["models"] = result.ToJson(d.classes);
@@ -298,8 +303,8 @@ nlohmann::json RunAtShare(const CrossValidationArgs& a, classify::CrossValidatio
     j["compared_to"] = {{"run", a.compare_to}};
     try {
       for (classify::ScoreLevel level : classify::kScoreLevels) {
-        earlier.emplace_back(level,
-                             classify::CompareWithEarlier(result, earlier_report, a.compare_to + "/report.json", level));
+        earlier.emplace_back(
+            level, classify::CompareWithEarlier(result, earlier_report, a.compare_to + "/report.json", level));
         j["compared_to"][classify::PairedKey(level)] = classify::PairedComparisonsJson(earlier.back().second);
       }
     } catch (const InputError& e) {
@@ -381,7 +386,8 @@ void WriteLearningCurveLevel(const nlohmann::json& curve, classify::ScoreLevel l
   std::map<std::string, std::vector<classify::CurvePoint>> curves;
   for (const auto& point : curve)
     for (const auto& [name, m] : point["models"].items())
-      curves[name].push_back({point["train_fraction"].get<double>(), AtLevel(m, level)["macro_f1"]["mean"].get<double>(),
+      curves[name].push_back({point["train_fraction"].get<double>(),
+                              AtLevel(m, level)["macro_f1"]["mean"].get<double>(),
                               AtLevel(m, level)["macro_f1"]["std"].get<double>()});
   classify::WriteLearningCurvePng(curves, title, words.axis + ", mean and std over folds", out + "/" + png);
   report.AddOutput(png);
@@ -390,7 +396,8 @@ void WriteLearningCurveLevel(const nlohmann::json& curve, classify::ScoreLevel l
   for (const auto& point : curve) {
     const auto& objects = point["trained_objects_per_fold"];
     std::printf("  share %-5s %7.0f windows, %3.0f–%.0f %s a class a fold",
-                ShareName(point["train_fraction"].get<double>()).c_str(), point["trained_windows_per_fold"].get<double>(),
+                ShareName(point["train_fraction"].get<double>()).c_str(),
+                point["trained_windows_per_fold"].get<double>(),
                 std::min_element(objects.begin(), objects.end())->get<double>(),
                 std::max_element(objects.begin(), objects.end())->get<double>(), names.objects.c_str());
     for (const auto& [name, m] : point["models"].items())
@@ -415,8 +422,8 @@ void WriteLearningCurveLevel(const nlohmann::json& curve, classify::ScoreLevel l
 }
 
 // How the scored windows lie over the shorter ones of --train-on.
-void PrintWithin(const classify::PreparedDataset& d, const classify::PreparedDataset& train_on,
-                 const std::string& dir, const CrossValidationNames& names) {
+void PrintWithin(const classify::PreparedDataset& d, const classify::PreparedDataset& train_on, const std::string& dir,
+                 const CrossValidationNames& names) {
   const auto within = classify::WindowsWithin(d, train_on);
   size_t none = 0, total = 0;
   for (const auto& rows : within) none += rows.empty(), total += rows.size();
@@ -457,7 +464,8 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
     PrepareOutputDir(a.common, params);
     std::vector<std::pair<double, nlohmann::json>> runs;
     for (double f : fractions) {
-      if (!a.common.quiet) std::fprintf(stderr, "%s: learning curve, share %s\n", names.command.c_str(), ShareName(f).c_str());
+      if (!a.common.quiet)
+        std::fprintf(stderr, "%s: learning curve, share %s\n", names.command.c_str(), ShareName(f).c_str());
       std::string error;
       runs.emplace_back(f, RunAtShare(a, cv, f, out + "/share-" + ShareName(f), d, unlabelled, params, names, error));
       if (comparison_error.empty()) comparison_error = error;
@@ -467,8 +475,8 @@ int RunCrossValidation(const CrossValidationArgs& a, const params::Params& param
     j["dataset"] = a.dataset;
     j["learning_curve"] = LearningCurve(runs);
     for (double f : fractions) report.AddOutput("share-" + ShareName(f) + "/report.json");
-    const std::string title = names.command + ": macro F1 against the share of each class's training " +
-                              names.objects + " (" + std::to_string(a.folds) + "-fold CV" +
+    const std::string title = names.command + ": macro F1 against the share of each class's training " + names.objects +
+                              " (" + std::to_string(a.folds) + "-fold CV" +
                               (a.repeats > 1 ? " x " + std::to_string(a.repeats) : std::string()) + ")";
     for (classify::ScoreLevel level : classify::kScoreLevels)
       WriteLearningCurveLevel(j["learning_curve"], level, title, out, names, report);

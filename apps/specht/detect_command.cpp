@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -50,8 +49,8 @@ std::string KittiLine(const detect::Detection& d, const std::optional<detect::Ob
   if (o) {
     const double h = o->size_m.height, w = o->size_m.width;
     std::snprintf(line, sizeof(line), "%s -1 -1 -10 %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f -10 %.3f",
-                  KittiType(d.cls).c_str(), d.box.x, d.box.y, d.box.br().x, d.box.br().y, h, w, w,
-                  o->position_camera.x, o->position_camera.y + h / 2, o->position_camera.z, d.score);
+                  KittiType(d.cls).c_str(), d.box.x, d.box.y, d.box.br().x, d.box.br().y, h, w, w, o->position_camera.x,
+                  o->position_camera.y + h / 2, o->position_camera.z, d.score);
   } else {
     std::snprintf(line, sizeof(line), "%s -1 -1 -10 %.2f %.2f %.2f %.2f -1 -1 -1 -1000 -1000 -1000 -10 %.3f",
                   KittiType(d.cls).c_str(), d.box.x, d.box.y, d.box.br().x, d.box.br().y, d.score);
@@ -64,12 +63,16 @@ cv::Mat Annotate(const cv::Mat& image, const std::vector<detect::Detection>& det
   cv::Mat out = image.clone();
   for (size_t i = 0; i < detections.size(); ++i) {
     const auto& d = detections[i];
-    const cv::Scalar colour = d.cls == "car" ? cv::Scalar(255, 160, 0) : d.cls == "pedestrian" ? cv::Scalar(0, 0, 255)
-                              : d.cls == "cyclist" ? cv::Scalar(0, 200, 255) : cv::Scalar(0, 220, 0);
+    const cv::Scalar colour = d.cls == "car"          ? cv::Scalar(255, 160, 0)
+                              : d.cls == "pedestrian" ? cv::Scalar(0, 0, 255)
+                              : d.cls == "cyclist"    ? cv::Scalar(0, 200, 255)
+                                                      : cv::Scalar(0, 220, 0);
     cv::rectangle(out, d.box, colour, 2);
     char text[96];
-    if (obstacles[i]) std::snprintf(text, sizeof(text), "%s %.2f %.1f m", d.cls.c_str(), d.score, obstacles[i]->distance_m);
-    else std::snprintf(text, sizeof(text), "%s %.2f", d.cls.c_str(), d.score);
+    if (obstacles[i])
+      std::snprintf(text, sizeof(text), "%s %.2f %.1f m", d.cls.c_str(), d.score, obstacles[i]->distance_m);
+    else
+      std::snprintf(text, sizeof(text), "%s %.2f", d.cls.c_str(), d.score);
     const cv::Point corner(static_cast<int>(d.box.x), std::max(12, static_cast<int>(d.box.y) - 4));
     const std::string label = AsciiForImage(text);  // class names come from the model's label file
     cv::putText(out, label, corner, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
@@ -94,7 +97,8 @@ int RunDetect(const DetectArgs& a) {
     camera = c.camera;
   }
   std::unique_ptr<stereo::SemiGlobalMatcher> matcher;
-  if (!a.rights.empty()) matcher = std::make_unique<stereo::SemiGlobalMatcher>(params.Get<stereo::SgmOptions>("stereo"));
+  if (!a.rights.empty())
+    matcher = std::make_unique<stereo::SemiGlobalMatcher>(params.Get<stereo::SgmOptions>("stereo"));
 
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
@@ -121,7 +125,8 @@ int RunDetect(const DetectArgs& a) {
         disparity = matcher->Compute(stereo::ReadGray8(a.images[i]), stereo::ReadGray8(a.rights[i]));
       }
       auto t = timer.Time("fusion");
-      for (size_t k = 0; k < detections.size(); ++k) obstacles[k] = detect::Fuse(detections[k], disparity, *camera, fusion);
+      for (size_t k = 0; k < detections.size(); ++k)
+        obstacles[k] = detect::Fuse(detections[k], disparity, *camera, fusion);
     }
     const std::string name = std::filesystem::path(a.images[i]).stem().string();
     std::string labels;
@@ -129,7 +134,10 @@ int RunDetect(const DetectArgs& a) {
       const auto& d = detections[k];
       ++counts[d.cls];
       labels += KittiLine(d, obstacles[k]) + "\n";
-      nlohmann::json j = {{"image", a.images[i]}, {"class", d.cls}, {"label", d.label}, {"score", d.score},
+      nlohmann::json j = {{"image", a.images[i]},
+                          {"class", d.cls},
+                          {"label", d.label},
+                          {"score", d.score},
                           {"box", {d.box.x, d.box.y, d.box.width, d.box.height}}};
       if (obstacles[k]) {
         const auto& o = *obstacles[k];

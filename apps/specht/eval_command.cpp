@@ -12,24 +12,23 @@
 // pictures. Disparity PNGs: KITTI uint16, or 8-bit Middlebury (× --truth-scale).
 #include <cstdio>
 #include <iostream>
-
 #include <opencv2/core.hpp>
 
 #include "commands.h"
-#include "specht/core/error.h"
-#include "specht/io/reference.h"
 #include "run_setup.h"
+#include "specht/core/error.h"
 #include "specht/eval/disparity_error.h"
 #include "specht/eval/mot.h"
-#include "specht/io/object_tracks.h"
 #include "specht/eval/relation_error.h"
-#include "specht/stereo/images.h"
-#include "specht/stereo/sgm.h"
 #include "specht/eval/trajectory_error.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
+#include "specht/io/object_tracks.h"
+#include "specht/io/reference.h"
 #include "specht/io/report.h"
 #include "specht/io/trajectory_io.h"
+#include "specht/stereo/images.h"
+#include "specht/stereo/sgm.h"
 
 namespace specht::app {
 namespace {
@@ -53,8 +52,8 @@ void PrintPublished(const eval::PublishedRelationError& rel) {
   std::printf("  squared   %.5f ± %.5f m²            %.3f ± %.3f deg²\n", q.mean_m, q.std_m, q.mean_deg, q.std_deg);
   std::printf("worst published relations (scan i, j: stamps, error)\n");
   for (const eval::Relation& r : rel.worst) {
-    std::printf("  %6zu %6zu   %.6f s %.6f s   %.4f m   %.3f deg\n", r.i, r.j, r.stamp_i.Seconds(),
-                r.stamp_j.Seconds(), r.m, r.deg);
+    std::printf("  %6zu %6zu   %.6f s %.6f s   %.4f m   %.3f deg\n", r.i, r.j, r.stamp_i.Seconds(), r.stamp_j.Seconds(),
+                r.m, r.deg);
   }
 }
 
@@ -105,8 +104,8 @@ int RunEvalSlam(const EvalSlamArgs& a) {
 
   std::printf("relations       count   mean±std m          max m    mean±std deg      max deg\n");
   for (const auto& [name, s] : {std::pair{"consecutive", rel.consecutive}, {"loop", rel.loop}, {"all", rel.all}}) {
-    std::printf("%-12s %8zu   %.4f ± %.4f   %8.4f   %6.3f ± %6.3f   %7.3f\n", name, s.count, s.mean_m, s.std_m,
-                s.max_m, s.mean_deg, s.std_deg, s.max_deg);
+    std::printf("%-12s %8zu   %.4f ± %.4f   %8.4f   %6.3f ± %6.3f   %7.3f\n", name, s.count, s.mean_m, s.std_m, s.max_m,
+                s.mean_deg, s.std_deg, s.max_deg);
   }
   std::printf("ATE (SE(2)-aligned, %zu poses): RMSE %.4f m, max %.4f m, %.3f deg RMSE\n", ate.pairs, ate.rmse_m,
               ate.max_m, ate.rmse_deg);
@@ -130,7 +129,8 @@ int RunEvalStereo(const EvalStereoArgs& a) {
   const cv::Mat truth = stereo::ReadDisparityPng(a.truth, a.truth_scale);
   if (estimate.size() != truth.size())
     throw InputError(a.estimate + ": " + std::to_string(estimate.cols) + "×" + std::to_string(estimate.rows) +
-                     " differs from the ground truth's " + std::to_string(truth.cols) + "×" + std::to_string(truth.rows));
+                     " differs from the ground truth's " + std::to_string(truth.cols) + "×" +
+                     std::to_string(truth.rows));
   cv::Mat mask;
   if (!a.exclude.empty()) {
     const cv::Mat excluded = stereo::ReadDisparityPng(a.exclude);
@@ -141,8 +141,8 @@ int RunEvalStereo(const EvalStereoArgs& a) {
   const eval::DisparityErrors e = eval::CompareDisparity(estimate, truth, mask);
   io::MakeOutputDir(a.out_dir);
   io::RunReport report("eval stereo");
-  report.json()["inputs"] = {{"estimate", a.estimate}, {"truth", a.truth}, {"fill_holes", a.fill_holes},
-                             {"excluded", a.exclude}};
+  report.json()["inputs"] = {
+      {"estimate", a.estimate}, {"truth", a.truth}, {"fill_holes", a.fill_holes}, {"excluded", a.exclude}};
   report.json()["metrics"] = eval::ToJson(e);
   double max_disparity = 0;
   cv::minMaxLoc(truth, nullptr, &max_disparity);
@@ -177,8 +177,8 @@ int RunEvalTrack(const EvalTrackArgs& a) {
   std::printf("MOTA %.4f  MOTP %.3f m  ID switches %ld (%.2f per 100 track-s)  FP %ld  FN %ld  GT %ld\n", mot.mota,
               mot.motp_m, mot.id_switches, mot.id_switches_per_100s, mot.false_positives, mot.false_negatives,
               mot.truth_objects);
-  std::printf("truth ids %d: mostly tracked %d, mostly lost %d, fragmentations %ld; hypothesis ids %d\n",
-              mot.truth_ids, mot.mostly_tracked, mot.mostly_lost, mot.fragmentations, mot.hypothesis_ids);
+  std::printf("truth ids %d: mostly tracked %d, mostly lost %d, fragmentations %ld; hypothesis ids %d\n", mot.truth_ids,
+              mot.mostly_tracked, mot.mostly_lost, mot.fragmentations, mot.hypothesis_ids);
   return 0;
 }
 
@@ -200,9 +200,11 @@ void AddEvalCommand(CLI::App& app, int& exit_code) {
   slam->add_option("--map", args->map_yaml, "draw the worst relations on this map (map_server YAML)");
   slam->add_option("-o,--out", args->out_dir, "output directory")->capture_default_str();
   slam->add_option("--loop-distance", args->relations.loop_max_distance_m,
-                   "loop relations: reference poses closer than this (m)")->capture_default_str();
+                   "loop relations: reference poses closer than this (m)")
+      ->capture_default_str();
   slam->add_option("--loop-separation", args->relations.loop_min_separation,
-                   "loop relations: more than this many scans apart")->capture_default_str();
+                   "loop relations: more than this many scans apart")
+      ->capture_default_str();
   slam->add_option("--worst", args->relations.worst_count, "list this many relations with the largest error")
       ->capture_default_str();
   slam->add_option("--max-dt", args->relations.max_dt_s, "pair poses whose stamps differ by at most this (s)")

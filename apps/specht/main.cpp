@@ -1,7 +1,6 @@
 // specht: one executable, one subcommand per job. See README.md.
-#include <iostream>
-
 #include <CLI/CLI.hpp>
+#include <iostream>
 
 #include "commands.h"
 #include "specht/core/error.h"

@@ -18,9 +18,9 @@ std::string Real(double v) {
 }  // namespace
 
 void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& default_out) {
-  cmd.add_option("dataset", args.dataset,
-                 "MRPT rawlog or CARMEN log (default: the rawlog shipped by Debian's mrpt-common, " +
-                     io::DefaultRawlog() + ")");
+  cmd.add_option(
+      "dataset", args.dataset,
+      "MRPT rawlog or CARMEN log (default: the rawlog shipped by Debian's mrpt-common, " + io::DefaultRawlog() + ")");
   AddCommonOptions(cmd, args.common, default_out);
   cmd.add_option("--ground-truth", args.ground_truth,
                  "reference trajectory (TUM, 't x y theta' or CARMEN log); default <dataset>.GT.txt when present, "

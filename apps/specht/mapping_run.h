@@ -2,10 +2,9 @@
 // the one call they make (pipeline/replay.h runs the dataset through the stack).
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "run_setup.h"
 

@@ -2,25 +2,25 @@
 
 #include "specht/ais/dataset.h"
 #include "specht/ais/nmea.h"
+#include "specht/classify/model.h"
+#include "specht/classify/preprocess.h"
 #include "specht/core/transform_tree.h"
+#include "specht/detect/detector.h"
+#include "specht/detect/fusion.h"
 #include "specht/io/replay.h"
 #include "specht/pipeline/closed_loop.h"
+#include "specht/pipeline/perception.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/kinodynamic.h"
 #include "specht/plan/smoother.h"
-#include "specht/detect/detector.h"
-#include "specht/detect/fusion.h"
+#include "specht/sim/detections.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/localizer.h"
 #include "specht/slam/pose_graph_optimizer.h"
 #include "specht/slam/scan_matching.h"
 #include "specht/stereo/point_cloud.h"
 #include "specht/stereo/sgm.h"
-#include "specht/classify/model.h"
-#include "specht/classify/preprocess.h"
-#include "specht/sim/detections.h"
 #include "specht/track/tracker.h"
-#include "specht/pipeline/perception.h"
 #include "specht/world/world_model.h"
 
 namespace specht::app {
@@ -41,10 +41,11 @@ const params::Registry& AllOptions() {
     r.Add<detect::DetectorOptions>("detect", "CNN detector (cv::dnn): model, input, thresholds, class map");
     r.Add<detect::FusionOptions>("fusion", "box depth from stereo disparity, 3D position and covariance");
     r.Add<world::WorldModelOptions>("world", "the shared world model: obstacle lifetime, footprint, cost layer");
-    r.Add<pipeline::PerceptionOptions>("perception",
-                                       "the perception pipeline: stereo, detector, tracker and OctoMap into the world model");
+    r.Add<pipeline::PerceptionOptions>(
+        "perception", "the perception pipeline: stereo, detector, tracker and OctoMap into the world model");
     r.Add<track::TrackerOptions>("track", "multi-object tracker: motion models, gating, lifecycle");
-    r.Add<sim::SyntheticDetectionOptions>("synthetic_detections", "simulated detections for tracking on synthetic scenes");
+    r.Add<sim::SyntheticDetectionOptions>("synthetic_detections",
+                                          "simulated detections for tracking on synthetic scenes");
     r.Add<classify::PreprocessOptions>("classify", "trajectory preprocessing: segmentation, windows, features");
     r.Add<classify::ModelOptions>("classify_model", "trajectory classifier: 1D ResNet variant and training");
     r.Add<ais::SentenceOptions>("ais_decoder", "AIS NMEA decoding: multipart reassembly");
@@ -56,7 +57,8 @@ const params::Registry& AllOptions() {
     r.Add<plan::HybridAStarOptions>("hybrid_astar_fine",
                                     "the fallback search where hybrid_astar finds no path (tight bays)",
                                     plan::FineSearchDefaults());
-    r.Add<plan::KinodynamicOptions>("kinodynamic", "kinodynamic planner: OMPL SST / RRT / KPIECE1 over the bicycle model");
+    r.Add<plan::KinodynamicOptions>("kinodynamic",
+                                    "kinodynamic planner: OMPL SST / RRT / KPIECE1 over the bicycle model");
     r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
     r.Add<plan::TrackerOptions>("tracker", "path tracking: pure pursuit and speed profile");
     r.Add<pipeline::ClosedLoopOptions>("closed_loop", "mission state machine: margins, waiting, tolerances");

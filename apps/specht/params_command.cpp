@@ -27,8 +27,8 @@ int RunParams(const ParamsArgs& a) {
       for (const auto& c : info.choices) bounds += (bounds.empty() ? "" : "|") + c;
       YAML::Emitter value;
       value << YAML::Flow << info.default_value;
-      std::cout << info.key << " (" << info.type << (bounds.empty() ? "" : ", " + bounds) << ") = "
-                << value.c_str() << "\n    " << info.doc << "\n";
+      std::cout << info.key << " (" << info.type << (bounds.empty() ? "" : ", " + bounds) << ") = " << value.c_str()
+                << "\n    " << info.doc << "\n";
     }
     return 0;
   }

@@ -11,17 +11,16 @@
 //   report.json   found, length, gear changes, clearance, curvature, timings
 #include <cmath>
 #include <cstdio>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.h"
 #include "run_setup.h"
 #include "specht/core/error.h"
-#include "specht/pipeline/closed_loop.h"
 #include "specht/decide/mission.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
+#include "specht/pipeline/closed_loop.h"
 #include "specht/plan/draw.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/kinodynamic.h"
@@ -80,9 +79,12 @@ int RunPlan(const PlanArgs& a) {
   }
   if (scenario) car = pipeline::ScenarioCar(*scenario, car);  // plan for the scenario's own car
   plan::Pose start;
-  if (!a.start.empty()) start = ParsePose(a.start, "start");
-  else if (scenario) start = pipeline::EgoRearAxle(*scenario, scenario->ego.start);
-  else throw InputError("--start is needed with a map (only a scenario has a default start)");
+  if (!a.start.empty())
+    start = ParsePose(a.start, "start");
+  else if (scenario)
+    start = pipeline::EgoRearAxle(*scenario, scenario->ego.start);
+  else
+    throw InputError("--start is needed with a map (only a scenario has a default start)");
   plan::Pose goal;
   if (a.goal.rfind("bay:", 0) == 0) {
     if (!scenario) throw InputError("--goal bay:NAME needs a scenario as the map");
@@ -107,7 +109,8 @@ int RunPlan(const PlanArgs& a) {
   plan::Path path;
   std::string detail;  // the planner's own figures for the summary line
   if (a.planner == "hybrid_astar") {
-    plan::SearchWithFallback search(search_options, params.Get<plan::HybridAStarOptions>("hybrid_astar_fine"), car, map);
+    plan::SearchWithFallback search(search_options, params.Get<plan::HybridAStarOptions>("hybrid_astar_fine"), car,
+                                    map);
     found = search.Plan(start, goal);
     j["timing"] = {{"heuristic_ms", found.heuristic_milliseconds}, {"search_ms", found.milliseconds}};
     j["metrics"] = {{"expansions", found.expansions}, {"fine_search", search.last_used_fine()}};
@@ -120,9 +123,9 @@ int RunPlan(const PlanArgs& a) {
       j["timing"]["smoothing_ms"] = smooth.milliseconds;
       j["timing"]["total_ms"] = found.milliseconds + smooth.milliseconds;
       detail = std::to_string(found.expansions) + " expansions" + (search.last_used_fine() ? " (fine search)" : "") +
-               "; search " + Fixed(found.milliseconds) +
-               " ms (+ heuristic " + Fixed(found.heuristic_milliseconds) + "), smoothing " +
-               Fixed(smooth.milliseconds) + " ms" + (smooth.accepted ? "" : " (not smoothed: " + smooth.note + ")");
+               "; search " + Fixed(found.milliseconds) + " ms (+ heuristic " + Fixed(found.heuristic_milliseconds) +
+               "), smoothing " + Fixed(smooth.milliseconds) + " ms" +
+               (smooth.accepted ? "" : " (not smoothed: " + smooth.note + ")");
     }
   } else {
     plan::KinodynamicOptions options = params.Get<plan::KinodynamicOptions>("kinodynamic");
@@ -142,8 +145,9 @@ int RunPlan(const PlanArgs& a) {
                     {"duration_s", k.duration_s}};
     detail = std::to_string(k.expansions) + " iterations of " + options.planner + " in " + Fixed(k.milliseconds) +
              " ms (budget " + Fixed(options.time_budget_ms) + "), driving time " + Fixed(k.duration_s) + " s" +
-             (!a.guided ? "" : guide.found ? ", guided by hybrid A* (" + Fixed(guide.milliseconds) + " ms)"
-                                           : ", unguided (hybrid A*: " + guide.failure + ")");
+             (!a.guided     ? ""
+              : guide.found ? ", guided by hybrid A* (" + Fixed(guide.milliseconds) + " ms)"
+                            : ", unguided (hybrid A*: " + guide.failure + ")");
   }
   j["metrics"]["found"] = found.found;
   if (found.found) {
@@ -176,7 +180,8 @@ int RunPlan(const PlanArgs& a) {
 
 void AddPlanCommand(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<PlanArgs>();
-  CLI::App* cmd = app.add_subcommand("plan", "plan a path for the car on a map (hybrid A* + smoothing, or OMPL SST/RRT/KPIECE1)");
+  CLI::App* cmd =
+      app.add_subcommand("plan", "plan a path for the car on a map (hybrid A* + smoothing, or OMPL SST/RRT/KPIECE1)");
   cmd->add_option("map", args->map, "ROS map YAML, MRPT .gridmap, or a scenario YAML")->required();
   cmd->add_option("--start", args->start, "x,y,heading_deg of the rear axle (default: a scenario's ego start)");
   cmd->add_option("--goal", args->goal, "x,y,heading_deg, or bay:NAME in a scenario")->required();

@@ -3,8 +3,8 @@
 // the smoother, follows the path with pure pursuit, and drives the simulated car,
 // with ground-truth localisation, map and agents. Per seed: run-<seed>.png (the
 // driven path with footprints), steps-<seed>.jsonl (state and pose at the control
-// rate) and paths-<seed>.csv (every plan: plan,x_m,y_m,theta_rad,direction); report.json: each run (success, collisions, clearances, parking
-// error, time, planning times, states visited and every transition) and the totals.
+// rate) and paths-<seed>.csv (every plan: plan,x_m,y_m,theta_rad,direction); report.json: each run (success,
+// collisions, clearances, parking error, time, planning times, states visited and every transition) and the totals.
 #include <cstdio>
 
 #include "commands.h"
@@ -12,10 +12,10 @@
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/core/progress.h"
-#include "specht/pipeline/closed_loop.h"
 #include "specht/io/atomic_file.h"
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
+#include "specht/pipeline/closed_loop.h"
 #include "specht/plan/draw.h"
 #include "specht/sim/world.h"
 
@@ -37,9 +37,9 @@ int RunRun(const RunArgs& a) {
   config.smoother = params.Get<plan::SmootherOptions>("smoother");
   config.tracker = params.Get<plan::TrackerOptions>("tracker");
   config.loop = params.Get<pipeline::ClosedLoopOptions>("closed_loop");
-  const std::vector<decide::Goal> mission = a.mission.empty()
-                                                ? decide::DefaultMission(pipeline::MissionSiteOf(scenario), config.car)
-                                                : decide::LoadMission(a.mission, pipeline::MissionSiteOf(scenario), config.car);
+  const std::vector<decide::Goal> mission =
+      a.mission.empty() ? decide::DefaultMission(pipeline::MissionSiteOf(scenario), config.car)
+                        : decide::LoadMission(a.mission, pipeline::MissionSiteOf(scenario), config.car);
   const auto [first, last] = ParseSeedRange(a.seeds, scenario.seed);
   PrepareOutputDir(a.common, params);
   const std::string& out = a.common.out_dir;
@@ -55,8 +55,9 @@ int RunRun(const RunArgs& a) {
     const pipeline::ClosedLoopResult r = pipeline::RunClosedLoop(
         scenario, seed, mission, config, [&](double t, const std::string& state, const plan::Pose& p) {
           char line[160];
-          std::snprintf(line, sizeof(line), "{\"t_s\":%.2f,\"state\":\"%s\",\"x_m\":%.3f,\"y_m\":%.3f,\"theta_rad\":%.4f}\n",
-                        t, state.c_str(), p.x, p.y, p.theta);
+          std::snprintf(line, sizeof(line),
+                        "{\"t_s\":%.2f,\"state\":\"%s\",\"x_m\":%.3f,\"y_m\":%.3f,\"theta_rad\":%.4f}\n", t,
+                        state.c_str(), p.x, p.y, p.theta);
           steps += line;
         });
     io::WriteTextAtomically(out + "/steps-" + std::to_string(seed) + ".jsonl", steps);
@@ -81,32 +82,35 @@ int RunRun(const RunArgs& a) {
     successes += r.success, collisions += r.collisions;
     min_clearance = std::min(min_clearance, r.min_clearance_m);
     min_pedestrian = std::min(min_pedestrian, r.min_pedestrian_m);
-    if (r.park_error_m >= 0) max_park_m = std::max(max_park_m, r.park_error_m), max_park_deg = std::max(max_park_deg, r.park_error_deg);
+    if (r.park_error_m >= 0)
+      max_park_m = std::max(max_park_m, r.park_error_m), max_park_deg = std::max(max_park_deg, r.park_error_deg);
     progress.Update(static_cast<double>(seed - first + 1), static_cast<double>(seed - first + 1) / (last - first + 1),
                     r.success ? "ok" : "failed: " + r.failure);
     if (InterruptRequested()) break;  // this drive (cut short or not) is written; the next is not started
   }
   progress.Finish();
   const int n = static_cast<int>(runs.size());
-  if (InterruptRequested()) report.SetInterrupted(std::to_string(n) + " of " + std::to_string(last - first + 1) + " runs");
+  if (InterruptRequested())
+    report.SetInterrupted(std::to_string(n) + " of " + std::to_string(last - first + 1) + " runs");
   auto& j = report.json();
-  j["inputs"] = {{"scenario", a.scenario}, {"mission", a.mission.empty() ? "default" : a.mission},
-                 {"seeds", {first, last}}};
-  j["metrics"] = {{"runs", n},
-                  {"success_rate", static_cast<double>(successes) / n},
-                  {"collisions", collisions},
-                  {"min_clearance_m", min_clearance},
-                  {"min_pedestrian_distance_m", min_pedestrian > 1e8 ? nlohmann::json() : nlohmann::json(min_pedestrian)},
-                  {"pedestrian_margin_m", config.loop.pedestrian_margin_m},
-                  {"max_park_error_m", max_park_m},
-                  {"max_park_error_deg", max_park_deg}};
+  j["inputs"] = {
+      {"scenario", a.scenario}, {"mission", a.mission.empty() ? "default" : a.mission}, {"seeds", {first, last}}};
+  j["metrics"] = {
+      {"runs", n},
+      {"success_rate", static_cast<double>(successes) / n},
+      {"collisions", collisions},
+      {"min_clearance_m", min_clearance},
+      {"min_pedestrian_distance_m", min_pedestrian > 1e8 ? nlohmann::json() : nlohmann::json(min_pedestrian)},
+      {"pedestrian_margin_m", config.loop.pedestrian_margin_m},
+      {"max_park_error_m", max_park_m},
+      {"max_park_error_deg", max_park_deg}};
   j["runs"] = runs;
   report.Write(out);
-  std::printf("run %s: %d/%d missions completed, %d collisions, min clearance %.2f m, closest pedestrian %s, "
-              "worst parking %.3f m / %.1f°\n",
-              scenario.name.c_str(), successes, n, collisions, min_clearance,
-              min_pedestrian > 1e8 ? "none near" : (std::to_string(min_pedestrian) + " m").c_str(), max_park_m,
-              max_park_deg);
+  std::printf(
+      "run %s: %d/%d missions completed, %d collisions, min clearance %.2f m, closest pedestrian %s, "
+      "worst parking %.3f m / %.1f°\n",
+      scenario.name.c_str(), successes, n, collisions, min_clearance,
+      min_pedestrian > 1e8 ? "none near" : (std::to_string(min_pedestrian) + " m").c_str(), max_park_m, max_park_deg);
   for (const auto& run : runs)
     if (!run["success"].get<bool>())
       std::printf("  seed %llu: %s\n", static_cast<unsigned long long>(run["seed"].get<uint64_t>()),
@@ -121,7 +125,8 @@ void AddRunCommand(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<RunArgs>();
   CLI::App* cmd = app.add_subcommand("run", "drive a scenario's mission in closed loop (plan, track, decide)");
   cmd->add_option("scenario", args->scenario, "scenario file (datasets/scenarios/*.yaml)")->required();
-  cmd->add_option("--mission", args->mission, "mission file (goals: waypoints, park: BAY); default: park in the first bay");
+  cmd->add_option("--mission", args->mission,
+                  "mission file (goals: waypoints, park: BAY); default: park in the first bay");
   cmd->add_option("--seeds", args->seeds, "seed N or range A-B (default: the scenario's seed)");
   AddCommonOptions(*cmd, args->common, "specht-out/run");
   cmd->callback([args, &exit_code] { exit_code = RunRun(*args); });

@@ -36,9 +36,8 @@ std::pair<uint64_t, uint64_t> ParseSeedRange(const std::string& text, uint64_t f
 
 void PrepareOutputDir(const CommonArgs& args, const params::Params& params) {
   io::MakeOutputDir(args.out_dir);
-  io::WriteTextAtomically(args.out_dir + "/params.yaml",
-                          "# effective parameters of this run (specht " + std::string("0.1.0") + ")\n" +
-                              params.ToYaml(true));
+  io::WriteTextAtomically(args.out_dir + "/params.yaml", "# effective parameters of this run (specht " +
+                                                             std::string("0.1.0") + ")\n" + params.ToYaml(true));
 }
 
 }  // namespace specht::app

@@ -3,12 +3,11 @@
 // create the output directory and write the effective parameters into it.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "specht/core/params.h"
 

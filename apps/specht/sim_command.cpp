@@ -15,13 +15,13 @@ void AddSimCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--duration", args->duration_s, "seconds to simulate (default: the scenario's)");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress line");
   cmd->add_option("--data-dir", args->data_dir, "data directory with sprites/ (default: $SPECHT_DATA_DIR)");
-  cmd->add_option("--sprites", args->sprites,
-                  "agents in the camera: auto (photographs when the data has them), tuning, held_out, all, none (boxes)")
+  cmd->add_option(
+         "--sprites", args->sprites,
+         "agents in the camera: auto (photographs when the data has them), tuning, held_out, all, none (boxes)")
       ->capture_default_str();
-  cmd->add_flag("--no-camera", args->no_camera, "leave the scenario's stereo camera out (LiDAR, odometry and IMU only)");
-  cmd->callback([args, &exit_code] {
-    exit_code = pipeline::RecordSimulation(*args);
-  });
+  cmd->add_flag("--no-camera", args->no_camera,
+                "leave the scenario's stereo camera out (LiDAR, odometry and IMU only)");
+  cmd->callback([args, &exit_code] { exit_code = pipeline::RecordSimulation(*args); });
 }
 
 }  // namespace specht::app

@@ -25,8 +25,8 @@ struct OptimizeArgs {
 int RunOptimize(const OptimizeArgs& a) {
   const params::Params params = LoadParams(a.common);
   const auto& options = params.Get<slam::PoseGraphOptions>("pose_graph");
-  const auto on_bad = params.Get<io::ReplayOptions>("replay").on_bad_record == "skip" ? io::OnBadRecord::kSkip
-                                                                                       : io::OnBadRecord::kStop;
+  const auto on_bad =
+      params.Get<io::ReplayOptions>("replay").on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop;
   io::G2oReadResult read = io::ReadG2o(a.graph, on_bad);
   for (const auto& s : read.skipped) spdlog::warn("skipped {}", s);
   PrepareOutputDir(a.common, params);
@@ -34,8 +34,10 @@ int RunOptimize(const OptimizeArgs& a) {
   io::WriteG2o(read.graph, a.common.out_dir + "/optimized.g2o");
   io::RunReport report("slam optimize");
   report.json()["inputs"] = {{"graph", a.graph}, {"initial_guess", read.had_vertices ? "vertices" : "odometry chain"}};
-  report.json()["counts"] = {{"nodes", read.graph.nodes.size()}, {"edges", read.graph.edges.size()},
-                             {"skipped_records", read.skipped.size()}, {"iterations", summary.iterations}};
+  report.json()["counts"] = {{"nodes", read.graph.nodes.size()},
+                             {"edges", read.graph.edges.size()},
+                             {"skipped_records", read.skipped.size()},
+                             {"iterations", summary.iterations}};
   report.json()["metrics"] = {{"initial_chi2", summary.initial_chi2}, {"final_chi2", summary.final_chi2}};
   report.json()["timing"] = {{"solve_s", summary.seconds}};
   report.AddOutput("optimized.g2o");

@@ -13,7 +13,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -128,7 +127,8 @@ int RunStereo(const StereoArgs& a) {
   const std::string& out = a.common.out_dir;
   io::RunReport report("stereo");
   auto& j = report.json();
-  j["inputs"] = {{"left", a.left}, {"right", a.right}, {"size", std::to_string(left.cols) + "x" + std::to_string(left.rows)}};
+  j["inputs"] = {
+      {"left", a.left}, {"right", a.right}, {"size", std::to_string(left.cols) + "x" + std::to_string(left.rows)}};
   std::unique_ptr<stereo::SemiGlobalMatcher> matcher;
   if (sgm.matcher == "specht") matcher = std::make_unique<stereo::SemiGlobalMatcher>(sgm);
   const MatchRun run = Match(left, right, sgm, matcher.get(), guidance ? &*guidance : nullptr);
@@ -160,9 +160,8 @@ int RunStereo(const StereoArgs& a) {
     depth.convertTo(depth_mm, CV_16U, 1000.0);
     io::WritePng(depth_mm, out + "/depth.png");
     io::WritePng(stereo::ColorizeDepth(depth, cloud_options.max_depth_m), out + "/depth_color.png");
-    std::vector<stereo::ColouredPoint> points =
-        stereo::DisparityToPoints(run.disparity, *camera, left_colour.size() == left.size() ? left_colour : left,
-                                  cloud_options);
+    std::vector<stereo::ColouredPoint> points = stereo::DisparityToPoints(
+        run.disparity, *camera, left_colour.size() == left.size() ? left_colour : left, cloud_options);
     octomap::OcTree tree(cloud_options.octree_resolution_m);
     stereo::InsertIntoOctree(tree, points, cv::Point3f(0, 0, 0), cloud_options);
     mrpt::poses::CPose3D target_from_camera;

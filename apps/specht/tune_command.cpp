@@ -69,8 +69,9 @@ tune::Outcome Evaluate(const tune::TuneFile& t, const std::map<std::string, std:
     if (p.interrupted) return {false, 0, "interrupted"};  // not logged (tune/runner.h)
     if (p.timed_out) return {false, 0, "timed out after " + std::to_string(t.timeout_s) + " s"};
     if (p.exit_code != 0)
-      return {false, 0, "'" + command[0] + (command.size() > 1 ? " " + command[1] : "") + "' exited with " +
-                            std::to_string(p.exit_code) + " (see " + eval_dir + "/log.txt)"};
+      return {false, 0,
+              "'" + command[0] + (command.size() > 1 ? " " + command[1] : "") + "' exited with " +
+                  std::to_string(p.exit_code) + " (see " + eval_dir + "/log.txt)"};
     left_s -= p.seconds;
   }
   return {true, tune::MetricFromReport(eval_dir + "/" + t.report, t.metric), ""};
@@ -92,18 +93,19 @@ int RunTune(const TuneArgs& a) {
     for (const auto& d : t.space.dimensions()) {
       std::string range = d.choices.empty() ? "[" + std::to_string(d.min) + ", " + std::to_string(d.max) + "]" +
                                                   (d.log_scale ? " log" : "")
-                                            : "{" + [&] {
-                                                std::string c;
-                                                for (const auto& x : d.choices) c += (c.empty() ? "" : ", ") + x;
-                                                return c;
-                                              }() + "}";
+                                            : "{" +
+                                                  [&] {
+                                                    std::string c;
+                                                    for (const auto& x : d.choices) c += (c.empty() ? "" : ", ") + x;
+                                                    return c;
+                                                  }() +
+                                                  "}";
       std::printf("  %-36s %s\n", d.key.c_str(), range.c_str());
     }
     return 0;
   }
   std::map<std::string, std::string> vars = {
-      {"{self}", SelfExecutable()},
-      {"{tune_dir}", std::filesystem::absolute(a.tune_file).parent_path().string()}};
+      {"{self}", SelfExecutable()}, {"{tune_dir}", std::filesystem::absolute(a.tune_file).parent_path().string()}};
   if (const auto data = io::ResolveDataDir(a.data_dir)) vars["{data}"] = std::filesystem::absolute(*data).string();
   for (const auto& c : t.commands)
     for (const auto& w : c)
@@ -154,9 +156,14 @@ int RunTune(const TuneArgs& a) {
   for (const auto& e : r.evaluations) failed += !e.ok, seconds += e.seconds;
   io::RunReport report("tune");
   auto& j = report.json();
-  j["inputs"] = {{"tune_file", a.tune_file}, {"metric", t.metric}, {"goal", t.maximise ? "maximise" : "minimise"},
-                 {"method", t.search.method}, {"budget", t.search.budget}, {"seed", t.search.seed},
-                 {"repeats", t.repeats}, {"jobs", a.jobs}};
+  j["inputs"] = {{"tune_file", a.tune_file},
+                 {"metric", t.metric},
+                 {"goal", t.maximise ? "maximise" : "minimise"},
+                 {"method", t.search.method},
+                 {"budget", t.search.budget},
+                 {"seed", t.search.seed},
+                 {"repeats", t.repeats},
+                 {"jobs", a.jobs}};
   j["metrics"] = {{"defaults", defaults.ok ? nlohmann::json(defaults.value) : nlohmann::json()},
                   {"best", best.value},
                   {"best_index", best.index},
@@ -171,11 +178,12 @@ int RunTune(const TuneArgs& a) {
     report.SetInterrupted(std::to_string(r.evaluations.size()) + " of " + std::to_string(1 + t.search.budget) +
                           " evaluations (continue with --resume)");
   report.Write(out);
-  std::printf("tune: %zu evaluations (%ld failed, %d from the log, %d repeated values not run again); %s: defaults "
-              "%s, best %.6g (#%d)\n  %s\n  overlay: %s/best.yaml\n",
-              r.evaluations.size(), failed, r.reused, r.duplicates, t.metric.c_str(),
-              defaults.ok ? std::to_string(defaults.value).c_str() : "failed", best.value, best.index,
-              Values(t, best).c_str(), out.c_str());
+  std::printf(
+      "tune: %zu evaluations (%ld failed, %d from the log, %d repeated values not run again); %s: defaults "
+      "%s, best %.6g (#%d)\n  %s\n  overlay: %s/best.yaml\n",
+      r.evaluations.size(), failed, r.reused, r.duplicates, t.metric.c_str(),
+      defaults.ok ? std::to_string(defaults.value).c_str() : "failed", best.value, best.index, Values(t, best).c_str(),
+      out.c_str());
   return InterruptExitCode();
 }
 

@@ -56,7 +56,7 @@ TEST(AisPositionsTest, FlagMidFollowsTheMmsiFormats) {
   EXPECT_EQ(FlagMid(199999999), 0);    // MID 199 is not allocated
   EXPECT_EQ(FlagMid(800012345), 0);    // handheld with MID 000
   EXPECT_EQ(FlagMid(0), 0);
-  EXPECT_EQ(FlagMid(1234567890), 0);   // ten digits
+  EXPECT_EQ(FlagMid(1234567890), 0);  // ten digits
 }
 
 TEST(AisPositionsTest, SpechtLayoutGroupsVesselsSortsAndDerivesSpeed) {

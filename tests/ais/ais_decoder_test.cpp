@@ -1,10 +1,10 @@
 // The AIS decoder against gpsd's expected output, hand-made sentences for the
 // sentence layer (tag blocks, multipart, checksums), and random corruption.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <random>
-#include <algorithm>
-#include <cstdio>
 #include <set>
 
 #include "specht/ais/decoder.h"
@@ -29,8 +29,8 @@ std::vector<Message> DecodeAll(const std::string& path, DecoderStats* stats = nu
 
 // gpsd prints "not available" as the scaled sentinel; we give null.
 nlohmann::json GpsdNotAvailable(int type, const std::string& field) {
-  static const std::map<std::string, nlohmann::json> common = {
-      {"lon", 181.0}, {"lat", 91.0}, {"heading", 511}, {"second", 60}, {"course", 360.0}, {"speed", 102.3}};
+  static const std::map<std::string, nlohmann::json> common = {{"lon", 181.0}, {"lat", 91.0},     {"heading", 511},
+                                                               {"second", 60}, {"course", 360.0}, {"speed", 102.3}};
   if (type == 27 && field == "speed") return 63;
   if (type == 27 && field == "course") return 511;
   if (type == 9 && field == "speed") return 1023;
@@ -44,7 +44,8 @@ nlohmann::json GpsdNotAvailable(int type, const std::string& field) {
 void ExpectSameFields(const nlohmann::json& gpsd, const Message& m, int index) {
   const nlohmann::json ours = m.ToJson();
   for (const auto& [key, expected] : gpsd.items()) {
-    if (key == "class" || key == "device" || key == "scaled" || (key.size() > 5 && key.substr(key.size() - 5) == "_text"))
+    if (key == "class" || key == "device" || key == "scaled" ||
+        (key.size() > 5 && key.substr(key.size() - 5) == "_text"))
       continue;
     SCOPED_TRACE("message " + std::to_string(index) + " type " + std::to_string(m.type) + " field " + key);
     if (key == "turn") {
@@ -93,8 +94,8 @@ TEST(AisDecoderTest, GpsdSampleDecodesToGpsdsFieldsAndValues) {
 
 TEST(AisDecoderTest, OtherLogsDecodeAndEveryRejectionHasAReason) {
   if (NmeaDir().empty()) SPECHT_SKIP() << "no data dir";
-  for (const char* name : {"gpsd-ais-nmea.log", "libais-test.aivdm", "pyais-nmea-sample.txt",
-                           "signalk-nais400-merrimac.log"}) {
+  for (const char* name :
+       {"gpsd-ais-nmea.log", "libais-test.aivdm", "pyais-nmea-sample.txt", "signalk-nais400-merrimac.log"}) {
     SCOPED_TRACE(name);
     DecoderStats s;
     const auto messages = DecodeAll(NmeaDir() + "/" + name, &s);
@@ -149,7 +150,8 @@ std::vector<Message> DecodeLines(const std::vector<std::string>& lines, DecoderS
 }
 
 TEST(AisSentenceTest, TagBlockGivesTimeAndSource) {
-  const auto m = DecodeLines({WithTag("s:rORBCOMM000,c:1426032000", Sentence(std::string("AIVDM,1,1,,A,") + kType1 + ",0"))});
+  const auto m =
+      DecodeLines({WithTag("s:rORBCOMM000,c:1426032000", Sentence(std::string("AIVDM,1,1,,A,") + kType1 + ",0"))});
   ASSERT_EQ(m.size(), 1u);
   EXPECT_EQ(m[0].mmsi, 371798000);
   ASSERT_TRUE(m[0].time_s.has_value());
@@ -259,10 +261,18 @@ TEST(AisDecoderFuzzTest, RandomCorruptionOfRealLogsNeverCrashes) {
         if (l.empty() || rng() % 4 != 0) continue;
         const size_t at = rng() % l.size();
         switch (rng() % 4) {
-          case 0: l[at] = static_cast<char>(rng() % 256); break;
-          case 1: l.resize(at); break;
-          case 2: l.insert(at, 1, static_cast<char>(32 + rng() % 95)); break;
-          default: l.erase(at, 1 + rng() % 8); break;
+          case 0:
+            l[at] = static_cast<char>(rng() % 256);
+            break;
+          case 1:
+            l.resize(at);
+            break;
+          case 2:
+            l.insert(at, 1, static_cast<char>(32 + rng() % 95));
+            break;
+          default:
+            l.erase(at, 1 + rng() % 8);
+            break;
         }
       }
       std::shuffle(corrupt.begin(), corrupt.begin() + corrupt.size() / 3, rng);

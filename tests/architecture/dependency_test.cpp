@@ -83,7 +83,7 @@ std::vector<std::string> Violations(const Graph& graph, const fs::path& modules)
   // A cycle: depth-first search with the path on a stack.
   std::map<std::string, int> state;  // 1 on the path, 2 done
   std::function<void(const std::string&, std::vector<std::string>&)> visit = [&](const std::string& m,
-                                                                                std::vector<std::string>& path) {
+                                                                                 std::vector<std::string>& path) {
     state[m] = 1;
     path.push_back(m);
     const auto it = graph.find(m);
@@ -144,8 +144,8 @@ TEST(DependencyTest, TheCheckFindsAForbiddenIncludeALinkAndACycle) {
   testing::WriteFile(tree / "b/CMakeLists.txt", "specht_module(b PUBLIC_DEPS specht::a)  # specht::c\n");
 
   const Graph fine = {{"a", {"b"}}, {"b", {}}, {"stray", {}}};
-  EXPECT_EQ(Joined(Violations(fine, tree)), (tree / "b/CMakeLists.txt").string() +
-                                                ":1: b uses a, which its line does not allow\n");
+  EXPECT_EQ(Joined(Violations(fine, tree)),
+            (tree / "b/CMakeLists.txt").string() + ":1: b uses a, which its line does not allow\n");
 
   const Graph wrong = {{"a", {}}, {"b", {"a"}}};
   const std::string problems = Joined(Violations(wrong, tree));

@@ -2,12 +2,12 @@
 // acceptance 3), scores, and the 1D ResNet: it learns a separable toy problem, saves
 // and reloads to identical predictions, trains reproducibly, refuses mismatched
 // models and inputs.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "specht/classify/baseline.h"
 #include "specht/classify/crossval.h"
@@ -108,7 +108,7 @@ TEST(PreprocessTest, NormalisationLocalGlobalAndFixedBounds) {
   MapFeatures map;
   map.distance_to_static = [](double x, double) { return 5.0 + x; };
   auto f = Features(w, o, map);
-  EXPECT_FLOAT_EQ(f[0 * 5 + 4], 1.0f);   // local: x max → 1
+  EXPECT_FLOAT_EQ(f[0 * 5 + 4], 1.0f);  // local: x max → 1
   EXPECT_FLOAT_EQ(f[0 * 5 + 2], 0.5f);
   EXPECT_FLOAT_EQ(f[1 * 5 + 3], 0.0f);   // y constant → 0
   EXPECT_FLOAT_EQ(f[2 * 5 + 1], 0.25f);  // dt 0.5 / 2
@@ -119,8 +119,8 @@ TEST(PreprocessTest, NormalisationLocalGlobalAndFixedBounds) {
   o.normalisation = "global";
   const PositionBounds b{0, 8, -1, 1};
   f = Features(w, o, map, b);
-  EXPECT_FLOAT_EQ(f[4], 0.5f);       // 4 in [0, 8]
-  EXPECT_FLOAT_EQ(f[5 + 4], 0.5f);   // 0 in [−1, 1]
+  EXPECT_FLOAT_EQ(f[4], 0.5f);      // 4 in [0, 8]
+  EXPECT_FLOAT_EQ(f[5 + 4], 0.5f);  // 0 in [−1, 1]
   const auto fitted = FitPositionBounds({w}, o);
   EXPECT_DOUBLE_EQ(fitted.max_x, 4);
 }
@@ -363,7 +363,8 @@ TEST(ModelTest, ResumedTrainingEqualsUninterruptedTraining) {
   part.Train(train, validation, nullptr, ckpt);
   Classifier resumed(o, 4, 32, {"s", "w"});  // a new process would start from fresh weights
   int seen = 0;
-  const auto reports = resumed.Train(train, validation, [&](const EpochReport&) { ++seen; }, ckpt);
+  const auto reports = resumed.Train(
+      train, validation, [&](const EpochReport&) { ++seen; }, ckpt);
   EXPECT_EQ(seen, static_cast<int>(whole_reports.size()));
   ASSERT_EQ(reports.size(), whole_reports.size());
   for (size_t i = 0; i < reports.size(); ++i) {
@@ -511,8 +512,8 @@ TEST(TrajectoryClassifierTest, AModelOfShorterWindowsScoresAWindowAsEvalDoes) {
   PreprocessOptions odd = short_o;
   odd.length = 20;
   Classifier other(Small(), 4, 20, classes);
-  other.Save(dir + "/odd", {{"preprocessing", PreprocessingJson(long_o, {})},
-                            {"input_preprocessing", PreprocessingJson(odd, {})}});
+  other.Save(dir + "/odd",
+             {{"preprocessing", PreprocessingJson(long_o, {})}, {"input_preprocessing", PreprocessingJson(odd, {})}});
   EXPECT_THROW(TrajectoryClassifier::Load(dir + "/odd"), InputError);
   EXPECT_NE(ShorterWindowsProblem(windows, Prepared(tracks, odd, classes)).find("divide"), std::string::npos);
   PreprocessOptions gap = short_o;
@@ -723,11 +724,8 @@ TEST(PreprocessTest, CategoryIsCarriedToEveryWindowAndScaled) {
     const std::vector<float> f = Features(w, o, {});
     ASSERT_EQ(f.size(), 6u * o.length);
     const double u = 0.316;
-    const std::vector<double> rows = {u,
-                                      0.5 + 0.5 * std::sin(2 * M_PI * u),
-                                      0.5 + 0.5 * std::cos(2 * M_PI * u),
-                                      0.5 + 0.5 * std::sin(4 * M_PI * u),
-                                      0.5 + 0.5 * std::cos(4 * M_PI * u)};
+    const std::vector<double> rows = {u, 0.5 + 0.5 * std::sin(2 * M_PI * u), 0.5 + 0.5 * std::cos(2 * M_PI * u),
+                                      0.5 + 0.5 * std::sin(4 * M_PI * u), 0.5 + 0.5 * std::cos(4 * M_PI * u)};
     for (size_t r = 0; r < rows.size(); ++r)
       for (int i = 0; i < o.length; ++i)
         EXPECT_FLOAT_EQ(f[(1 + r) * o.length + i], i < w.valid ? static_cast<float>(rows[r]) : 0.0f) << r << " " << i;
@@ -775,9 +773,9 @@ TEST(PreprocessTest, HeadingIsTheCourseOnTheCircle) {
     EXPECT_NEAR(f[o.length + i], 0.5 + 0.5 * std::sin(a), 1e-5) << i;
     EXPECT_NEAR(f[2 * o.length + i], 0.5 + 0.5 * std::cos(a), 1e-5) << i;
   }
-  EXPECT_GT(f[2] - f[3], 0.9);                        // course jumps across the seam
-  EXPECT_LT(std::abs(f[6] - f[7]), 0.2);              // sin moves a little
-  EXPECT_NEAR(f[10], f[11], 1e-5);                    // cos(350°) = cos(10°)
+  EXPECT_GT(f[2] - f[3], 0.9);            // course jumps across the seam
+  EXPECT_LT(std::abs(f[6] - f[7]), 0.2);  // sin moves a little
+  EXPECT_NEAR(f[10], f[11], 1e-5);        // cos(350°) = cos(10°)
 }
 
 // A prepared dataset reads back as written; a truncated or corrupted file, a
@@ -805,7 +803,8 @@ TEST(DatasetIoTest, RoundTripsAndRefusesDamagedFiles) {
   EXPECT_EQ(r.t0_s, d.t0_s);  // to the millisecond, which these are
   EXPECT_EQ(r.t1_s, d.t1_s);
   EXPECT_TRUE(HasSpans(r));
-  EXPECT_EQ(HandcraftedRows(r, {3}), std::vector<float>(d.handcrafted.end() - HandcraftedFeatureCount(), d.handcrafted.end()));
+  EXPECT_EQ(HandcraftedRows(r, {3}),
+            std::vector<float>(d.handcrafted.end() - HandcraftedFeatureCount(), d.handcrafted.end()));
 
   auto refused = [&](const std::string& file, const std::string& bytes, const std::string& says) {
     const std::string good = testing::ReadFile(dir + "/" + file);
@@ -1313,7 +1312,7 @@ TEST(CrossValidationTest, ObjectLevelComparisonCountsObjects) {
       CompareFolds("a", "a (earlier)", {0.9, 0.5, 0.6}, {0.6, 0.6, 0.6}, {{4, 4}, {4, 8}, {2, 8}});
   EXPECT_NEAR(against[0].mean_difference, expected.mean_difference, 1e-12);
   EXPECT_NEAR(against[0].p_value, expected.p_value, 1e-12);
-  EXPECT_GT(against[0].p_value, c.p_value);  // the wider interval
+  EXPECT_GT(against[0].p_value, c.p_value);      // the wider interval
   earlier["fold_objects_trained"][1] = "eight";  // corrupted: not counts per class
   EXPECT_THROW(CompareWithEarlier(r, earlier, "old/report.json", ScoreLevel::kObject), InputError);
   earlier["fold_objects_trained"].erase(1);  // truncated: two folds of three
@@ -1381,8 +1380,8 @@ TEST(CrossValidationTest, PseudoLabelsComeFromTheFoldsForestAndAreNeverScored) {
   m.variant = "mlp", m.epochs = 1, m.threads = 1;
   o.networks = {{"mlp", m}};
   std::vector<std::string> lines;
-  const CrossValidationResult self = CrossValidate(mixed, o, [&](const std::string& l, double) { lines.push_back(l); },
-                                                   unlabelled);
+  const CrossValidationResult self = CrossValidate(
+      mixed, o, [&](const std::string& l, double) { lines.push_back(l); }, unlabelled);
   ASSERT_EQ(self.pseudo_labelled.size(), 3u);
   for (const auto& per_class : self.pseudo_labelled) EXPECT_EQ(per_class, (std::vector<long>{0, 6})) << "fold";
   EXPECT_NE(lines[0].find("+ 6 pseudo-labelled"), std::string::npos) << lines[0];
@@ -1395,8 +1394,8 @@ TEST(CrossValidationTest, PseudoLabelsComeFromTheFoldsForestAndAreNeverScored) {
   // Two rounds: each fold's network and round counted, the forest still untouched.
   o.pseudo_labels.rounds = 2;
   lines.clear();
-  const CrossValidationResult twice =
-      CrossValidate(mixed, o, [&](const std::string& l, double) { lines.push_back(l); }, unlabelled);
+  const CrossValidationResult twice = CrossValidate(
+      mixed, o, [&](const std::string& l, double) { lines.push_back(l); }, unlabelled);
   ASSERT_EQ(twice.pseudo_labelled_by_round.size(), 3u);
   for (size_t f = 0; f < 3; ++f) {
     const auto& rounds = twice.pseudo_labelled_by_round[f].at("mlp");
@@ -1445,8 +1444,8 @@ TEST(CrossValidationTest, SelfTrainingRoundsAreTaughtByTheLastNetworkWithTheFore
     c.Train(windows, {});
     std::vector<long> counts;
     if (round == 1)
-      expected_round_2 = PseudoLabelled(CombinedProbabilities(c.Predict(unlabelled.windows), forest), unlabelled,
-                                        o.votes, 2, counts);
+      expected_round_2 =
+          PseudoLabelled(CombinedProbabilities(c.Predict(unlabelled.windows), forest), unlabelled, o.votes, 2, counts);
     else
       EXPECT_EQ(std::vector<int>(windows.y.begin() + static_cast<long>(labelled.size()), windows.y.end()),
                 expected_round_2.y);

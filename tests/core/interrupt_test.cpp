@@ -1,8 +1,7 @@
 #include "specht/core/interrupt.h"
 
-#include <signal.h>
-
 #include <gtest/gtest.h>
+#include <signal.h>
 
 namespace specht {
 namespace {

@@ -1,10 +1,10 @@
 // The options mechanism: one declaration drives load, validation, dump and description.
 #include "specht/core/params.h"
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <set>
-
-#include <gtest/gtest.h>
 
 #include "options_registry.h"
 #include "specht/ais/dataset.h"
@@ -219,8 +219,9 @@ namespace {
 
 TEST(ParseNumberAssignmentsTest, KeepsValidEntriesInOrderAndNamesTheBadOnes) {
   std::vector<std::string> problems;
-  const auto parsed = ParseNumberAssignments({"car=0.5", "bus=x", "cyclist=-2", "oops", "other=3"}, "margins",
-                                             [](double v) { return v >= 0; }, "a distance ≥ 0", &problems);
+  const auto parsed = ParseNumberAssignments(
+      {"car=0.5", "bus=x", "cyclist=-2", "oops", "other=3"}, "margins", [](double v) { return v >= 0; },
+      "a distance ≥ 0", &problems);
   ASSERT_EQ(parsed.size(), 2u);
   EXPECT_EQ(parsed[0], (std::pair<std::string, double>{"car", 0.5}));
   EXPECT_EQ(parsed[1], (std::pair<std::string, double>{"other", 3.0}));

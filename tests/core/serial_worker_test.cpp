@@ -2,11 +2,11 @@
 // their first exception back at Wait(); run under ThreadSanitizer too.
 #include "specht/core/serial_worker.h"
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <stdexcept>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace specht {
 namespace {

@@ -1,8 +1,8 @@
 #include "specht/core/transform_tree.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace specht {
 namespace {

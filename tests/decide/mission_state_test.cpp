@@ -3,12 +3,12 @@
 // here independently, so a changed row fails; the emergency stop overrides every
 // state but the final ones; final states absorb everything; only changes are
 // logged.
-#include <map>
-#include <utility>
+#include "specht/decide/mission_state.h"
 
 #include <gtest/gtest.h>
 
-#include "specht/decide/mission_state.h"
+#include <map>
+#include <utility>
 
 namespace specht::decide {
 namespace {
@@ -17,9 +17,9 @@ using S = MissionState;
 using E = MissionEvent;
 
 const std::vector<S> kStates = {S::kPlan, S::kDrive, S::kWait, S::kEmergencyStop, S::kDone, S::kFailed};
-const std::vector<E> kEvents = {E::kPathFound,       E::kNoPath,           E::kAgentInWay,        E::kWayClear,
-                                E::kGoalReached,     E::kGoalMissed,       E::kGoalMissedFinal,   E::kMissionComplete,
-                                E::kCollisionImminent, E::kCollisionCleared, E::kTimeLimit, E::kMapChanged};
+const std::vector<E> kEvents = {E::kPathFound,         E::kNoPath,           E::kAgentInWay,      E::kWayClear,
+                                E::kGoalReached,       E::kGoalMissed,       E::kGoalMissedFinal, E::kMissionComplete,
+                                E::kCollisionImminent, E::kCollisionCleared, E::kTimeLimit,       E::kMapChanged};
 
 // Events → states, the table as the header documents it; pairs not listed keep
 // their state.
@@ -51,8 +51,8 @@ TEST(MissionStateTest, EveryStateAndEventFollowsTheTable) {
     for (const E e : kEvents) {
       const auto row = kExpected.find({s, e});
       const S expected = row == kExpected.end() ? s : row->second;
-      EXPECT_EQ(NextState(s, e), expected) << Name(s) << " + " << Name(e) << " → " << Name(NextState(s, e))
-                                           << ", expected " << Name(expected);
+      EXPECT_EQ(NextState(s, e), expected)
+          << Name(s) << " + " << Name(e) << " → " << Name(NextState(s, e)) << ", expected " << Name(expected);
     }
 }
 
@@ -82,8 +82,8 @@ TEST(MissionStateTest, AMissionRunLogsEachChangeWithItsReason) {
   EXPECT_TRUE(m.Final());
   EXPECT_FALSE(m.Handle(E::kCollisionImminent, 9.5, "after the end"));
   const std::vector<std::pair<std::string, std::string>> expected = {
-      {"plan", "drive"}, {"drive", "wait"}, {"wait", "emergency_stop"}, {"emergency_stop", "plan"},
-      {"plan", "drive"}, {"drive", "done"}};
+      {"plan", "drive"},          {"drive", "wait"}, {"wait", "emergency_stop"},
+      {"emergency_stop", "plan"}, {"plan", "drive"}, {"drive", "done"}};
   ASSERT_EQ(m.transitions().size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) {
     EXPECT_EQ(m.transitions()[i].from, expected[i].first) << i;

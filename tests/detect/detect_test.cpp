@@ -6,7 +6,6 @@
 // 50 px tall was read off the grid, to about ±5 px. Truncated cars end at the border.
 #include <cstdio>
 #include <filesystem>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "specht/core/error.h"
@@ -28,7 +27,9 @@ struct HandBoxes {
   std::vector<cv::Rect2d> cars;
 };
 
-cv::Rect2d Box(double x0, double y0, double x1, double y1) { return cv::Rect2d(cv::Point2d(x0, y0), cv::Point2d(x1, y1)); }
+cv::Rect2d Box(double x0, double y0, double x1, double y1) {
+  return cv::Rect2d(cv::Point2d(x0, y0), cv::Point2d(x1, y1));
+}
 
 const std::vector<HandBoxes>& Expected() {
   static const std::vector<HandBoxes> expected = {
@@ -101,7 +102,7 @@ TEST(FusionTest, BoxDistanceAgreesWithGroundTruth) {
   SPECHT_REQUIRE_FILE(ModelsDir());
   Detector detector(ShippedModel("yolo-fastest"), testing::DataDir());
   const stereo::RectifiedCamera camera{cv::Size(1242, 375), 721.5377, 609.5593, 172.854, 0.5327};  // KITTI 2015 P2/P3
-  FusionOptions reference_options;  // nearest mode
+  FusionOptions reference_options;                                                                 // nearest mode
   reference_options.mode_min_share = 0.15;
   for (const char* method : {"centre", "nearest_mode"}) {
     FusionOptions options;
@@ -110,9 +111,9 @@ TEST(FusionTest, BoxDistanceAgreesWithGroundTruth) {
     for (const char* frame : {"000000_10", "000001_10"}) {
       const std::string dir = testing::DataDir() + "/stereo/kitti2015/";
       const cv::Mat left = cv::imread(dir + "image_2/" + frame + ".png");
-      const cv::Mat disparity = stereo::ComputeDisparity(stereo::ReadGray8(dir + "image_2/" + frame + ".png"),
-                                                         stereo::ReadGray8(dir + "image_3/" + frame + ".png"),
-                                                         stereo::SgmOptions());
+      const cv::Mat disparity =
+          stereo::ComputeDisparity(stereo::ReadGray8(dir + "image_2/" + frame + ".png"),
+                                   stereo::ReadGray8(dir + "image_3/" + frame + ".png"), stereo::SgmOptions());
       const cv::Mat truth = stereo::ReadDisparityPng(dir + "disp_occ_0/" + frame + ".png");
       for (const auto& d : detector.Detect(left)) {
         if (d.cls != "car" && d.cls != "pedestrian") continue;

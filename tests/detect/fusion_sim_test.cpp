@@ -26,26 +26,27 @@ TEST(FusionTest, BoxDistanceAgreesWithSyntheticTruth) {
   std::vector<double> errors[2];
   stereo::SemiGlobalMatcher matcher{stereo::SgmOptions()};
   for (int k = 0; k < 1500; ++k) {
-    simulator.Step([](Stamp, const mrpt::obs::CObservation::Ptr&) {}, [&](Stamp, const sim::StereoFrame& f) {
-      const cv::Mat disparity = matcher.Compute(f.left, f.right);
-      for (const auto& line : f.kitti_labels) {
-        std::istringstream fields(line);
-        std::string type;
-        double truncated, occluded, alpha, l, t, r, b;
-        fields >> type >> truncated >> occluded >> alpha >> l >> t >> r >> b;
-        if (truncated > 0 || r - l < 12 || b - t < 20) continue;  // whole and big enough to detect
-        Detection d{cv::Rect2d(cv::Point2d(l, t), cv::Point2d(r, b)), "car", type, 1.0};
-        const double reference_d = BoxDisparity(d.box, f.disparity, FusionOptions());
-        if (!(reference_d > 0) || camera.DepthOf(reference_d) > 30) continue;
-        for (int m = 0; m < 2; ++m) {
-          FusionOptions options;
-          options.method = m == 0 ? "centre" : "nearest_mode";
-          const auto o = Fuse(d, disparity, camera, options);
-          const double reference_m = camera.DepthOf(reference_d);
-          errors[m].push_back(o ? std::abs(o->distance_m - reference_m) / reference_m : 1.0);
-        }
-      }
-    });
+    simulator.Step([](Stamp, const mrpt::obs::CObservation::Ptr&) {},
+                   [&](Stamp, const sim::StereoFrame& f) {
+                     const cv::Mat disparity = matcher.Compute(f.left, f.right);
+                     for (const auto& line : f.kitti_labels) {
+                       std::istringstream fields(line);
+                       std::string type;
+                       double truncated, occluded, alpha, l, t, r, b;
+                       fields >> type >> truncated >> occluded >> alpha >> l >> t >> r >> b;
+                       if (truncated > 0 || r - l < 12 || b - t < 20) continue;  // whole and big enough to detect
+                       Detection d{cv::Rect2d(cv::Point2d(l, t), cv::Point2d(r, b)), "car", type, 1.0};
+                       const double reference_d = BoxDisparity(d.box, f.disparity, FusionOptions());
+                       if (!(reference_d > 0) || camera.DepthOf(reference_d) > 30) continue;
+                       for (int m = 0; m < 2; ++m) {
+                         FusionOptions options;
+                         options.method = m == 0 ? "centre" : "nearest_mode";
+                         const auto o = Fuse(d, disparity, camera, options);
+                         const double reference_m = camera.DepthOf(reference_d);
+                         errors[m].push_back(o ? std::abs(o->distance_m - reference_m) / reference_m : 1.0);
+                       }
+                     }
+                   });
   }
   for (int m = 0; m < 2; ++m) {
     ASSERT_GE(errors[m].size(), 5u);

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
-
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
@@ -59,13 +58,13 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   const auto cv = Report(dir + "/cv");
   EXPECT_EQ(cv["models"]["tiny"]["folds"].size(), 2u);
   EXPECT_TRUE(cv["models"].contains("forest"));
-  EXPECT_EQ(cv["models"]["tiny+forest"]["folds"].size(), 2u);  // the network and the forest combined
+  EXPECT_EQ(cv["models"]["tiny+forest"]["folds"].size(), 2u);           // the network and the forest combined
   EXPECT_EQ(cv["models"]["tiny"]["with_history"]["folds"].size(), 2u);  // each window from its vessel's so far
   // Each pair of models fold by fold: the combination against each of its parts.
   const auto& paired = cv["paired"];
   EXPECT_EQ(paired.size(), 3u);
-  const double tiny_minus_forest = cv["models"]["tiny"]["macro_f1"]["mean"].get<double>() -
-                                   cv["models"]["forest"]["macro_f1"]["mean"].get<double>();
+  const double tiny_minus_forest =
+      cv["models"]["tiny"]["macro_f1"]["mean"].get<double>() - cv["models"]["forest"]["macro_f1"]["mean"].get<double>();
   EXPECT_NEAR(paired["tiny vs forest"]["macro_f1_difference"]["mean"].get<double>(), tiny_minus_forest, 1e-9);
   EXPECT_EQ(paired["tiny vs forest"]["folds"], 2);
   // The corrected t-test's interval is around the mean difference, its p a probability.
@@ -78,8 +77,7 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   // The same pairs per vessel (majority vote) and from each vessel's windows so far.
   const double per_vessel = cv["models"]["tiny"]["per_object"]["macro_f1"]["mean"].get<double>() -
                             cv["models"]["forest"]["per_object"]["macro_f1"]["mean"].get<double>();
-  EXPECT_NEAR(cv["paired_per_object"]["tiny vs forest"]["macro_f1_difference"]["mean"].get<double>(), per_vessel,
-              1e-9);
+  EXPECT_NEAR(cv["paired_per_object"]["tiny vs forest"]["macro_f1_difference"]["mean"].get<double>(), per_vessel, 1e-9);
   EXPECT_EQ(cv["paired_with_history"].size(), 3u);
   EXPECT_THAT(r.out, HasSubstr("paired, vessels"));
   // One row per window and model (tiny, forest, tiny+forest), with the header.
@@ -144,7 +142,8 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
   EXPECT_THAT(testing::ReadFile(dir + "/pred/objects.csv"), HasSubstr("mmsi,ship_type,label,windows,class"));
   // Per window: its own class and the class from the vessel's windows so far; the
   // vessel's class in objects.csv is the last of those.
-  EXPECT_THAT(testing::ReadFile(dir + "/pred/windows.csv"), ::testing::StartsWith("mmsi,window,t0,class,class_so_far,p_"));
+  EXPECT_THAT(testing::ReadFile(dir + "/pred/windows.csv"),
+              ::testing::StartsWith("mmsi,window,t0,class,class_so_far,p_"));
   EXPECT_EQ(Report(dir + "/pred")["combination"], "network+forest");
   r = testing::RunSpecht("ais predict '" + dir + "/model' '" + dir + "/slice.csv' --network-only -q -o '" + dir +
                          "/pred1'" + data);
@@ -161,8 +160,9 @@ TEST(AisCliTest, PrepareEvalTrainPredictOnASliceOfBrest) {
 void PrepareShortAndLongWindows(const std::string& dir) {
   WriteSliceOfTracks("brest-dev", 40000, dir);
   for (const char* length : {"60", "180"}) {
-    const auto r = testing::RunSpecht("ais prepare '" + dir + "/slice.csv' --set ais_classify.length=" + length +
-                                      " -q -o '" + dir + "/data" + length + "' --data-dir '" + testing::DataDir() + "'");
+    const auto r =
+        testing::RunSpecht("ais prepare '" + dir + "/slice.csv' --set ais_classify.length=" + length + " -q -o '" +
+                           dir + "/data" + length + "' --data-dir '" + testing::DataDir() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
 }
@@ -300,8 +300,8 @@ TEST(AisCliTest, PseudoLabelsFromVesselsOfUnknownType) {
 
   // Two rounds (noisy student): a checkpoint each; resuming a finished run gives the
   // same model.
-  const std::string twice = "ais train '" + dir + "/data' --pseudo-labels 0.6 --pseudo-label-rounds 2 -q -o '" + dir +
-                            "/model2'" + quick;
+  const std::string twice =
+      "ais train '" + dir + "/data' --pseudo-labels 0.6 --pseudo-label-rounds 2 -q -o '" + dir + "/model2'" + quick;
   r = testing::RunSpecht(twice);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto second = Report(dir + "/model2");
@@ -317,14 +317,16 @@ TEST(AisCliTest, PseudoLabelsFromVesselsOfUnknownType) {
 TEST(AisCliTest, BadInputIsAClearError) {
   const std::string dir = testing::TempDir("ais_bad");
   testing::WriteFile(dir + "/x.csv", "a,b\n1,2\n");
-  auto r = testing::RunSpecht("ais prepare '" + dir + "/x.csv' -q -o '" + dir + "/o' --set ais.coastline=/nonexistent.shp");
+  auto r =
+      testing::RunSpecht("ais prepare '" + dir + "/x.csv' -q -o '" + dir + "/o' --set ais.coastline=/nonexistent.shp");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("/nonexistent.shp"));
   r = testing::RunSpecht("ais eval '" + dir + "' --networks resnet50 -q -o '" + dir + "/o2'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("resnet50"));
   if (testing::DataDir().empty()) return;
-  r = testing::RunSpecht("ais prepare '" + dir + "/x.csv' -q -o '" + dir + "/o3' --data-dir '" + testing::DataDir() + "'");
+  r = testing::RunSpecht("ais prepare '" + dir + "/x.csv' -q -o '" + dir + "/o3' --data-dir '" + testing::DataDir() +
+                         "'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("x.csv:1: header matches no known AIS layout"));
 }

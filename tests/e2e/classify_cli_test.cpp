@@ -4,9 +4,8 @@
 // combined by default, the network alone on request.
 #include <filesystem>
 #include <map>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "test_support.h"
 
@@ -55,18 +54,20 @@ void ExpectCrossValidationDisjointByTrack(const std::string& dir) {
   const auto points = Report(dir + "/lc")["learning_curve"];
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(points[0]["train_fraction"].get<double>(), 0.5);  // in share order
-  EXPECT_LT(points[0]["trained_windows_per_fold"].get<double>(), 0.7 * points[1]["trained_windows_per_fold"].get<double>());
+  EXPECT_LT(points[0]["trained_windows_per_fold"].get<double>(),
+            0.7 * points[1]["trained_windows_per_fold"].get<double>());
   EXPECT_EQ(points[1]["models"]["forest"]["macro_f1"], cv["models"]["forest"]["macro_f1"]);
   // Every scoring level: its figures, its pairs and its picture, each the share's own.
   for (const char* level : {"per_object", "with_history"}) {
-    EXPECT_EQ(points[1]["models"]["forest"].at(level).at("macro_f1"), cv["models"]["forest"][level]["macro_f1"]) << level;
+    EXPECT_EQ(points[1]["models"]["forest"].at(level).at("macro_f1"), cv["models"]["forest"][level]["macro_f1"])
+        << level;
     EXPECT_TRUE(std::filesystem::exists(dir + "/lc/learning_curve_" + std::string(level) + ".png")) << level;
   }
   for (const char* paired : {"paired", "paired_per_object", "paired_with_history"})
     EXPECT_EQ(points[0].at(paired), Report(dir + "/lc/share-0.5").at(paired)) << paired;
   EXPECT_THAT(curve.out, HasSubstr("learning curve, tracks"));
   EXPECT_THAT(curve.out, HasSubstr("learning curve, so far"));
-  const auto& objects_half = points[0]["trained_objects_per_fold"], objects_all = points[1]["trained_objects_per_fold"];
+  const auto &objects_half = points[0]["trained_objects_per_fold"], objects_all = points[1]["trained_objects_per_fold"];
   ASSERT_EQ(objects_half.size(), objects_all.size());
   for (size_t c = 0; c < objects_half.size(); ++c) {  // ⌈n / 2⌉ of each class's n tracks
     EXPECT_GE(objects_half[c].get<double>(), objects_all[c].get<double>() / 2) << c;
@@ -75,7 +76,8 @@ void ExpectCrossValidationDisjointByTrack(const std::string& dir) {
   EXPECT_EQ(Report(dir + "/lc/share-1")["models"]["forest"]["folds"], cv["models"]["forest"]["folds"]);
   const auto half = Report(dir + "/lc/share-0.5");
   EXPECT_EQ(half["train_fraction"].get<double>(), 0.5);
-  const auto zero = testing::RunSpecht("classify crossval '" + dir + "/data' --train-fraction 0,1 -q -o '" + dir + "/lc0'");
+  const auto zero =
+      testing::RunSpecht("classify crossval '" + dir + "/data' --train-fraction 0,1 -q -o '" + dir + "/lc0'");
   EXPECT_NE(zero.exit_code, 0);
   EXPECT_THAT(zero.err, HasSubstr("--train-fraction: 0 is not in (0, 1]"));
 

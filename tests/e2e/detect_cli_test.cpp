@@ -1,6 +1,5 @@
 // `specht detect` as a user runs it.
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"

@@ -7,9 +7,8 @@
 
 #include <filesystem>
 #include <fstream>
-#include <thread>
-
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "specht/io/g2o.h"
 #include "specht/io/map_io.h"
@@ -164,7 +163,8 @@ TEST(EmptyInputCliTest, ATracksFileWithoutRowsIsAnError) {
   const auto r = testing::RunSpecht("classify prepare '" + dir + "/tracks.csv' -q -o '" + dir + "/out'");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_THAT(LastLine(r.err), HasSubstr("tracks.csv: no track rows"));
-  const auto e = testing::RunSpecht("eval track --truth '" + dir + "/tracks.csv' --tracks '" + dir + "/tracks.csv' -o '" + dir + "/e'");
+  const auto e = testing::RunSpecht("eval track --truth '" + dir + "/tracks.csv' --tracks '" + dir +
+                                    "/tracks.csv' -o '" + dir + "/e'");
   EXPECT_EQ(e.exit_code, 2) << e.err;
   EXPECT_THAT(LastLine(e.err), HasSubstr("tracks.csv: no truth rows"));
 }

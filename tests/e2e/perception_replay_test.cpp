@@ -2,14 +2,12 @@
 // are replaced by the real KITTI object pair, so the detector has cars to find; they
 // land in the report, the tracker, the world model's snapshots and the map picture.
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <opencv2/videoio.hpp>
 #include <set>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-#include <opencv2/videoio.hpp>
-
 #include "specht/io/object_tracks.h"
-
 #include "test_support.h"
 
 namespace specht {
@@ -33,7 +31,8 @@ TEST(PerceptionReplayTest, StereoFramesBecomeObstaclesInTheWorldModel) {
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data.empty() || !fs::exists(data + "/models") ? std::string() : data);
   const std::string base = testing::TempDir(), sim = base + "/sim", out = base + "/replay";
-  ASSERT_EQ(testing::RunSpecht("sim -q '" + KittiCameraScenario(base) + "' --duration 6 -o '" + sim + "'").exit_code, 0);
+  ASSERT_EQ(testing::RunSpecht("sim -q '" + KittiCameraScenario(base) + "' --duration 6 -o '" + sim + "'").exit_code,
+            0);
   for (const char* side : {"left", "right"})
     fs::copy_file(data + "/stereo/kitti_object/" + side + ".png", sim + "/sim_Images/" + side + "_000003.png",
                   fs::copy_options::overwrite_existing);
@@ -84,13 +83,15 @@ TEST(PerceptionReplayTest, DetectionsBecomeTracksInTheWorldModel) {
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data.empty() || !fs::exists(data + "/models") ? std::string() : data);
   const std::string base = testing::TempDir(), sim = base + "/sim", out = base + "/replay";
-  ASSERT_EQ(testing::RunSpecht("sim -q '" + KittiCameraScenario(base) + "' --duration 8 -o '" + sim + "'").exit_code, 0);
+  ASSERT_EQ(testing::RunSpecht("sim -q '" + KittiCameraScenario(base) + "' --duration 8 -o '" + sim + "'").exit_code,
+            0);
   for (int k = 2; k <= 6; ++k)
     for (const char* side : {"left", "right"})
       fs::copy_file(data + "/stereo/kitti_object/" + side + ".png",
                     sim + "/sim_Images/" + side + "_00000" + std::to_string(k) + ".png",
                     fs::copy_options::overwrite_existing);
-  const std::string replay = "replay -q '" + sim + "/sim.rawlog' --data-dir '" + data + "' --set perception.octree=false -o '";
+  const std::string replay =
+      "replay -q '" + sim + "/sim.rawlog' --data-dir '" + data + "' --set perception.octree=false -o '";
   const auto r = testing::RunSpecht(replay + out + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
@@ -129,19 +130,21 @@ TEST(PerceptionReplayTest, DetectionsBecomeTracksInTheWorldModel) {
 TEST(PerceptionReplayTest, TheClassifierLabelsTracksAndTheVideosShowTheDrive) {
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data.empty() || !fs::exists(data + "/models") || !fs::exists(data + "/sprites") ? std::string()
-                                                                                                       : data);
+                                                                                                      : data);
   const std::string base = testing::TempDir(), scenarios = testing::SourceDir() + "/datasets/scenarios";
   const std::string course = scenarios + "/course-loop.yaml";
   ASSERT_EQ(testing::RunSpecht("track '" + course + "' --seeds 1-2 -q -o '" + base + "/tracks'").exit_code, 0);
-  ASSERT_EQ(testing::RunSpecht("classify prepare '" + base + "/tracks/tracks.csv' --scenario '" + course +
-                               "' --set classify.length=16 --set 'classify.features=[x,y,dt,speed,course,accel,turn_rate,"
-                               "dist_static]' -q -o '" + base + "/data'")
-                .exit_code,
-            0);
-  ASSERT_EQ(testing::RunSpecht("classify train '" + base + "/data' --set classify_model.epochs=1 -q -o '" + base +
-                               "/model'")
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      testing::RunSpecht("classify prepare '" + base + "/tracks/tracks.csv' --scenario '" + course +
+                         "' --set classify.length=16 --set 'classify.features=[x,y,dt,speed,course,accel,turn_rate,"
+                         "dist_static]' -q -o '" +
+                         base + "/data'")
+          .exit_code,
+      0);
+  ASSERT_EQ(
+      testing::RunSpecht("classify train '" + base + "/data' --set classify_model.epochs=1 -q -o '" + base + "/model'")
+          .exit_code,
+      0);
   ASSERT_EQ(testing::RunSpecht("sim -q '" + course + "' --duration 5 --data-dir '" + data + "' --sprites tuning -o '" +
                                base + "/sim'")
                 .exit_code,
@@ -169,7 +172,8 @@ TEST(PerceptionReplayTest, TheClassifierLabelsTracksAndTheVideosShowTheDrive) {
   EXPECT_FALSE(classified.empty());
 
   const int frames = report["perception"]["frames"].get<int>();
-  for (const auto& [name, size] : {std::pair{"camera.mp4", cv::Size(1242, 374)}, {"birds_eye.mp4", cv::Size(600, 600)}}) {
+  for (const auto& [name, size] :
+       {std::pair{"camera.mp4", cv::Size(1242, 374)}, {"birds_eye.mp4", cv::Size(600, 600)}}) {
     cv::VideoCapture video(base + "/replay/" + name);
     ASSERT_TRUE(video.isOpened()) << name;
     int n = 0;

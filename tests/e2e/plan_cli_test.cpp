@@ -1,7 +1,6 @@
 // `specht plan` as a user runs it: parking in a marked bay of a shipped scenario,
 // and the errors a user meets first.
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
@@ -44,9 +43,9 @@ TEST(PlanCliTest, KinodynamicPlannerReachesTheGoalWithinTolerance) {
   std::string csv[2];
   for (int run = 0; run < 2; ++run) {
     const std::string out = testing::TempDir("plan_cli_kino") + "/out" + std::to_string(run);
-    const auto r = testing::RunSpecht("plan '" + scenario + "' --goal bay:middle-14 --planner rrt --guided -q " +
-                                      "--set kinodynamic.time_budget_ms=60000 --set kinodynamic.max_iterations=100000 " +
-                                      "-o '" + out + "'");
+    const auto r = testing::RunSpecht(
+        "plan '" + scenario + "' --goal bay:middle-14 --planner rrt --guided -q " +
+        "--set kinodynamic.time_budget_ms=60000 --set kinodynamic.max_iterations=100000 " + "-o '" + out + "'");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
     EXPECT_TRUE(report["metrics"]["found"].get<bool>());
@@ -74,15 +73,17 @@ TEST(PlanCliTest, BadInputNamesTheProblem) {
   // An empty map (a 0 × 0 image): named, before any planning.
   const std::string dir = testing::TempDir("plan_cli_empty");
   testing::WriteFile(dir + "/empty.pgm", "P5\n0 0\n255\n");
-  testing::WriteFile(dir + "/empty.yaml", "image: empty.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
-                                          "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  testing::WriteFile(dir + "/empty.yaml",
+                     "image: empty.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
+                     "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
   r = testing::RunSpecht("plan '" + dir + "/empty.yaml' --start 1,1,0 --goal 2,2,0 -q -o '" + out + "'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("empty.pgm"));
   r = testing::RunSpecht("plan '" + scenario + "' --goal bay:south-13 --planner prm -q -o '" + out + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.err, HasSubstr("prm"));
-  r = testing::RunSpecht("plan '" + scenario + "' --start 90,5,0 --goal bay:south-13 --planner sst -q -o '" + out + "'");
+  r = testing::RunSpecht("plan '" + scenario + "' --start 90,5,0 --goal bay:south-13 --planner sst -q -o '" + out +
+                         "'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("start is outside the map"));
 }

@@ -1,9 +1,8 @@
 // `specht replay` as a user runs it: outputs, determinism, exit codes, bad input.
 #include <cmath>
 #include <filesystem>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "specht/io/trajectory_io.h"
 #include "test_support.h"
@@ -14,9 +13,8 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const char* kOutputs[] = {"map.yaml",  "map.pgm",          "map.gridmap", "map.png",     "trajectory.tum",
-                          "graph.g2o", "keyframes.rawlog", "loops.png",   "params.yaml", "report.json",
-                          "report.md"};
+const char* kOutputs[] = {"map.yaml",         "map.pgm",   "map.gridmap", "map.png",     "trajectory.tum", "graph.g2o",
+                          "keyframes.rawlog", "loops.png", "params.yaml", "report.json", "report.md"};
 
 nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
@@ -56,8 +54,8 @@ TEST(ReplayCliTest, SameInputTwiceGivesByteIdenticalMapAndTrajectory) {
 
 struct BadParams {
   const char* name;
-  const char* yaml;       // written to bad.yaml (nullptr: no file at all)
-  const char* expected;   // the one-line message, after the file name
+  const char* yaml;      // written to bad.yaml (nullptr: no file at all)
+  const char* expected;  // the one-line message, after the file name
 };
 
 void PrintTo(const BadParams& p, std::ostream* os) { *os << p.name; }
@@ -77,14 +75,13 @@ TEST_P(ReplayParamErrorTest, ExitsWithTwoOneLineNamingFileAndKeyAndWritesNothing
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, ReplayParamErrorTest,
-    ::testing::Values(
-        BadParams{"unknown_key", "grid:\n  resolution: 0.1\n",
-                  ":2: unknown key 'grid.resolution' (did you mean 'grid.resolution_m'?)"},
-        BadParams{"wrong_type", "scan_matching:\n  use_odometry: maybe\n",
-                  ":2: key 'scan_matching.use_odometry': expected a bool (true/false), got 'maybe'"},
-        BadParams{"out_of_range", "scan_matching:\n  icp:\n    threshold_decay: 1.5\n",
-                  ":3: key 'scan_matching.icp.threshold_decay': value 1.5 is outside [0.1, 0.95]"},
-        BadParams{"missing_file", nullptr, ": cannot read parameter file: No such file or directory"}),
+    ::testing::Values(BadParams{"unknown_key", "grid:\n  resolution: 0.1\n",
+                                ":2: unknown key 'grid.resolution' (did you mean 'grid.resolution_m'?)"},
+                      BadParams{"wrong_type", "scan_matching:\n  use_odometry: maybe\n",
+                                ":2: key 'scan_matching.use_odometry': expected a bool (true/false), got 'maybe'"},
+                      BadParams{"out_of_range", "scan_matching:\n  icp:\n    threshold_decay: 1.5\n",
+                                ":3: key 'scan_matching.icp.threshold_decay': value 1.5 is outside [0.1, 0.95]"},
+                      BadParams{"missing_file", nullptr, ": cannot read parameter file: No such file or directory"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 TEST(ReplayCliTest, BadSetOverrideAndMissingDatasetExitTwo) {
@@ -180,8 +177,9 @@ TEST(SlamCliTest, ContinuesASavedMapInItsFrame) {
   EXPECT_EQ(vertices(dir + "/rest/graph.g2o"),
             vertices(dir + "/first/graph.g2o") + Report(dir + "/rest")["counts"]["keyframes"].get<int>());
   // --continue and --map exclude each other.
-  EXPECT_NE(testing::RunSpecht("slam -q --map '" + dir + "/first' --continue '" + dir + "/first' -o '" + dir +
-                               "/both'").exit_code, 0);
+  EXPECT_NE(testing::RunSpecht("slam -q --map '" + dir + "/first' --continue '" + dir + "/first' -o '" + dir + "/both'")
+                .exit_code,
+            0);
 }
 
 // The simulated course loop (featureless corridors, seed 1) mapped at the defaults,

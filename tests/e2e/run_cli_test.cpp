@@ -2,7 +2,6 @@
 // machine plans, waits for agents, corrects and parks; checked against the
 // scenario's ground truth (bay pose, agents' boxes, static map).
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
@@ -79,7 +78,8 @@ TEST(RunCliTest, BadMissionNamesTheLine) {
   const std::string dir = testing::TempDir("run_cli_bad");
   testing::WriteFile(dir + "/mission.yaml", "goals:\n  - park: bay-z\n");
   const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
-  const auto r = testing::RunSpecht("run '" + scenario + "' --mission '" + dir + "/mission.yaml' -q -o '" + dir + "/out'");
+  const auto r =
+      testing::RunSpecht("run '" + scenario + "' --mission '" + dir + "/mission.yaml' -q -o '" + dir + "/out'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("mission.yaml:2: scenario parking-lot has no bay 'bay-z'"));
 }

@@ -16,9 +16,13 @@ TEST(SimulatorTest, SameSeedIsByteIdenticalAndAnotherSeedChangesNoiseAndAgents) 
   const std::string dir = testing::TempDir();
   const std::string scenario = ScenarioPath("course-loop");
   for (const char* run : {"a", "b"}) {
-    ASSERT_EQ(testing::RunSpecht("sim -q --no-camera '" + scenario + "' --duration 15 -o '" + dir + "/" + run + "'").exit_code, 0);
+    ASSERT_EQ(testing::RunSpecht("sim -q --no-camera '" + scenario + "' --duration 15 -o '" + dir + "/" + run + "'")
+                  .exit_code,
+              0);
   }
-  ASSERT_EQ(testing::RunSpecht("sim -q --no-camera '" + scenario + "' --duration 15 --seed 99 -o '" + dir + "/c'").exit_code, 0);
+  ASSERT_EQ(
+      testing::RunSpecht("sim -q --no-camera '" + scenario + "' --duration 15 --seed 99 -o '" + dir + "/c'").exit_code,
+      0);
   for (const char* f : {"sim.rawlog", "ground_truth.tum", "agents.csv", "true_map.pgm"}) {
     EXPECT_TRUE(testing::ReadFile(dir + "/a/" + f) == testing::ReadFile(dir + "/b/" + f)) << f;
   }
@@ -54,11 +58,13 @@ TEST(SpriteTest, AnUnknownSpriteIsNamedBeforeAnythingIsWritten) {
   yaml.replace(yaml.find(agent), agent.size(),
                "{id: 1, class: pedestrian, route: [[33, 20], [47, 20]], start_s: 0, sprite: coco/1/2}");
   testing::WriteFile(dir + "/named.yaml", yaml);
-  const auto r = testing::RunSpecht("sim -q '" + dir + "/named.yaml' --duration 1 --data-dir '" + data + "' -o '" + dir + "/out'");
+  const auto r =
+      testing::RunSpecht("sim -q '" + dir + "/named.yaml' --duration 1 --data-dir '" + data + "' -o '" + dir + "/out'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, ::testing::HasSubstr("named.yaml: agents[0].sprite: no sprite named \"coco/1/2\""));
   EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
-  const auto set = testing::RunSpecht("sim -q '" + ScenarioPath("urban-crossing") + "' --sprites best -o '" + dir + "/out'");
+  const auto set =
+      testing::RunSpecht("sim -q '" + ScenarioPath("urban-crossing") + "' --sprites best -o '" + dir + "/out'");
   EXPECT_EQ(set.exit_code, 2);
   EXPECT_THAT(set.err, ::testing::HasSubstr("--sprites: \"best\" is not a sprite set"));
 }

@@ -1,6 +1,5 @@
 // `specht stereo` and `specht eval stereo` as a user runs them.
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
@@ -46,7 +45,9 @@ TEST(StereoCliTest, KittiFrameScoredWithFilledHoles) {
   SPECHT_REQUIRE_FILE(StereoDir());
   const std::string in = StereoDir() + "/kitti2015/", out = testing::TempDir() + "/run";
   ASSERT_EQ(testing::RunSpecht("stereo -q '" + in + "image_2/000000_10.png' '" + in + "image_3/000000_10.png' -o '" +
-                               out + "'").exit_code, 0);
+                               out + "'")
+                .exit_code,
+            0);
   const auto e = testing::RunSpecht("eval stereo --fill-holes --estimate '" + out + "/disparity.png' --truth '" + in +
                                     "disp_occ_0/000000_10.png' -o '" + out + "/eval'");
   ASSERT_EQ(e.exit_code, 0) << e.err;

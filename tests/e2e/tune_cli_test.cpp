@@ -2,7 +2,6 @@
 // for a real run (cheap and exact), so the test checks the machinery — overlays,
 // placeholders, reports, failures, timeouts, outputs — not a module's tuning.
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
@@ -67,7 +66,8 @@ TEST(TuneCliTest, BadInputStopsBeforeTheSearch) {
            {"metrics.loss", "  stereo.p9: {}\n", "'stereo.p9': not a declared parameter (did you mean 'stereo.p1'?)"},
            {"metrics.loss", "  stereo.threads: {}\n", "declared fixed (not tunable)"},
            {"metrics.loss", "  stereo.p1: {min: 0, max: 100}\n", "outside the declared range"},
-           {"metrics.los", "  stereo.p1: {min: 1, max: 20}\n", "no number at 'metrics.los' (did you mean 'metrics.loss'?)"},
+           {"metrics.los", "  stereo.p1: {min: 1, max: 20}\n",
+            "no number at 'metrics.los' (did you mean 'metrics.loss'?)"},
        }) {
     const std::string out = dir + "/out" + std::to_string(c.expected.size());
     const auto r = testing::RunSpecht("tune '" + TuneFile(dir, c.metric, c.params) + "' -q -o '" + out + "'");

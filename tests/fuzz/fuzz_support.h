@@ -22,10 +22,10 @@ namespace specht::fuzz {
 // Writes the input to this process's scratch file named `name` and returns its path.
 inline std::string InputFile(const uint8_t* data, size_t size, const std::string& name) {
   const char* tmp = std::getenv("TMPDIR");
-  const std::string path = std::string(tmp != nullptr ? tmp : "/tmp") + "/specht-fuzz-" +
-                           std::to_string(getpid()) + "-" + name;
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data),
-                                                                static_cast<std::streamsize>(size));
+  const std::string path =
+      std::string(tmp != nullptr ? tmp : "/tmp") + "/specht-fuzz-" + std::to_string(getpid()) + "-" + name;
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;
 }
 

@@ -2,11 +2,10 @@
 #include "specht/io/carmen.h"
 
 #include <bzlib.h>
-
-#include <set>
-
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
+
+#include <set>
 
 #include "specht/io/line_reader.h"
 #include "specht/io/trajectory_io.h"
@@ -64,7 +63,8 @@ TEST(CarmenTest, ReadsTheIntelLogAndItsReference) {
 // re-anchored at each laser message), or a raw one.
 std::string Log(const std::string& body, bool corrected = true) {
   const std::string path = testing::TempDir() + "/test.log";
-  testing::WriteFile(path, "# CARMEN log\nPARAM robot_frontlaser_offset 0.1 host 0\n" + body + (corrected ? "NEFF 10\n" : ""));
+  testing::WriteFile(
+      path, "# CARMEN log\nPARAM robot_frontlaser_offset 0.1 host 0\n" + body + (corrected ? "NEFF 10\n" : ""));
   return path;
 }
 
@@ -119,8 +119,8 @@ TEST(CarmenTest, FlaserBeamSpacingIsCarmens) {
     int beams;
     double aperture_deg, centre_deg;
   };
-  for (const Case& c : {Case{180, 179.0, -0.5}, Case{181, 180.0, 0.0}, Case{360, 179.5, -0.25},
-                        Case{361, 180.0, 0.0}, Case{100, 180.0, 0.0}}) {
+  for (const Case& c : {Case{180, 179.0, -0.5}, Case{181, 180.0, 0.0}, Case{360, 179.5, -0.25}, Case{361, 180.0, 0.0},
+                        Case{100, 180.0, 0.0}}) {
     auto source = OpenDataset(Log(Flaser(c.beams)));
     std::optional<Observation> obs;
     while ((obs = source->Next()) && !std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data)) {
@@ -173,8 +173,7 @@ TEST(CarmenTest, SkipModeGoesOnAndListsWhatItSkipped) {
 
 TEST(CarmenTest, ParsesRobotLaser1WithItsMount) {
   // 5 beams from -0.2 rad in steps of 0.1 rad, laser 0.3 m ahead of the robot.
-  const std::string line =
-      "ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 0 1.3 0 0 1 0 0 0 0 0 0 0 7.5 host 7.5\n";
+  const std::string line = "ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 0 1.3 0 0 1 0 0 0 0 0 0 0 7.5 host 7.5\n";
   auto source = OpenDataset(Log(line));
   const auto obs = source->Next();
   ASSERT_TRUE(obs.has_value());
@@ -201,11 +200,12 @@ TEST(CarmenTest, LogsWithoutTimeStampsAreStampedInOrder) {
 // delivered at the scan's stamp just before it, not the ODOM line stamped after the
 // scan that precedes it in the file; stamps that go backwards are kept and counted.
 TEST(CarmenTest, RawLogPairsEachScanWithItsOwnOdometryAndKeepsItsStamps) {
-  const std::string path = Log("ODOM 1.0 0 0 0 0 0 1.0 host 1.0\n"
-                               "ODOM 2.0 0 0 0 0 0 1.2 host 1.2\n" +
-                                   Flaser(10, "1.5", 1.1, "1.5 0 0 1.5 0 0") +
-                                   Flaser(10, "1.5", 1.05, "1.7 0 0 1.7 0 0") + "ODOM 2.5 0 0 0 0 0 1.3 host 1.3\n",
-                               /*corrected=*/false);
+  const std::string path =
+      Log("ODOM 1.0 0 0 0 0 0 1.0 host 1.0\n"
+          "ODOM 2.0 0 0 0 0 0 1.2 host 1.2\n" +
+              Flaser(10, "1.5", 1.1, "1.5 0 0 1.5 0 0") + Flaser(10, "1.5", 1.05, "1.7 0 0 1.7 0 0") +
+              "ODOM 2.5 0 0 0 0 0 1.3 host 1.3\n",
+          /*corrected=*/false);
   std::vector<std::string> notes;
   const auto r = Records(path, &notes);
   ASSERT_EQ(r.size(), 7u);
@@ -290,7 +290,8 @@ std::vector<std::string> Lines(const std::string& path) {
 
 TEST(CarmenTest, ReadsBzip2InOneStreamOrSeveral) {
   std::string text;
-  for (int i = 0; i < 5000; ++i) text += "ODOM " + std::to_string(i * 0.01) + " 0 0 0 0 0 " + std::to_string(i) + " h 0\n";
+  for (int i = 0; i < 5000; ++i)
+    text += "ODOM " + std::to_string(i * 0.01) + " 0 0 0 0 0 " + std::to_string(i) + " h 0\n";
   const std::string dir = testing::TempDir(), plain = dir + "/odom.log";
   testing::WriteFile(plain, text);
   testing::WriteFile(dir + "/one.log.bz2", Bzip2(text));

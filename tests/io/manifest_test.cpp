@@ -1,8 +1,8 @@
 // datasets/manifest.yaml: every dataset it names is where it says, with its checksum.
+#include <yaml-cpp/yaml.h>
+
 #include <cstdio>
 #include <filesystem>
-
-#include <yaml-cpp/yaml.h>
 
 #include "test_support.h"
 

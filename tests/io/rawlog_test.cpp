@@ -39,15 +39,13 @@ TEST(RawlogTest, ReadsTheBuiltInActionSensoryFrameRawlog) {
   SPECHT_REQUIRE_FILE(rawlog);
   const ReadResult r = ReadAll(rawlog);
   EXPECT_EQ(r.error, "");
-  EXPECT_EQ(r.scans, 225);      // rawlog-edit --info: 449 objects, 224 sensory frames
-  EXPECT_EQ(r.odometry, 224);   // one chained odometry reading per action
+  EXPECT_EQ(r.scans, 225);     // rawlog-edit --info: 449 objects, 224 sensory frames
+  EXPECT_EQ(r.odometry, 224);  // one chained odometry reading per action
   EXPECT_TRUE(std::is_sorted(r.stamps.begin(), r.stamps.end()));
   EXPECT_NEAR(SecondsBetween(r.stamps.front(), r.stamps.back()), 58.8, 0.5);
 }
 
-TEST(RawlogTest, MissingFileIsAnInputError) {
-  EXPECT_THROW(OpenDataset("/nonexistent.rawlog"), InputError);
-}
+TEST(RawlogTest, MissingFileIsAnInputError) { EXPECT_THROW(OpenDataset("/nonexistent.rawlog"), InputError); }
 
 TEST(RawlogTest, TruncatedFileStopsAtTheBrokenRecordWithItsOffset) {
   const std::string rawlog = testing::BuiltInRawlog();
@@ -87,8 +85,7 @@ TEST(RawlogTest, RandomCorruptionIsReportedNeverFatal) {
     std::string corrupt = bytes;
     const int flips = 1 + trial % 8;
     for (int k = 0; k < flips; ++k) {
-      corrupt[std::uniform_int_distribution<size_t>(0, corrupt.size() - 1)(rng)] ^=
-          static_cast<char>(1 + rng() % 255);
+      corrupt[std::uniform_int_distribution<size_t>(0, corrupt.size() - 1)(rng)] ^= static_cast<char>(1 + rng() % 255);
     }
     testing::WriteFile(path, corrupt);
     const ReadResult r = ReadAll(path);

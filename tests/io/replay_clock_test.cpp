@@ -1,8 +1,8 @@
-#include "specht/io/replay.h"
+#include <gtest/gtest.h>
 
 #include <chrono>
 
-#include <gtest/gtest.h>
+#include "specht/io/replay.h"
 
 namespace specht::io {
 namespace {

@@ -1,6 +1,5 @@
 // Output formats: ROS map_server, MRPT gridmap, TUM, PNG, reports, videos; all atomic.
 #include <filesystem>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -27,8 +26,10 @@ COccupancyGridMap2D Room() {
       const double wx = grid.idx2x(x), wy = grid.idx2y(y);
       const bool inside = wx > 0 && wx < 4 && wy > 0 && wy < 3;
       const bool wall = inside && (wx < 0.1 || wx > 3.9 || wy < 0.1 || wy > 2.9);
-      if (wall) grid.setCell(x, y, 0.05f);
-      else if (inside) grid.setCell(x, y, 0.95f);
+      if (wall)
+        grid.setCell(x, y, 0.05f);
+      else if (inside)
+        grid.setCell(x, y, 0.95f);
     }
   }
   return grid;
@@ -149,8 +150,7 @@ TEST(TrajectoryIoTest, RelationsFilesAreReadWithTheirLinesAndFoundBesideTheLog) 
     ReadRelations(dir + "/bad.relations");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              dir + "/bad.relations:2: expected 8 numbers (t1 t2 x y z roll pitch yaw), got 7");
+    EXPECT_EQ(std::string(e.what()), dir + "/bad.relations:2: expected 8 numbers (t1 t2 x y z roll pitch yaw), got 7");
   }
   testing::WriteFile(dir + "/empty.relations", "# nothing\n");
   EXPECT_THROW(ReadRelations(dir + "/empty.relations"), InputError);
@@ -183,7 +183,6 @@ TEST(ReportTest, WritesJsonAndMarkdownWithStatus) {
   EXPECT_THAT(md, ::testing::HasSubstr("Status: **incomplete** — x.rawlog: record 7"));
   EXPECT_THAT(md, ::testing::HasSubstr("![map.png](map.png)"));
 }
-
 
 cv::Mat Frame(int i) {
   cv::Mat m(120, 161, CV_8UC3, cv::Scalar(0, 0, 0));  // an odd width: encoders want even sizes

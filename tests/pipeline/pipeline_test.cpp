@@ -1,10 +1,10 @@
 // The pipeline's own pieces: the pose at a camera frame's stamp between two scans,
 // the checks on a stereo observation's calibration, the online classifier's averaging.
+#include <mrpt/obs/CObservationStereoImages.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-
-#include <mrpt/obs/CObservationStereoImages.h>
 
 #include "specht/classify/model.h"
 #include "specht/classify/trajectory_classifier.h"
@@ -139,8 +139,10 @@ TEST(OnlineClassifierTest, ATracksProbabilitiesAreTheMeanOverItsWindows) {
   small.threads = 1;
   classify::Classifier network(small, 4, 8, {"fast", "slow"});  // untrained: any answers will do
   network.Save(dir + "/model", {{"preprocessing", classify::PreprocessingJson(pre, {})}});
-  const auto model = std::make_shared<classify::TrajectoryClassifier>(classify::TrajectoryClassifier::Load(dir + "/model"));
-  OnlineClassifier latest(model, OnlineClassifier::Averaging::kLatest), mean(model, OnlineClassifier::Averaging::kTrack);
+  const auto model =
+      std::make_shared<classify::TrajectoryClassifier>(classify::TrajectoryClassifier::Load(dir + "/model"));
+  OnlineClassifier latest(model, OnlineClassifier::Averaging::kLatest),
+      mean(model, OnlineClassifier::Averaging::kTrack);
 
   std::map<std::string, double> sum;
   std::vector<double> fast;  // the latest answers, which must differ for the test to tell a mean from the last
@@ -157,7 +159,8 @@ TEST(OnlineClassifierTest, ATracksProbabilitiesAreTheMeanOverItsWindows) {
     for (const auto& [cls, p] : a[0].class_probabilities) sum[cls] += p;
     fast.push_back(a[0].class_probabilities["fast"]);
     ++frames;
-    for (const auto& [cls, p] : b[0].class_probabilities) EXPECT_NEAR(p, sum[cls] / frames, 1e-6) << cls << " frame " << k;
+    for (const auto& [cls, p] : b[0].class_probabilities)
+      EXPECT_NEAR(p, sum[cls] / frames, 1e-6) << cls << " frame " << k;
   }
   std::vector<types::Track> coasting = {Walker(1, 9, 2, 11)};
   coasting[0].state = "coasting";

@@ -5,13 +5,14 @@
 // start but not when the car gets there (time-aware checks); guided sampling into
 // a parking bay; bounded calls on an unreachable goal; errors for bad endpoints.
 // The slalom for every planner is in kinodynamic_slalom_test.cpp (slow label).
-#include <cmath>
+#include "specht/plan/kinodynamic.h"
 
 #include <gtest/gtest.h>
 
-#include "specht/core/error.h"
-#include "specht/plan/kinodynamic.h"
+#include <cmath>
+
 #include "kinodynamic_test_support.h"
+#include "specht/core/error.h"
 
 namespace specht::plan {
 namespace {

@@ -3,10 +3,10 @@
 // returned path must pass.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "specht/plan/kinodynamic.h"
 #include "test_maps.h"
@@ -26,7 +26,7 @@ inline KinodynamicOptions Options(const std::string& planner) {
 }
 
 inline void ExpectDrivable(const cv::Mat& obstacles, const CarOptions& car, const KinodynamicOptions& o,
-                    const KinodynamicResult& r, const Pose& goal) {
+                           const KinodynamicResult& r, const Pose& goal) {
   ASSERT_TRUE(r.found) << r.failure;
   ASSERT_GE(r.path.points.size(), 2u);
   const Pose end = r.path.points.back().pose;

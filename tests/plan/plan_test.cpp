@@ -2,11 +2,11 @@
 // perpendicular parking manoeuvre between parked cars; every returned pose is
 // checked against the obstacle raster with the exact rectangular footprint (not
 // the planner's disc cover), and every arc against the steering limit.
-#include <cmath>
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "specht/core/error.h"
 #include "specht/plan/hybrid_astar.h"
@@ -41,7 +41,9 @@ void ExpectFeasible(const Planner& p, const PlanResult& r, const Pose& goal) {
   EXPECT_EQ(Overlaps(p.obstacles, p.car, r.path), 0);
   for (size_t i = 1; i < r.path.points.size(); ++i)  // no jumps
     EXPECT_LT(std::hypot(r.path.points[i].pose.x - r.path.points[i - 1].pose.x,
-                         r.path.points[i].pose.y - r.path.points[i - 1].pose.y), 0.2) << i;
+                         r.path.points[i].pose.y - r.path.points[i - 1].pose.y),
+              0.2)
+        << i;
 }
 
 // Where the disc cover says no, Free skips blocks of footprint samples the distance
@@ -51,7 +53,8 @@ TEST(DistanceMapTest, FreeAgreesWithTheFullFootprintCheck) {
   cv::Mat m(200, 300, CV_8U, cv::Scalar(0));  // 30 × 20 m, no outer wall
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> x(-1, 31), y(-1, 21), heading(-M_PI, M_PI);
-  for (int i = 0; i < 25; ++i) cv::circle(m, {static_cast<int>(x(rng) * 10), static_cast<int>(y(rng) * 10)}, 2 + i % 7, 1, -1);
+  for (int i = 0; i < 25; ++i)
+    cv::circle(m, {static_cast<int>(x(rng) * 10), static_cast<int>(y(rng) * 10)}, 2 + i % 7, 1, -1);
   const DistanceMap map(m, 0.0, 0.0, kRes);
   const CarOptions car;
   int free = 0, blocked = 0;
@@ -60,7 +63,8 @@ TEST(DistanceMapTest, FreeAgreesWithTheFullFootprintCheck) {
     const DiscCover discs = car.Discs();
     bool discs_free = true;  // the first stage, unchanged: every disc centre far enough
     for (const double d : discs.offsets)
-      discs_free &= map.Distance(p.x + std::cos(p.theta) * d, p.y + std::sin(p.theta) * d) > discs.radius + discs.margin;
+      discs_free &=
+          map.Distance(p.x + std::cos(p.theta) * d, p.y + std::sin(p.theta) * d) > discs.radius + discs.margin;
     const bool expected = discs_free || map.Clearance(car, p) > car.safety_margin_m;
     ASSERT_EQ(map.Free(car, p), expected) << p.x << " " << p.y << " " << p.theta;
     (expected ? free : blocked)++;

@@ -3,9 +3,8 @@
 // planners' disc cover).
 #pragma once
 
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "specht/plan/path.h"
 
@@ -18,9 +17,10 @@ inline cv::Mat Map(double w, double h, const std::vector<cv::Rect2d>& boxes = {}
   cv::Mat m(static_cast<int>(h / kRes), static_cast<int>(w / kRes), CV_8U, cv::Scalar(0));
   cv::rectangle(m, {0, 0}, {m.cols - 1, m.rows - 1}, cv::Scalar(1), 1);
   for (const auto& b : boxes)
-    cv::rectangle(m, cv::Point(static_cast<int>(b.x / kRes), static_cast<int>(b.y / kRes)),
-                  cv::Point(static_cast<int>((b.x + b.width) / kRes) - 1, static_cast<int>((b.y + b.height) / kRes) - 1),
-                  cv::Scalar(1), cv::FILLED);
+    cv::rectangle(
+        m, cv::Point(static_cast<int>(b.x / kRes), static_cast<int>(b.y / kRes)),
+        cv::Point(static_cast<int>((b.x + b.width) / kRes) - 1, static_cast<int>((b.y + b.height) / kRes) - 1),
+        cv::Scalar(1), cv::FILLED);
   return m;
 }
 
@@ -30,7 +30,8 @@ inline int Overlaps(const cv::Mat& obstacles, const CarOptions& car, const Path&
   for (const auto& p : path.points) {
     cv::Mat footprint(obstacles.size(), CV_8U, cv::Scalar(0));
     std::vector<cv::Point> poly;
-    for (const auto& c : car.Corners(p.pose)) poly.push_back({static_cast<int>(c.x / kRes), static_cast<int>(c.y / kRes)});
+    for (const auto& c : car.Corners(p.pose))
+      poly.push_back({static_cast<int>(c.x / kRes), static_cast<int>(c.y / kRes)});
     cv::fillConvexPoly(footprint, poly, cv::Scalar(1));
     hits += cv::countNonZero(footprint & obstacles) > 0;
   }

@@ -1,12 +1,12 @@
 // The simulator: sensors agree with the world's ground truth, agent classes move
 // differently, runs are reproducible, and bad scenario files are named precisely.
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <sstream>
-
-#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "specht/core/error.h"
 #include "specht/sim/simulator.h"
@@ -115,11 +115,12 @@ TEST(SimulatorTest, AgentClassesMoveDifferentlyButSpeedAloneDoesNotSeparateThem)
   const double ped_cyc = BestThresholdAccuracy(ped.speed, cyc.speed);
   const double cyc_car = BestThresholdAccuracy(cyc.speed, car.speed);
   const double ped_car = BestThresholdAccuracy(ped.speed, car.speed);
-  std::printf("speed medians: pedestrian %.2f, cyclist %.2f, car %.2f m/s; best single-threshold accuracy "
-              "ped/cyc %.3f, cyc/car %.3f, ped/car %.3f\n",
-              Median(ped.speed), Median(cyc.speed), Median(car.speed), ped_cyc, cyc_car, ped_car);
-  std::printf("|turn rate| p50: pedestrian %.3f, cyclist %.3f, car %.3f rad/s\n", Median(ped.turn),
-              Median(cyc.turn), Median(car.turn));
+  std::printf(
+      "speed medians: pedestrian %.2f, cyclist %.2f, car %.2f m/s; best single-threshold accuracy "
+      "ped/cyc %.3f, cyc/car %.3f, ped/car %.3f\n",
+      Median(ped.speed), Median(cyc.speed), Median(car.speed), ped_cyc, cyc_car, ped_car);
+  std::printf("|turn rate| p50: pedestrian %.3f, cyclist %.3f, car %.3f rad/s\n", Median(ped.turn), Median(cyc.turn),
+              Median(car.turn));
   EXPECT_LT(Median(ped.speed), Median(cyc.speed));
   EXPECT_LT(Median(cyc.speed), Median(car.speed));
   EXPECT_LT(ped_cyc, 0.95);
@@ -166,7 +167,8 @@ TEST(SimulatorTest, CommandedEgoTurnsAboutItsRearAxle) {
   }
   // The circle's centre: left of the rear axle by R.
   const Pose2& p = sim.ego().pose;
-  const double cx = rear.back().first - radius * std::sin(p.yaw_rad), cy = rear.back().second + radius * std::cos(p.yaw_rad);
+  const double cx = rear.back().first - radius * std::sin(p.yaw_rad),
+               cy = rear.back().second + radius * std::cos(p.yaw_rad);
   for (size_t i = 0; i < rear.size(); i += 20) {
     EXPECT_NEAR(std::hypot(rear[i].first - cx, rear[i].second - cy), radius, 0.02) << i;
     EXPECT_NEAR(std::hypot(centre[i].first - cx, centre[i].second - cy), std::hypot(radius, ahead), 0.02) << i;
@@ -177,12 +179,14 @@ TEST(ScenarioTest, BadFilesNameFileLineKeyAndReason) {
   EXPECT_EQ(ErrorOf("name: x\nduraton_s: 10\n"), "bad.yaml:2: duraton_s: unknown key (did you mean 'duration_s'?)");
   EXPECT_EQ(ErrorOf("world:\n  objects:\n    - {type: wall, polygon: [[0, 0], [4, 4], [4, 0], [0, 4]]}\n"),
             "bad.yaml:3: world.objects[0].polygon: self-intersecting");
-  EXPECT_EQ(ErrorOf("world:\n  bounds: [0, 0, 10, 10]\nagents:\n  - {id: 1, class: cyclist, route: [[1, 1], [12, 1]]}\n"),
-            "bad.yaml:4: agents[0].route[1]: agent outside the world bounds");
+  EXPECT_EQ(
+      ErrorOf("world:\n  bounds: [0, 0, 10, 10]\nagents:\n  - {id: 1, class: cyclist, route: [[1, 1], [12, 1]]}\n"),
+      "bad.yaml:4: agents[0].route[1]: agent outside the world bounds");
   EXPECT_EQ(ErrorOf("ego:\n  cruise_speed_mps: -2\n"), "bad.yaml:2: ego.cruise_speed_mps: value -2 is outside [0, 60]");
   EXPECT_EQ(ErrorOf("agents:\n  - {id: 1, class: horse, route: [[1, 1], [2, 2]]}\n"),
             "bad.yaml:2: agents[0].class: 'horse' is not one of: car, cyclist, pedestrian");
-  EXPECT_EQ(ErrorOf("world:\n  bounds: [0, 0, 20, 20]\n  objects:\n    - {type: building, polygon: [[5, 5], [8, 5], [8, 8], [5, 8]]}\n"
+  EXPECT_EQ(ErrorOf("world:\n  bounds: [0, 0, 20, 20]\n  objects:\n    - {type: building, polygon: [[5, 5], [8, 5], "
+                    "[8, 8], [5, 8]]}\n"
                     "agents:\n  - {id: 1, class: pedestrian, route: [[1, 6], [12, 6]]}\n"),
             "bad.yaml:6: agents[0].route: leg 0 -> 1 passes through world.objects[0]");
   EXPECT_THAT(ErrorOf("name: [unclosed\n"), HasSubstr("bad.yaml:"));
@@ -373,7 +377,8 @@ TEST(SpriteTest, TheLibraryCutsOutEveryClassAndHoldsSomeOut) {
     }
   }
   const auto held_out = lib.Of("car", SpriteSet::kHeldOut);
-  for (const Sprite* sp : held_out) EXPECT_EQ(sp->name.rfind("davis/car-roundabout/", 0) == 0 || sp->name.rfind("coco/", 0) == 0, true);
+  for (const Sprite* sp : held_out)
+    EXPECT_EQ(sp->name.rfind("davis/car-roundabout/", 0) == 0 || sp->name.rfind("coco/", 0) == 0, true);
   EXPECT_EQ(&lib.Named(held_out.front()->name), held_out.front());
   EXPECT_THROW(lib.Named("coco/0/0"), InputError);
   try {

@@ -19,11 +19,11 @@
 
 #include "specht/eval/relation_error.h"
 #include "specht/eval/trajectory_error.h"
-#include "specht/slam/localizer.h"
 #include "specht/io/carmen.h"
 #include "specht/io/dataset.h"
 #include "specht/io/trajectory_io.h"
 #include "specht/slam/graph_slam.h"
+#include "specht/slam/localizer.h"
 #include "test_support.h"
 
 namespace specht::slam {
@@ -36,8 +36,7 @@ struct Bound {
 
 std::unique_ptr<GraphSlam> RunSlam(const std::string& log, const SlamOptions& options = {},
                                    const ScanMatchingOptions& matching = {}, const LoopClosureOptions& loops = {}) {
-  auto slam = std::make_unique<GraphSlam>(options, matching, loops,
-                                          PoseGraphOptions{}, nullptr, "base_link");
+  auto slam = std::make_unique<GraphSlam>(options, matching, loops, PoseGraphOptions{}, nullptr, "base_link");
   auto source = io::OpenDataset(log);
   while (auto obs = source->Next()) slam->Add(obs->stamp, obs->data);
   slam->Finish();
@@ -79,8 +78,7 @@ TEST_P(CarmenSlamTest, RelationErrorWithinBound) {
 
 INSTANTIATE_TEST_SUITE_P(Radish, CarmenSlamTest,
                          ::testing::Values(Bound{"intel", 0.05, 0.5, 1.0}, Bound{"seattle", 0.05, 0.5, 1.0},
-                                           Bound{"freiburg-101", 0.05, 0.5, 1.0},
-                                           Bound{"freiburg-079", 0.05, 0.5, 1.0},
+                                           Bound{"freiburg-101", 0.05, 0.5, 1.0}, Bound{"freiburg-079", 0.05, 0.5, 1.0},
                                            Bound{"orebro", 0.05, 0.5, 1.0}),
                          [](const auto& info) {
                            std::string n = info.param.log;
@@ -105,10 +103,10 @@ TEST_P(FreiburgSlamTest, PublishedRelationErrorWithinBound) {
   const std::string log = data + "/slam/freiburg/" + GetParam().log + ".clf.bz2";
   SPECHT_REQUIRE_FILE(log);
   const auto slam = RunSlam(log);
-  const auto rel = eval::ComputePublishedRelationError(slam->trajectory(), io::ReadRelations(io::DefaultRelationsPath(log)));
-  std::printf("%s: %zu published relations, %.4f ± %.4f m (max %.3f), %.3f ± %.3f deg\n", GetParam().log,
-              rel.relations, rel.absolute.mean_m, rel.absolute.std_m, rel.absolute.max_m, rel.absolute.mean_deg,
-              rel.absolute.std_deg);
+  const auto rel =
+      eval::ComputePublishedRelationError(slam->trajectory(), io::ReadRelations(io::DefaultRelationsPath(log)));
+  std::printf("%s: %zu published relations, %.4f ± %.4f m (max %.3f), %.3f ± %.3f deg\n", GetParam().log, rel.relations,
+              rel.absolute.mean_m, rel.absolute.std_m, rel.absolute.max_m, rel.absolute.mean_deg, rel.absolute.std_deg);
   EXPECT_LE(rel.absolute.mean_m, GetParam().mean_m);
   EXPECT_LE(rel.absolute.mean_deg, GetParam().mean_deg);
 }
@@ -206,10 +204,11 @@ TEST(CarmenFrontEndTest, WithoutOdometryARecheckMayCostTheKeyframesOwnScanALittl
   strict.recheck_own_max_loss = 0.02;
   const Trajectory moved = RunSlam(log, front_end, {})->trajectory();
   const Trajectory kept = RunSlam(log, front_end, strict)->trajectory();
-  std::printf("orebro front end, steps 40 -> 41 and 44 -> 45: %.3f and %.3f m off (own loss 0.05), %.3f and %.3f m "
-              "(0.02)\n",
-              StepError(moved, reference, 40), StepError(moved, reference, 44), StepError(kept, reference, 40),
-              StepError(kept, reference, 44));
+  std::printf(
+      "orebro front end, steps 40 -> 41 and 44 -> 45: %.3f and %.3f m off (own loss 0.05), %.3f and %.3f m "
+      "(0.02)\n",
+      StepError(moved, reference, 40), StepError(moved, reference, 44), StepError(kept, reference, 40),
+      StepError(kept, reference, 44));
   EXPECT_LT(StepError(moved, reference, 40), 0.2);
   EXPECT_LT(StepError(moved, reference, 44), 0.2);
   EXPECT_GT(StepError(kept, reference, 40), 0.3);

@@ -1,10 +1,10 @@
 // The branch-and-bound correlative matcher finds poses far from the guess.
 #include "specht/slam/correlative_matcher.h"
 
+#include <mrpt/core/bits_math.h>
+
 #include <cmath>
 #include <stdexcept>
-
-#include <mrpt/core/bits_math.h>
 
 #include "specht/slam/icp.h"
 #include "test_support.h"

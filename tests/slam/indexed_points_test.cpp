@@ -1,16 +1,16 @@
 // IndexedPoints against brute force and against MRPT's own matching: the front end's
 // results depend on these queries being exact, not approximately right.
-#include <algorithm>
-#include <cmath>
-#include <random>
-#include <vector>
+#include "specht/slam/indexed_points.h"
 
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/poses/CPose2D.h>
 
-#include "specht/slam/indexed_points.h"
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
 
 namespace specht::slam {
 namespace {
@@ -26,10 +26,18 @@ CSimplePointsMap SubmapLike(std::mt19937& rng, int n) {
   for (int i = 0; i < n; ++i) {
     const float t = u(rng);
     switch (i % 4) {
-      case 0: points.insertPoint(t, 3.0f + noise(rng), 0); break;         // a wall along x
-      case 1: points.insertPoint(-4.0f + noise(rng), t, 0); break;        // a wall along y
-      case 2: points.insertPoint(u(rng), u(rng), 0); break;               // clutter
-      default: points.insertPoint(t, 0.5f * t + noise(rng), 0); break;    // a slanted wall
+      case 0:
+        points.insertPoint(t, 3.0f + noise(rng), 0);
+        break;  // a wall along x
+      case 1:
+        points.insertPoint(-4.0f + noise(rng), t, 0);
+        break;  // a wall along y
+      case 2:
+        points.insertPoint(u(rng), u(rng), 0);
+        break;  // clutter
+      default:
+        points.insertPoint(t, 0.5f * t + noise(rng), 0);
+        break;  // a slanted wall
     }
   }
   for (int i = 0; i < n / 20; ++i) {  // duplicates, as where two keyframes coincide

@@ -1,10 +1,9 @@
 // The pose-graph back end and the g2o reader: reference χ² on the shared benchmark
 // graphs, and every kind of bad record named by file and line.
-#include "specht/slam/pose_graph_optimizer.h"
-
 #include <cmath>
 
 #include "specht/io/g2o.h"
+#include "specht/slam/pose_graph_optimizer.h"
 #include "test_support.h"
 
 namespace specht {

@@ -2,18 +2,17 @@
 // second pass over its first corridor.
 #include "specht/slam/scan_matching.h"
 
-#include "specht/slam/graph_slam.h"
-#include "specht/slam/icp.h"
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
 
 #include <cmath>
 #include <functional>
 #include <vector>
 
-#include <mrpt/obs/CObservationIMU.h>
-#include <mrpt/obs/CObservationOdometry.h>
-
 #include "specht/eval/map_quality.h"
 #include "specht/io/dataset.h"
+#include "specht/slam/graph_slam.h"
+#include "specht/slam/icp.h"
 #include "test_support.h"
 
 namespace specht::slam {
@@ -366,8 +365,8 @@ class BuiltInRawlogTest : public ::testing::TestWithParam<std::string> {
     if (rawlog_.empty()) SPECHT_SKIP() << "mrpt-common's rawlog not installed";
     SlamOptions slam;
     slam.method = GetParam();
-    slam_ = std::make_unique<GraphSlam>(slam, ScanMatchingOptions{}, LoopClosureOptions{}, PoseGraphOptions{},
-                                        nullptr, "base_link");
+    slam_ = std::make_unique<GraphSlam>(slam, ScanMatchingOptions{}, LoopClosureOptions{}, PoseGraphOptions{}, nullptr,
+                                        "base_link");
     auto source = io::OpenDataset(rawlog_);
     while (auto obs = source->Next()) slam_->Add(obs->stamp, obs->data);
     slam_->Finish();
@@ -394,8 +393,8 @@ TEST_P(BuiltInRawlogTest, SecondPassAgreesWithTheFirstPassGrid) {
   std::printf("%s: second pass %zu keyframes, mean ICP correction %.3f m, %.2f deg\n", GetParam().c_str(),
               pass.second.size(), mean_m, mean_deg);
   const bool graph = GetParam() == "graph";
-  EXPECT_LT(mean_m, 0.05);                   // measured 0.026 m (graph), 0.032 m (scan matching)
-  EXPECT_LT(mean_deg, graph ? 0.5 : 0.25);   // measured 0.26°, 0.07°
+  EXPECT_LT(mean_m, 0.05);                  // measured 0.026 m (graph), 0.032 m (scan matching)
+  EXPECT_LT(mean_deg, graph ? 0.5 : 0.25);  // measured 0.26°, 0.07°
 }
 
 // Walls are thin: on the centre line of every occupied band, 95 % of the band is at
@@ -415,8 +414,9 @@ INSTANTIATE_TEST_SUITE_P(Methods, BuiltInRawlogTest, ::testing::Values("scan_mat
 // The measure itself: a 1-cell wall is 1 cell thick, a smeared 7-cell band is 7.
 TEST(WallThicknessTest, MeasuresBandWidthOnTheCentreLine) {
   mrpt::maps::COccupancyGridMap2D grid(0.0f, 10.0f, 0.0f, 10.0f, 0.1f);
-  for (unsigned x = 10; x < 90; ++x) grid.setCell(x, 20, 0.0f);                       // thin wall
-  for (unsigned x = 10; x < 90; ++x) for (unsigned y = 60; y < 67; ++y) grid.setCell(x, y, 0.0f);  // band
+  for (unsigned x = 10; x < 90; ++x) grid.setCell(x, 20, 0.0f);  // thin wall
+  for (unsigned x = 10; x < 90; ++x)
+    for (unsigned y = 60; y < 67; ++y) grid.setCell(x, y, 0.0f);  // band
   const auto walls = eval::MeasureWallThickness(grid);
   EXPECT_NEAR(walls.p50_m, 0.1, 0.001);
   EXPECT_NEAR(walls.p95_m, 0.7, 0.001);
@@ -426,7 +426,7 @@ TEST(WallThicknessTest, MeasuresBandWidthOnTheCentreLine) {
 // every band boundary, and a 9-cell band lying across one, measure as on a small grid.
 TEST(WallThicknessTest, BandsOfRowsMeasureAsTheWholeGrid) {
   mrpt::maps::COccupancyGridMap2D grid(0.0f, 10.0f, 0.0f, 150.0f, 0.1f);  // 1,500 rows
-  for (unsigned y = 10; y < 1490; ++y) grid.setCell(20, y, 0.0f);          // thin wall, vertical
+  for (unsigned y = 10; y < 1490; ++y) grid.setCell(20, y, 0.0f);         // thin wall, vertical
   for (unsigned x = 40; x < 90; ++x)
     for (unsigned y = 508; y < 517; ++y) grid.setCell(x, y, 0.0f);  // band over rows 508–516 (a band edge at 512)
   const auto walls = eval::MeasureWallThickness(grid);
@@ -459,8 +459,9 @@ TEST(MapEntropyTest, NoPointsGiveNoEntropy) {
   // Only returns beyond max_range_m (a wall 12 m away), and a scan of nothing.
   const Stamp t0 = Stamp::FromSeconds(1), t1 = Stamp::FromSeconds(2);
   const auto far_wall = [](double a) { return std::sin(a) > 0.2 ? 12.0 / std::sin(a) : -1.0; };
-  const std::vector<Keyframe> kfs = {{0, t0, CPose2D(0, 0, 0), Scan180(CPose2D(0, 0, 0), t0, far_wall)},
-                                     {1, t1, CPose2D(1, 0, 0), Scan180(CPose2D(0, 0, 0), t1, [](double) { return -1.0; })}};
+  const std::vector<Keyframe> kfs = {
+      {0, t0, CPose2D(0, 0, 0), Scan180(CPose2D(0, 0, 0), t0, far_wall)},
+      {1, t1, CPose2D(1, 0, 0), Scan180(CPose2D(0, 0, 0), t1, [](double) { return -1.0; })}};
   const eval::MapEntropy h = eval::MeanMapEntropy(kfs);
   EXPECT_EQ(h.points, 0u);
   EXPECT_EQ(h.mean_nats, 0.0);
@@ -469,8 +470,8 @@ TEST(MapEntropyTest, NoPointsGiveNoEntropy) {
 TEST(MapEntropyTest, ReferencePosesReplaceTheEstimateByTimeStamp) {
   const Stamp t0 = Stamp::FromSeconds(1), t1 = Stamp::FromSeconds(2), t2 = Stamp::FromSeconds(3);
   const auto scan = ScanAt(CPose2D(2, 2, 0), t0);
-  const std::vector<Keyframe> kfs = {{0, t0, CPose2D(0, 0, 0), scan}, {1, t1, CPose2D(1, 0, 0), scan},
-                                     {2, t2, CPose2D(2, 0, 0), scan}};
+  const std::vector<Keyframe> kfs = {
+      {0, t0, CPose2D(0, 0, 0), scan}, {1, t1, CPose2D(1, 0, 0), scan}, {2, t2, CPose2D(2, 0, 0), scan}};
   const Trajectory reference = {{t0, mrpt::poses::CPose3D(5, 5, 0, 0, 0, 0)},
                                 {Stamp::FromSeconds(2.5), mrpt::poses::CPose3D(6, 5, 0, 0, 0, 0)},
                                 {t2, mrpt::poses::CPose3D(7, 5, 0, 0, 0, 0)}};

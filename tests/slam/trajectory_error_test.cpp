@@ -1,15 +1,14 @@
 #include "specht/eval/trajectory_error.h"
 
-#include "specht/eval/relation_error.h"
-
-#include "specht/core/error.h"
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 #include <vector>
 
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
+#include "specht/core/error.h"
+#include "specht/eval/relation_error.h"
 
 namespace specht::eval {
 namespace {

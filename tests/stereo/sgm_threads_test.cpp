@@ -20,7 +20,8 @@ TEST(SgmThreadsTest, TwoSweepThreadsMatchOneThreadOnEveryFrame) {
     cv::Mat right(96, 160, CV_8UC1), left(96, 160, CV_8UC1, cv::Scalar(0));
     rng.fill(right, cv::RNG::UNIFORM, 0, 255);
     const int shift = 5 + 7 * frame;
-    right(cv::Rect(0, 0, right.cols - shift, right.rows)).copyTo(left(cv::Rect(shift, 0, right.cols - shift, right.rows)));
+    right(cv::Rect(0, 0, right.cols - shift, right.rows))
+        .copyTo(left(cv::Rect(shift, 0, right.cols - shift, right.rows)));
     const cv::Mat a = sequential.Compute(left, right), b = concurrent.Compute(left, right);
     EXPECT_EQ(cv::countNonZero(a != b), 0) << "frame " << frame;
     EXPECT_GT(cv::countNonZero(b > 0), static_cast<int>(b.total() / 2));

@@ -68,9 +68,12 @@ TEST(ScenePriorTest, StaticStructureImprovesAndAgentsAreKept) {
   const cv::Mat forced = ComputeDisparity(scene.frame.left, scene.frame.right, hard, &prior);
 
   const cv::Mat& truth = scene.frame.disparity;
-  const double static_unguided = D1(unguided, truth, scene.static_mask), static_guided = D1(guided, truth, scene.static_mask);
-  const double agents_unguided = D1(unguided, truth, scene.agent_mask), agents_guided = D1(guided, truth, scene.agent_mask);
-  const double agents_forced = D1(forced, truth, scene.agent_mask), static_forced = D1(forced, truth, scene.static_mask);
+  const double static_unguided = D1(unguided, truth, scene.static_mask),
+               static_guided = D1(guided, truth, scene.static_mask);
+  const double agents_unguided = D1(unguided, truth, scene.agent_mask),
+               agents_guided = D1(guided, truth, scene.agent_mask);
+  const double agents_forced = D1(forced, truth, scene.agent_mask),
+               static_forced = D1(forced, truth, scene.static_mask);
   std::printf("static D1: unguided %.2f %%, prior %.2f %%, hard window %.2f %%\n", 100 * static_unguided,
               100 * static_guided, 100 * static_forced);
   std::printf("agents D1 (%ld px): unguided %.2f %%, prior %.2f %%, hard window %.2f %%\n", agent_pixels,
@@ -95,7 +98,8 @@ TEST(ScenePriorTest, GroundPlanePriorMatchesTheRenderedGround) {
       ++pixels;
       agree += std::abs(prior.at<float>(v, u) - scene.static_world.disparity.at<float>(v, u)) < 0.05f;
     }
-  std::printf("ground-plane prior vs rendered ground, bottom 40 rows: %.1f %% within 0.05 px\n", 100.0 * agree / pixels);
+  std::printf("ground-plane prior vs rendered ground, bottom 40 rows: %.1f %% within 0.05 px\n",
+              100.0 * agree / pixels);
   EXPECT_GT(agree, 0.8 * pixels);
 }
 

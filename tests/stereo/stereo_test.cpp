@@ -1,14 +1,14 @@
 // The semi-global matcher on real data (KITTI 2015, with ground truth) against
 // OpenCV's StereoSGBM; guidance; identical results across instruction sets and
 // threads; calibration formats; point clouds; bad input.
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/img/TStereoCamera.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/poses/CPose3DQuat.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -36,7 +36,7 @@ KittiFrame LoadKitti(const std::string& frame) {
           ReadDisparityPng(dir + "disp_occ_0/" + frame + ".png")};
 }
 
-#define SPECHT_REQUIRE_KITTI()                                                               \
+#define SPECHT_REQUIRE_KITTI()                                                                          \
   if (testing::DataDir().empty() || !std::filesystem::exists(testing::DataDir() + "/stereo/kitti2015")) \
   SPECHT_SKIP() << "KITTI 2015 frames not in the data directory"
 
@@ -139,7 +139,8 @@ TEST(SgmTest, ShiftedTextureGivesItsDisparityAndDepth) {
   cv::randu(right, 0, 255);
   cv::Mat left(right.size(), CV_8UC1, cv::Scalar(0));
   const int shift = 17;
-  right(cv::Rect(0, 0, right.cols - shift, right.rows)).copyTo(left(cv::Rect(shift, 0, right.cols - shift, right.rows)));
+  right(cv::Rect(0, 0, right.cols - shift, right.rows))
+      .copyTo(left(cv::Rect(shift, 0, right.cols - shift, right.rows)));
   SgmOptions o;
   o.num_disparities = 64;
   const cv::Mat disparity = ComputeDisparity(left, right, o);
@@ -245,8 +246,8 @@ TEST(CalibrationTest, OpenCvYamlKittiRawAndMrptIniAgree) {
   const std::string dir = testing::TempDir();
   {
     cv::FileStorage fs(dir + "/stereo.yaml", cv::FileStorage::WRITE);
-    fs << "image_width" << 640 << "image_height" << 480 << "M1" << cv::Mat(rig.k) << "D1" << cv::Mat(rig.d).t()
-       << "M2" << cv::Mat(rig.k) << "D2" << cv::Mat(rig.d).t() << "R" << cv::Mat(rig.r) << "T" << cv::Mat(rig.t);
+    fs << "image_width" << 640 << "image_height" << 480 << "M1" << cv::Mat(rig.k) << "D1" << cv::Mat(rig.d).t() << "M2"
+       << cv::Mat(rig.k) << "D2" << cv::Mat(rig.d).t() << "R" << cv::Mat(rig.r) << "T" << cv::Mat(rig.t);
   }
   ExpectRigCamera(LoadCalibration({dir + "/stereo.yaml"}), "OpenCV YAML");
 
@@ -259,9 +260,9 @@ TEST(CalibrationTest, OpenCvYamlKittiRawAndMrptIniAgree) {
   const cv::Vec3d zero(0, 0, 0);
   std::ofstream(dir + "/calib_cam_to_cam.txt")
       << "calib_time: 09-Jan-2012 13:57:47\n"
-      << "S_02: 640 480\nK_02:" << row(rig.k.val, 9) << "\nD_02:" << row(rig.d.data(), 5) << "\nR_02:" << row(eye.val, 9)
-      << "\nT_02:" << row(zero.val, 3) << "\nS_03: 640 480\nK_03:" << row(rig.k.val, 9) << "\nD_03:"
-      << row(rig.d.data(), 5) << "\nR_03:" << row(rig.r.val, 9) << "\nT_03:" << row(rig.t.val, 3) << "\n";
+      << "S_02: 640 480\nK_02:" << row(rig.k.val, 9) << "\nD_02:" << row(rig.d.data(), 5)
+      << "\nR_02:" << row(eye.val, 9) << "\nT_02:" << row(zero.val, 3) << "\nS_03: 640 480\nK_03:" << row(rig.k.val, 9)
+      << "\nD_03:" << row(rig.d.data(), 5) << "\nR_03:" << row(rig.r.val, 9) << "\nT_03:" << row(rig.t.val, 3) << "\n";
   ExpectRigCamera(LoadCalibration({dir + "/calib_cam_to_cam.txt"}), "KITTI calib_cam_to_cam");
 
   mrpt::img::TStereoCamera mrpt_rig;
@@ -277,9 +278,9 @@ TEST(CalibrationTest, OpenCvYamlKittiRawAndMrptIniAgree) {
   mrpt::math::CMatrixDouble33 rot;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) rot(i, j) = rp(i, j);
-  mrpt_rig.rightCameraPose =
-      mrpt::math::TPose3DQuat(mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(rot, mrpt::math::CVectorFixedDouble<3>(
-                                                                                     {tp[0], tp[1], tp[2]}))).asTPose());
+  mrpt_rig.rightCameraPose = mrpt::math::TPose3DQuat(
+      mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(rot, mrpt::math::CVectorFixedDouble<3>({tp[0], tp[1], tp[2]})))
+          .asTPose());
   {
     mrpt::config::CConfigFile ini(dir + "/stereo.ini");
     mrpt_rig.saveToConfigFile("CAMERA_PARAMS", ini);
@@ -290,13 +291,13 @@ TEST(CalibrationTest, OpenCvYamlKittiRawAndMrptIniAgree) {
 TEST(CalibrationTest, RosCameraInfoPair) {
   const std::string dir = testing::TempDir();
   auto write = [&](const std::string& name, double tx) {
-    std::ofstream(dir + "/" + name) << "image_width: 640\nimage_height: 480\ncamera_name: " << name
-                                    << "\ncamera_matrix: {rows: 3, cols: 3, data: [700, 0, 320, 0, 700, 240, 0, 0, 1]}\n"
-                                    << "distortion_model: plumb_bob\n"
-                                    << "distortion_coefficients: {rows: 1, cols: 5, data: [0, 0, 0, 0, 0]}\n"
-                                    << "rectification_matrix: {rows: 3, cols: 3, data: [1, 0, 0, 0, 1, 0, 0, 0, 1]}\n"
-                                    << "projection_matrix: {rows: 3, cols: 4, data: [700, 0, 320, " << tx
-                                    << ", 0, 700, 240, 0, 0, 0, 1, 0]}\n";
+    std::ofstream(dir + "/" + name)
+        << "image_width: 640\nimage_height: 480\ncamera_name: " << name
+        << "\ncamera_matrix: {rows: 3, cols: 3, data: [700, 0, 320, 0, 700, 240, 0, 0, 1]}\n"
+        << "distortion_model: plumb_bob\n"
+        << "distortion_coefficients: {rows: 1, cols: 5, data: [0, 0, 0, 0, 0]}\n"
+        << "rectification_matrix: {rows: 3, cols: 3, data: [1, 0, 0, 0, 1, 0, 0, 0, 1]}\n"
+        << "projection_matrix: {rows: 3, cols: 4, data: [700, 0, 320, " << tx << ", 0, 700, 240, 0, 0, 0, 1, 0]}\n";
   };
   write("left.yaml", 0);
   write("right.yaml", -210);  // −f·B with B = 0.3 m
@@ -308,7 +309,8 @@ TEST(CalibrationTest, RosCameraInfoPair) {
 
 TEST(CalibrationTest, MalformedFilesNameFileLineAndKey) {
   const std::string dir = testing::TempDir();
-  std::ofstream(dir + "/calib.txt") << "P0: 1 0 0 0 0 1 0 0 0 0 1 0\nP2: 700 0 300 0 0 700 200 0 0 0 1 0\nP3: 700 0 300\n";
+  std::ofstream(dir + "/calib.txt")
+      << "P0: 1 0 0 0 0 1 0 0 0 0 1 0\nP2: 700 0 300 0 0 700 200 0 0 0 1 0\nP3: 700 0 300\n";
   try {
     LoadCalibration({dir + "/calib.txt"});
     ADD_FAILURE() << "no error";

@@ -1,5 +1,6 @@
 #include "test_support.h"
 
+#include <mrpt/io/CFileGZInputStream.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,8 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <mrpt/io/CFileGZInputStream.h>
 
 namespace fs = std::filesystem;
 

@@ -2,10 +2,10 @@
 // are, temporary directories, running the CLI, and reading files.
 #pragma once
 
-#include <string>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <string>
 
 namespace specht::testing {
 
@@ -66,16 +66,16 @@ bool DataRequired();
 
 // Skips the test for missing input (stream the reason into it), or fails it when
 // the input is required (DataRequired).
-#define SPECHT_SKIP()                                  \
-  switch (0)                                           \
-  case 0:                                              \
-  default:                                             \
-    if (::specht::testing::DataRequired())             \
+#define SPECHT_SKIP()                                      \
+  switch (0)                                               \
+  case 0:                                                  \
+  default:                                                 \
+    if (::specht::testing::DataRequired())                 \
       FAIL() << "input missing (SPECHT_REQUIRE_DATA=1): "; \
-    else                                               \
+    else                                                   \
       GTEST_SKIP()
 
-#define SPECHT_REQUIRE_FILE(path)                                   \
-  do {                                                              \
+#define SPECHT_REQUIRE_FILE(path)                                        \
+  do {                                                                   \
     if ((path).empty()) SPECHT_SKIP() << "test data not available here"; \
   } while (0)

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "specht/eval/mot.h"
-#include "specht/sim/scenario.h"
 #include "specht/pipeline/synthetic_tracking.h"
+#include "specht/sim/scenario.h"
 #include "test_support.h"
 
 namespace specht {

@@ -1,9 +1,9 @@
 // Tracker, assignment, CLEAR MOT and the object-track CSV on hand-made cases with
 // known answers; tracking quality on simulated scenes (acceptance 1).
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "specht/core/assignment.h"
 #include "specht/core/error.h"
@@ -198,15 +198,14 @@ io::ObjectSample S(const std::string& id, double t, double x, double y, bool ign
 // Two truth objects over four frames with a miss, a false positive, an identity
 // switch and a don't-care object, counted by hand.
 TEST(MotTest, HandCountedExample) {
-  const std::vector<io::ObjectSample> truth = {
-      S("a", 0, 0, 0), S("a", 1, 1, 0), S("a", 2, 2, 0), S("a", 3, 3, 0),
-      S("b", 0, 0, 5), S("b", 1, 1, 5), S("b", 2, 2, 5), S("b", 3, 3, 5),
-      S("c", 3, 9, 9, true)};
-  const std::vector<io::ObjectSample> hyps = {
-      S("1", 0, 0.1, 0), S("1", 1, 1.2, 0), S("3", 2, 2.0, 0.3), S("3", 3, 3.0, 0),  // switch 1 → 3 at t 2
-      S("2", 0, 0, 5.4), S("2", 2, 2, 5), S("2", 3, 3, 5),                           // miss at t 1
-      S("9", 1, 20, 20),                                                              // false positive
-      S("8", 3, 9.2, 9)};                                                             // on the don't-care
+  const std::vector<io::ObjectSample> truth = {S("a", 0, 0, 0), S("a", 1, 1, 0), S("a", 2, 2, 0),
+                                               S("a", 3, 3, 0), S("b", 0, 0, 5), S("b", 1, 1, 5),
+                                               S("b", 2, 2, 5), S("b", 3, 3, 5), S("c", 3, 9, 9, true)};
+  const std::vector<io::ObjectSample> hyps = {S("1", 0, 0.1, 0), S("1", 1, 1.2, 0), S("3", 2, 2.0, 0.3),
+                                              S("3", 3, 3.0, 0),  // switch 1 → 3 at t 2
+                                              S("2", 0, 0, 5.4), S("2", 2, 2, 5),   S("2", 3, 3, 5),  // miss at t 1
+                                              S("9", 1, 20, 20),                                      // false positive
+                                              S("8", 3, 9.2, 9)};  // on the don't-care
   const auto r = eval::EvaluateMot(truth, hyps, 1.0);
   EXPECT_EQ(r.truth_objects, 8);
   EXPECT_EQ(r.matches, 7);
@@ -259,7 +258,8 @@ TEST(ObjectTracksTest, ClassProbabilitiesRoundTripAsPColumns) {
   samples[2].class_probabilities = {{"cyclist", 1.0}};
   io::WriteObjectTracks(samples, dir + "/p.csv");
   const std::string text = testing::ReadFile(dir + "/p.csv");
-  EXPECT_THAT(text, ::testing::StartsWith("id,t_s,x_m,y_m,class,p_car,p_cyclist,p_pedestrian\nt1,0.100,1.000,2.000,,,,\n"));
+  EXPECT_THAT(text,
+              ::testing::StartsWith("id,t_s,x_m,y_m,class,p_car,p_cyclist,p_pedestrian\nt1,0.100,1.000,2.000,,,,\n"));
   EXPECT_THAT(text, ::testing::HasSubstr("t1,0.200,1.000,2.000,,0.2500,,0.7500\n"));
   const auto back = io::ReadObjectTracks(dir + "/p.csv");
   ASSERT_EQ(back.size(), 3u);

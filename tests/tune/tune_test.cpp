@@ -2,12 +2,12 @@
 // search space against the declared parameters, the grid, and resume: a search
 // stopped part-way and resumed from its log ends exactly where an uninterrupted one
 // does (issue acceptance 3 and 4; bad input, 5).
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <cmath>
 #include <fstream>
 #include <set>
-
-#include <gtest/gtest.h>
 
 #include "specht/core/error.h"
 #include "specht/tune/runner.h"

@@ -1,12 +1,13 @@
 // The world model: decay, the cost layer, immutable snapshots under concurrent
 // writers and readers (also run under ThreadSanitizer: the tsan presets).
-#include <atomic>
-#include <thread>
+#include "specht/world/world_model.h"
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
+#include <atomic>
+#include <thread>
+
 #include "specht/core/error.h"
-#include "specht/world/world_model.h"
 #include "test_support.h"
 
 namespace specht::world {
@@ -62,10 +63,14 @@ TEST(WorldModelTest, CostLayerMarksEveryCellWithinTheInflationRadius) {
       const cv::Point2d p = g.Centre(c, r);
       const double d = std::hypot(p.x - ped.x_m, p.y - ped.y_m);
       const uint8_t v = g.cost.at<uint8_t>(r, c);
-      if (d <= core) EXPECT_EQ(v, CostGrid::kLethal);
-      else if (d <= inscribed) EXPECT_EQ(v, CostGrid::kInscribed);
-      else if (d <= reach) EXPECT_TRUE(v >= 1 && v < CostGrid::kInscribed) << d;
-      else EXPECT_EQ(v, CostGrid::kFree);
+      if (d <= core)
+        EXPECT_EQ(v, CostGrid::kLethal);
+      else if (d <= inscribed)
+        EXPECT_EQ(v, CostGrid::kInscribed);
+      else if (d <= reach)
+        EXPECT_TRUE(v >= 1 && v < CostGrid::kInscribed) << d;
+      else
+        EXPECT_EQ(v, CostGrid::kFree);
       checked += d <= reach;
     }
   EXPECT_GT(checked, 500);
@@ -75,9 +80,9 @@ TEST(WorldModelTest, CostLayerMarksEveryCellWithinTheInflationRadius) {
 TEST(WorldModelTest, StaticMapIsInflatedByTheFootprint) {
   mrpt::maps::COccupancyGridMap2D grid(-5, 5, -5, 5, 0.1);
   // MRPT's cells hold the probability of being free, as every map MRPT builds or loads.
-  grid.fill(0.9f);  // free
+  grid.fill(0.9f);                                                                            // free
   for (float y = -5; y < 5; y += 0.05f) grid.setCell(grid.x2idx(0.0), grid.y2idx(y), 0.05f);  // a wall at x = 0
-  grid.setCell(grid.x2idx(4.0), grid.y2idx(4.0), 0.5f);                                    // one unknown cell
+  grid.setCell(grid.x2idx(4.0), grid.y2idx(4.0), 0.5f);                                       // one unknown cell
   WorldModelOptions options;
   WorldModel world(options);
   world.SetStaticMap(grid, At(0));

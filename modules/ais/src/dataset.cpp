@@ -8,8 +8,8 @@
 
 #include "specht/classify/baseline.h"
 #include "specht/classify/trajectory_classifier.h"
-#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 
 namespace specht::ais {
 namespace {
@@ -55,7 +55,7 @@ AisPreprocessOptions::AisPreprocessOptions() {
   features = {"x",         "y",           "dt",       "speed",    "course",   "accel",
               "turn_rate", "dist_static", "dist_poi", "region_x", "region_y", "category"};
   log_scaled = {"dt", "dist_static", "dist_poi"};
-  category_frequencies = 8;  // MIDs 1 apart are 1/1000 of the range; 2^7 cycles separate neighbours
+  category_frequencies = 8;                   // MIDs 1 apart are 1/1000 of the range; 2^7 cycles separate neighbours
   max_speed = 30 * kKnot / kMetresPerDegree;  // 30 kn in degrees of latitude per second
   max_accel = 1 * kKnot / kMetresPerDegree;   // 1 kn/s
   max_turn_rate = 0.5;                        // rad/s
@@ -118,8 +118,7 @@ classify::Trajectory ToTrajectory(const Vessel& v, double& cos_lat0) {
 
 classify::PreparedDataset PrepareDataset(const std::vector<std::string>& files, const AisOptions& ais,
                                          const classify::PreprocessOptions& o, const Geography& geo,
-                                         PrepareReport& report,
-                                         const std::function<void(long, double)>& on_progress) {
+                                         PrepareReport& report, const std::function<void(long, double)>& on_progress) {
   if (o.normalisation == "global")
     throw InputError("ais_classify.normalisation: AIS preparation streams vessels; use \"local\" or \"fixed\"");
   classify::PreparedDataset d;

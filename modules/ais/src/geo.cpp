@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-
 #include <nanoflann.hpp>
 
 #include "specht/core/csv.h"
@@ -14,7 +13,6 @@
 
 namespace specht::ais {
 namespace {
-
 
 struct Unit {
   double x, y, z;

@@ -13,10 +13,10 @@ enum class Kind {
   kUnsigned,  // integer
   kSigned,    // two's complement integer
   kBool,
-  kText,      // 6-bit characters, to the first '@', trailing spaces trimmed
-  kReal,      // unsigned × scale
+  kText,        // 6-bit characters, to the first '@', trailing spaces trimmed
+  kReal,        // unsigned × scale
   kSignedReal,  // signed × scale
-  kSpare,     // skipped
+  kSpare,       // skipped
 };
 
 // One row of the spec's table. `na` is the raw "not available" value (none when
@@ -52,34 +52,28 @@ const std::vector<Field> kPositionA = {
 };
 // Base station report (4) and UTC/date response (11), 168 bits.
 const std::vector<Field> kBaseStation = {
-    {"year", 38, 14, K::kUnsigned},   {"month", 52, 4, K::kUnsigned},   {"day", 56, 5, K::kUnsigned},
-    {"hour", 61, 5, K::kUnsigned},    {"minute", 66, 6, K::kUnsigned},  {"utc_second", 72, 6, K::kUnsigned},
+    {"year", 38, 14, K::kUnsigned},
+    {"month", 52, 4, K::kUnsigned},
+    {"day", 56, 5, K::kUnsigned},
+    {"hour", 61, 5, K::kUnsigned},
+    {"minute", 66, 6, K::kUnsigned},
+    {"utc_second", 72, 6, K::kUnsigned},
     {"accuracy", 78, 1, K::kBool},
     {"lon", 79, 28, K::kSignedReal, kMin4, true, 181 * 600000},
     {"lat", 107, 27, K::kSignedReal, kMin4, true, 91 * 600000},
-    {"epfd", 134, 4, K::kUnsigned},   {"spare", 138, 10, K::kSpare},    {"raim", 148, 1, K::kBool},
+    {"epfd", 134, 4, K::kUnsigned},
+    {"spare", 138, 10, K::kSpare},
+    {"raim", 148, 1, K::kBool},
     {"radio", 149, 19, K::kUnsigned},
 };
 // Static and voyage related data (5), 424 bits.
 const std::vector<Field> kStaticVoyage = {
-    {"ais_version", 38, 2, K::kUnsigned},
-    {"imo", 40, 30, K::kUnsigned},
-    {"callsign", 70, 42, K::kText},
-    {"shipname", 112, 120, K::kText},
-    {"shiptype", 232, 8, K::kUnsigned},
-    {"to_bow", 240, 9, K::kUnsigned},
-    {"to_stern", 249, 9, K::kUnsigned},
-    {"to_port", 258, 6, K::kUnsigned},
-    {"to_starboard", 264, 6, K::kUnsigned},
-    {"epfd", 270, 4, K::kUnsigned},
-    {"eta_month", 274, 4, K::kUnsigned},
-    {"eta_day", 278, 5, K::kUnsigned},
-    {"eta_hour", 283, 5, K::kUnsigned},
-    {"eta_minute", 288, 6, K::kUnsigned},
-    {"draught", 294, 8, K::kReal, 0.1},
-    {"destination", 302, 120, K::kText},
-    {"dte", 422, 1, K::kUnsigned},
-    {"spare", 423, 1, K::kSpare},
+    {"ais_version", 38, 2, K::kUnsigned}, {"imo", 40, 30, K::kUnsigned},        {"callsign", 70, 42, K::kText},
+    {"shipname", 112, 120, K::kText},     {"shiptype", 232, 8, K::kUnsigned},   {"to_bow", 240, 9, K::kUnsigned},
+    {"to_stern", 249, 9, K::kUnsigned},   {"to_port", 258, 6, K::kUnsigned},    {"to_starboard", 264, 6, K::kUnsigned},
+    {"epfd", 270, 4, K::kUnsigned},       {"eta_month", 274, 4, K::kUnsigned},  {"eta_day", 278, 5, K::kUnsigned},
+    {"eta_hour", 283, 5, K::kUnsigned},   {"eta_minute", 288, 6, K::kUnsigned}, {"draught", 294, 8, K::kReal, 0.1},
+    {"destination", 302, 120, K::kText},  {"dte", 422, 1, K::kUnsigned},        {"spare", 423, 1, K::kSpare},
 };
 // Standard SAR aircraft position report (9), 168 bits.
 const std::vector<Field> kSarAircraft = {
@@ -110,29 +104,15 @@ const std::vector<Field> kPositionBCommon = {
     {"second", 133, 6, K::kUnsigned, 1, true, 60},
 };
 const std::vector<Field> kPositionBStandard = {
-    {"regional", 139, 2, K::kUnsigned},
-    {"cs", 141, 1, K::kBool},
-    {"display", 142, 1, K::kBool},
-    {"dsc", 143, 1, K::kBool},
-    {"band", 144, 1, K::kBool},
-    {"msg22", 145, 1, K::kBool},
-    {"assigned", 146, 1, K::kBool},
-    {"raim", 147, 1, K::kBool},
-    {"radio", 148, 20, K::kUnsigned},
+    {"regional", 139, 2, K::kUnsigned}, {"cs", 141, 1, K::kBool},   {"display", 142, 1, K::kBool},
+    {"dsc", 143, 1, K::kBool},          {"band", 144, 1, K::kBool}, {"msg22", 145, 1, K::kBool},
+    {"assigned", 146, 1, K::kBool},     {"raim", 147, 1, K::kBool}, {"radio", 148, 20, K::kUnsigned},
 };
 const std::vector<Field> kPositionBExtended = {
-    {"regional", 139, 4, K::kUnsigned},
-    {"shipname", 143, 120, K::kText},
-    {"shiptype", 263, 8, K::kUnsigned},
-    {"to_bow", 271, 9, K::kUnsigned},
-    {"to_stern", 280, 9, K::kUnsigned},
-    {"to_port", 289, 6, K::kUnsigned},
-    {"to_starboard", 295, 6, K::kUnsigned},
-    {"epfd", 301, 4, K::kUnsigned},
-    {"raim", 305, 1, K::kBool},
-    {"dte", 306, 1, K::kUnsigned},
-    {"assigned", 307, 1, K::kBool},
-    {"spare", 308, 4, K::kSpare},
+    {"regional", 139, 4, K::kUnsigned},     {"shipname", 143, 120, K::kText},   {"shiptype", 263, 8, K::kUnsigned},
+    {"to_bow", 271, 9, K::kUnsigned},       {"to_stern", 280, 9, K::kUnsigned}, {"to_port", 289, 6, K::kUnsigned},
+    {"to_starboard", 295, 6, K::kUnsigned}, {"epfd", 301, 4, K::kUnsigned},     {"raim", 305, 1, K::kBool},
+    {"dte", 306, 1, K::kUnsigned},          {"assigned", 307, 1, K::kBool},     {"spare", 308, 4, K::kSpare},
 };
 // Static data report (24) part A (160 bits) and part B (168 bits). The vendor id is
 // gpsd's 42-bit text (3 characters of manufacturer, then the model and serial
@@ -142,12 +122,8 @@ const std::vector<Field> kStaticA = {
     {"shipname", 40, 120, K::kText},
 };
 const std::vector<Field> kStaticB = {
-    {"partno", 38, 2, K::kUnsigned},
-    {"shiptype", 40, 8, K::kUnsigned},
-    {"vendorid", 48, 42, K::kText},
-    {"model", 66, 4, K::kUnsigned},
-    {"serial", 70, 20, K::kUnsigned},
-    {"callsign", 90, 42, K::kText},
+    {"partno", 38, 2, K::kUnsigned}, {"shiptype", 40, 8, K::kUnsigned}, {"vendorid", 48, 42, K::kText},
+    {"model", 66, 4, K::kUnsigned},  {"serial", 70, 20, K::kUnsigned},  {"callsign", 90, 42, K::kText},
 };
 const std::vector<Field> kStaticBDimensions = {
     {"to_bow", 132, 9, K::kUnsigned},
@@ -215,8 +191,9 @@ Value Decode(const std::vector<uint8_t>& bits, Field f) {
     default:
       break;
   }
-  const int64_t raw = f.kind == K::kSigned || f.kind == K::kSignedReal ? SignedBits(bits, f.start, f.width)
-                                                                        : static_cast<int64_t>(Bits(bits, f.start, f.width));
+  const int64_t raw = f.kind == K::kSigned || f.kind == K::kSignedReal
+                          ? SignedBits(bits, f.start, f.width)
+                          : static_cast<int64_t>(Bits(bits, f.start, f.width));
   if (f.has_na && raw == f.na) return {};
   if (f.kind == K::kReal || f.kind == K::kSignedReal) return static_cast<double>(raw) * f.scale;
   return raw;
@@ -250,8 +227,8 @@ void AddUtcTime(Message& m) {
 }
 
 void AddEta(Message& m) {
-  m.Set("eta", Format("%02lld-%02lldT%02lld:%02lldZ", IntOr(m, "eta_month"), IntOr(m, "eta_day"),
-                      IntOr(m, "eta_hour"), IntOr(m, "eta_minute")));
+  m.Set("eta", Format("%02lld-%02lldT%02lld:%02lldZ", IntOr(m, "eta_month"), IntOr(m, "eta_day"), IntOr(m, "eta_hour"),
+                      IntOr(m, "eta_minute")));
 }
 
 // ROT_AIS = 4.733 √(ROT °/min), signed; ±127 means turning faster than 5°/30 s
@@ -345,13 +322,30 @@ bool DecodeMessage(const RawMessage& raw, Message& m, std::string& reason) {
   }
   std::vector<const std::vector<Field>*> tables;
   switch (m.type) {
-    case 1: case 2: case 3: tables = {&kPositionA}; break;
-    case 4: case 11: tables = {&kBaseStation}; break;
-    case 5: tables = {&kStaticVoyage}; break;
-    case 9: tables = {&kSarAircraft}; break;
-    case 18: tables = {&kPositionBCommon, &kPositionBStandard}; break;
-    case 19: tables = {&kPositionBCommon, &kPositionBExtended}; break;
-    case 27: tables = {&kLongRange}; break;
+    case 1:
+    case 2:
+    case 3:
+      tables = {&kPositionA};
+      break;
+    case 4:
+    case 11:
+      tables = {&kBaseStation};
+      break;
+    case 5:
+      tables = {&kStaticVoyage};
+      break;
+    case 9:
+      tables = {&kSarAircraft};
+      break;
+    case 18:
+      tables = {&kPositionBCommon, &kPositionBStandard};
+      break;
+    case 19:
+      tables = {&kPositionBCommon, &kPositionBExtended};
+      break;
+    case 27:
+      tables = {&kLongRange};
+      break;
     case 24: {
       if (b.size() < 40) {
         reason = "type 24 shorter than its part number";
@@ -366,8 +360,8 @@ bool DecodeMessage(const RawMessage& raw, Message& m, std::string& reason) {
       // of the dimensions.
       const bool auxiliary = m.mmsi / 10000000 == 98;
       tables = part == 0 ? std::vector<const std::vector<Field>*>{&kStaticA}
-                         : std::vector<const std::vector<Field>*>{&kStaticB, auxiliary ? &kStaticBMothership
-                                                                                     : &kStaticBDimensions};
+                         : std::vector<const std::vector<Field>*>{
+                               &kStaticB, auxiliary ? &kStaticBMothership : &kStaticBDimensions};
       break;
     }
     default:

@@ -110,7 +110,8 @@ bool ParseTagBlock(std::string_view block, TagBlock& out, std::string& reason) {
       case 'g': {
         const size_t a = value.find('-'), b = a == std::string_view::npos ? a : value.find('-', a + 1);
         if (b == std::string_view::npos || !ParseInt(value.substr(0, a), out.group_part) ||
-            !ParseInt(value.substr(a + 1, b - a - 1), out.group_parts) || !ParseInt(value.substr(b + 1), out.group_id)) {
+            !ParseInt(value.substr(a + 1, b - a - 1), out.group_parts) ||
+            !ParseInt(value.substr(b + 1), out.group_id)) {
           reason = "tag block: bad group";
           return false;
         }
@@ -252,7 +253,8 @@ std::optional<RawMessage> SentenceAssembler::Feed(std::string_view line) {
 }
 
 void SentenceAssembler::Finish() {
-  if (!pending_.empty()) stats_.rejected["incomplete multipart at end of input"] += static_cast<int64_t>(pending_.size());
+  if (!pending_.empty())
+    stats_.rejected["incomplete multipart at end of input"] += static_cast<int64_t>(pending_.size());
   pending_.clear();
 }
 

@@ -7,15 +7,14 @@
 #include <filesystem>
 #include <set>
 
+#include "specht/ais/geo.h"
 #include "specht/core/csv.h"
 #include "specht/core/error.h"
 #include "specht/core/time.h"
-#include "specht/ais/geo.h"
 #include "specht/io/line_reader.h"
 
 namespace specht::ais {
 namespace {
-
 
 bool ParseDouble(const std::string& s, double& out) {
   if (s.empty()) return false;
@@ -79,12 +78,13 @@ Columns DetectLayout(const std::vector<std::string>& header, const std::string& 
     c = {"noaa", col("mmsi"), col("basedatetime"), col("lon"), col("lat"), col("sog"), col("cog"), col("vesseltype")};
     c.iso_time = true;
   } else if (col("mmsi") >= 0 && col("# timestamp") >= 0) {
-    c = {"dma", col("mmsi"), col("# timestamp"), col("longitude"), col("latitude"), col("sog"), col("cog"),
-         col("ship type")};
+    c = {"dma",           col("mmsi"), col("# timestamp"), col("longitude"),
+         col("latitude"), col("sog"),  col("cog"),         col("ship type")};
     c.dma_time = c.ship_type_text = true;
   } else {
-    throw InputError(path + ":1: header matches no known AIS layout (need mmsi,time,lon,lat[,ship_type]; "
-                            "NOAA MarineCadastre MMSI,BaseDateTime,LAT,LON,…; or DMA # Timestamp,…,MMSI,…)");
+    throw InputError(path +
+                     ":1: header matches no known AIS layout (need mmsi,time,lon,lat[,ship_type]; "
+                     "NOAA MarineCadastre MMSI,BaseDateTime,LAT,LON,…; or DMA # Timestamp,…,MMSI,…)");
   }
   if (c.lon < 0 || c.lat < 0) throw InputError(path + ":1: " + c.layout + " layout without longitude/latitude columns");
   return c;
@@ -120,20 +120,38 @@ int FlagMid(int64_t mmsi) {
   if (mmsi < 100000000 || mmsi > 999999999) return 0;  // not nine digits, or a leading 0 (groups, coast stations)
   const int lead = static_cast<int>(mmsi / 100000000), lead2 = static_cast<int>(mmsi / 10000000);
   int mid = 0;
-  if (lead >= 2 && lead <= 7) mid = static_cast<int>(mmsi / 1000000);      // MIDXXXXXX
-  else if (lead == 8) mid = static_cast<int>(mmsi / 100000 % 1000);        // 8MIDXXXXX
-  else if (lead2 == 98) mid = static_cast<int>(mmsi / 10000 % 1000);       // 98MIDXXXX
+  if (lead >= 2 && lead <= 7)
+    mid = static_cast<int>(mmsi / 1000000);  // MIDXXXXXX
+  else if (lead == 8)
+    mid = static_cast<int>(mmsi / 100000 % 1000);  // 8MIDXXXXX
+  else if (lead2 == 98)
+    mid = static_cast<int>(mmsi / 10000 % 1000);  // 98MIDXXXX
   return mid >= 201 && mid <= 775 ? mid : 0;
 }
 
 int ShipTypeOfDmaText(const std::string& text) {
-  static const std::map<std::string, int> codes = {
-      {"wig", 20},          {"fishing", 30},          {"towing", 31},         {"towing long/wide", 32},
-      {"dredging", 33},     {"diving", 34},           {"military", 35},       {"sailing", 36},
-      {"pleasure", 37},     {"hsc", 40},              {"pilot", 50},          {"sar", 51},
-      {"tug", 52},          {"port tender", 53},      {"anti-pollution", 54}, {"law enforcement", 55},
-      {"medical", 58},      {"not party to conflict", 59}, {"passenger", 60}, {"cargo", 70},
-      {"tanker", 80},       {"other", 90}};
+  static const std::map<std::string, int> codes = {{"wig", 20},
+                                                   {"fishing", 30},
+                                                   {"towing", 31},
+                                                   {"towing long/wide", 32},
+                                                   {"dredging", 33},
+                                                   {"diving", 34},
+                                                   {"military", 35},
+                                                   {"sailing", 36},
+                                                   {"pleasure", 37},
+                                                   {"hsc", 40},
+                                                   {"pilot", 50},
+                                                   {"sar", 51},
+                                                   {"tug", 52},
+                                                   {"port tender", 53},
+                                                   {"anti-pollution", 54},
+                                                   {"law enforcement", 55},
+                                                   {"medical", 58},
+                                                   {"not party to conflict", 59},
+                                                   {"passenger", 60},
+                                                   {"cargo", 70},
+                                                   {"tanker", 80},
+                                                   {"other", 90}};
   const auto it = codes.find(Lower(text));
   return it == codes.end() ? -1 : it->second;
 }
@@ -148,7 +166,8 @@ double GreatCircleMetres(double lon1, double lat1, double lon2, double lat2) {
 
 double InitialBearingDeg(double lon1, double lat1, double lon2, double lat2) {
   const double p1 = lat1 * kDegree, p2 = lat2 * kDegree, dl = (lon2 - lon1) * kDegree;
-  const double b = std::atan2(std::sin(dl) * std::cos(p2), std::cos(p1) * std::sin(p2) - std::sin(p1) * std::cos(p2) * std::cos(dl));
+  const double b =
+      std::atan2(std::sin(dl) * std::cos(p2), std::cos(p1) * std::sin(p2) - std::sin(p1) * std::cos(p2) * std::cos(dl));
   return std::fmod(b / kDegree + 360.0, 360.0);
 }
 
@@ -157,7 +176,8 @@ void DeriveSpeedAndCourse(std::vector<PositionReport>& r) {
     // From the previous report, or to the next one for the first.
     const size_t a = i > 0 ? i - 1 : i, b = i > 0 ? i : std::min(i + 1, r.size() - 1);
     const double dt = r[b].t_s - r[a].t_s;
-    if (r[i].sog_kn < 0) r[i].sog_kn = dt > 0 ? GreatCircleMetres(r[a].lon, r[a].lat, r[b].lon, r[b].lat) / dt / kKnot : 0;
+    if (r[i].sog_kn < 0)
+      r[i].sog_kn = dt > 0 ? GreatCircleMetres(r[a].lon, r[a].lat, r[b].lon, r[b].lat) / dt / kKnot : 0;
     if (r[i].cog_deg < 0) r[i].cog_deg = a != b ? InitialBearingDeg(r[a].lon, r[a].lat, r[b].lon, r[b].lat) : 0;
   }
 }
@@ -207,8 +227,9 @@ struct VesselReader::Impl {
         Skip("bad mmsi");
         continue;
       }
-      bool time_ok = c.iso_time ? ParseIsoTime(cell(c.time), r.t_s)
-                                : c.dma_time ? ParseDmaTime(cell(c.time), r.t_s) : ParseDouble(cell(c.time), r.t_s);
+      bool time_ok = c.iso_time   ? ParseIsoTime(cell(c.time), r.t_s)
+                     : c.dma_time ? ParseDmaTime(cell(c.time), r.t_s)
+                                  : ParseDouble(cell(c.time), r.t_s);
       if (!time_ok) {
         Skip("bad time");
         continue;

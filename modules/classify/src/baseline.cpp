@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-
 #include <opencv2/core.hpp>
 #include <opencv2/ml.hpp>
 
@@ -12,7 +11,9 @@
 namespace specht::classify {
 namespace {
 
-double Mean(const std::vector<double>& v) { return v.empty() ? 0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
+double Mean(const std::vector<double>& v) {
+  return v.empty() ? 0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+}
 double Std(const std::vector<double>& v) {
   if (v.size() < 2) return 0;
   const double m = Mean(v);
@@ -31,7 +32,8 @@ double Quantile(std::vector<double> v, double q) {
 
 int HandcraftedFeatureCount() { return 23; }
 
-std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, const std::vector<std::string>& features) {
+std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map,
+                                       const std::vector<std::string>& features) {
   auto named = [&](const char* f) { return std::find(features.begin(), features.end(), f) != features.end(); };
   const bool use_static = map.distance_to_static && named("dist_static");
   const bool use_poi = map.distance_to_poi && named("dist_poi");
@@ -62,20 +64,33 @@ std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, 
     }
   }
   const double vmax = speed.empty() ? 0 : *std::max_element(speed.begin(), speed.end());
-  const double stops = speed.empty() ? 0 : std::count_if(speed.begin(), speed.end(), [&](double v) { return v < 0.1 * vmax; }) /
-                                               static_cast<double>(speed.size());
+  const double stops = speed.empty() ? 0 : std::count_if(speed.begin(), speed.end(), [&](double v) {
+                                             return v < 0.1 * vmax;
+                                           }) / static_cast<double>(speed.size());
   const double net = p.empty() ? 0 : std::hypot(p.back().x - p.front().x, p.back().y - p.front().y);
   const double tmax = turn.empty() ? 0 : *std::max_element(turn.begin(), turn.end());
-  return {static_cast<float>(Mean(speed)),  static_cast<float>(Std(speed)),  static_cast<float>(Quantile(speed, 0.1)),
-          static_cast<float>(Quantile(speed, 0.5)), static_cast<float>(Quantile(speed, 0.9)), static_cast<float>(vmax),
-          static_cast<float>(Mean(accel)),  static_cast<float>(Std(accel)),  static_cast<float>(Mean(turn)),
-          static_cast<float>(Std(turn)),    static_cast<float>(tmax),        static_cast<float>(stops),
+  return {static_cast<float>(Mean(speed)),
+          static_cast<float>(Std(speed)),
+          static_cast<float>(Quantile(speed, 0.1)),
+          static_cast<float>(Quantile(speed, 0.5)),
+          static_cast<float>(Quantile(speed, 0.9)),
+          static_cast<float>(vmax),
+          static_cast<float>(Mean(accel)),
+          static_cast<float>(Std(accel)),
+          static_cast<float>(Mean(turn)),
+          static_cast<float>(Std(turn)),
+          static_cast<float>(tmax),
+          static_cast<float>(stops),
           static_cast<float>(path > 0 ? net / path : 0),
           static_cast<float>(p.empty() ? 0 : p.back().t_s - p.front().t_s),
-          static_cast<float>(Quantile(intervals, 0.1)), static_cast<float>(Quantile(intervals, 0.5)),
+          static_cast<float>(Quantile(intervals, 0.1)),
+          static_cast<float>(Quantile(intervals, 0.5)),
           static_cast<float>(Quantile(intervals, 0.9)),
-          static_cast<float>(Mean(ds)),     static_cast<float>(ds.empty() ? 0 : *std::min_element(ds.begin(), ds.end())),
-          static_cast<float>(Mean(dp)),     static_cast<float>(Mean(rx)),    static_cast<float>(Mean(ry)),
+          static_cast<float>(Mean(ds)),
+          static_cast<float>(ds.empty() ? 0 : *std::min_element(ds.begin(), ds.end())),
+          static_cast<float>(Mean(dp)),
+          static_cast<float>(Mean(rx)),
+          static_cast<float>(Mean(ry)),
           static_cast<float>(use_category ? w.category : 0)};
 }
 
@@ -88,7 +103,8 @@ std::vector<float> CombinedProbabilities(const std::vector<float>& network, cons
   return out;
 }
 
-ForestBaseline::ForestBaseline(int trees, int max_depth, int seed) : trees_(trees), max_depth_(max_depth), seed_(seed) {}
+ForestBaseline::ForestBaseline(int trees, int max_depth, int seed)
+    : trees_(trees), max_depth_(max_depth), seed_(seed) {}
 
 void ForestBaseline::Train(const std::vector<float>& x, const std::vector<int>& y) {
   const int n = static_cast<int>(y.size()), f = HandcraftedFeatureCount();
@@ -143,8 +159,8 @@ ForestBaseline ForestBaseline::Load(const std::string& path) {
   }
   if (!f.forest_ || !f.forest_->isTrained()) throw InputError(path + ": not a trained OpenCV RTrees model");
   if (f.forest_->getVarCount() != HandcraftedFeatureCount())
-    throw InputError(path + ": a forest on " + std::to_string(f.forest_->getVarCount()) + " features, this version uses " +
-                     std::to_string(HandcraftedFeatureCount()) + " (train it again)");
+    throw InputError(path + ": a forest on " + std::to_string(f.forest_->getVarCount()) +
+                     " features, this version uses " + std::to_string(HandcraftedFeatureCount()) + " (train it again)");
   return f;
 }
 

@@ -1,6 +1,7 @@
 #include "specht/classify/crossval.h"
 
 #include <algorithm>
+#include <boost/math/distributions/students_t.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,13 +9,10 @@
 #include <set>
 #include <tuple>
 
-#include <boost/math/distributions/students_t.hpp>
-
-#include "specht/classify/baseline.h"
-#include "specht/core/interrupt.h"
-#include "specht/core/error.h"
-
 #include "internal/object_hash.h"
+#include "specht/classify/baseline.h"
+#include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 
 namespace specht::classify {
 namespace {
@@ -55,8 +53,7 @@ void VoteByObject(const std::vector<std::string>& ids, const std::vector<int>& t
   }
 }
 
-std::vector<float> RunningMeanByObject(const std::vector<std::string>& ids, const std::vector<float>& p,
-                                       int classes) {
+std::vector<float> RunningMeanByObject(const std::vector<std::string>& ids, const std::vector<float>& p, int classes) {
   const size_t k = static_cast<size_t>(classes);
   if (p.size() != ids.size() * k) throw InputError("RunningMeanByObject: probabilities must be windows × classes");
   std::map<std::string, std::pair<long, std::vector<double>>> sums;  // id → (windows so far, Σ p)
@@ -231,8 +228,8 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
         const Dataset long_train = d.windows.Subset(train_rows);
         std::vector<size_t> tune_fit, tune_val;
         SplitByObject(long_train.object_ids, options.validation_fraction, options.seed + f, tune_fit, tune_val);
-        tuned_epochs = model.FineTune(long_train.Subset(tune_fit), long_train.Subset(tune_val),
-                                      o.fine_tune_learning_rate).size();
+        tuned_epochs =
+            model.FineTune(long_train.Subset(tune_fit), long_train.Subset(tune_val), o.fine_tune_learning_rate).size();
       }
       ThrowIfInterrupted("cross-validation");  // a network cut short is not scored
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -269,8 +266,9 @@ void CrossValidateOnce(const PreparedDataset& d, const CrossValidationOptions& o
 
 std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, const PreparedDataset& short_windows) {
   if (!HasSpans(scored) || !HasSpans(short_windows))
-    throw InputError("windows within windows: both datasets need each window's time span (windows.csv t0_s, t1_s; "
-                     "prepare them again)");
+    throw InputError(
+        "windows within windows: both datasets need each window's time span (windows.csv t0_s, t1_s; "
+        "prepare them again)");
   std::map<std::string, std::vector<size_t>> by_object;
   for (size_t j = 0; j < short_windows.windows.size(); ++j) by_object[short_windows.windows.object_ids[j]].push_back(j);
   std::vector<std::vector<size_t>> out(scored.windows.size());
@@ -281,8 +279,10 @@ std::vector<std::vector<size_t>> WindowsWithin(const PreparedDataset& scored, co
     std::vector<size_t> overlapping;
     for (size_t j : it->second) {
       const double a = short_windows.t0_s[j], b = short_windows.t1_s[j];
-      if (a >= t0 && b <= t1) out[i].push_back(j);
-      else if (a <= t1 && b >= t0) overlapping.push_back(j);
+      if (a >= t0 && b <= t1)
+        out[i].push_back(j);
+      else if (a <= t1 && b >= t0)
+        overlapping.push_back(j);
     }
     if (out[i].empty()) out[i] = overlapping;
   }
@@ -338,8 +338,7 @@ std::vector<float> OutOfFoldForest(const PreparedDataset& d, const std::vector<s
 void PseudoLabelOptions::Check() const {
   if (votes < 0 || votes > 1)
     throw InputError("pseudo-labels: the teacher's share of votes must be in (0, 1], not " + std::to_string(votes));
-  if (rounds < 1 || rounds > 5)
-    throw InputError("pseudo-labels: rounds must be 1 to 5, not " + std::to_string(rounds));
+  if (rounds < 1 || rounds > 5) throw InputError("pseudo-labels: rounds must be 1 to 5, not " + std::to_string(rounds));
 }
 
 Classifier SelfTrain(const TrainNetwork& train, const Dataset& labelled, const PreparedDataset& unlabelled,
@@ -378,8 +377,9 @@ CrossValidationResult CrossValidate(const PreparedDataset& d, const CrossValidat
     if (o.train_on->classes != d.classes)
       throw InputError("cross-validation: the dataset to train on has other classes than the scored one");
     if (o.pseudo_labels.on() || o.train_fraction < 1)
-      throw InputError("cross-validation: training on another dataset's windows goes with neither pseudo-labels "
-                       "nor a train fraction");
+      throw InputError(
+          "cross-validation: training on another dataset's windows goes with neither pseudo-labels "
+          "nor a train fraction");
     for (int y : o.train_on->windows.y)
       if (y < 0 || y >= static_cast<int>(d.classes.size()))
         throw InputError("cross-validation: a window without a class in the dataset to train on");
@@ -595,7 +595,8 @@ std::vector<std::pair<long, long>> EarlierFoldSizes(const CrossValidationResult&
   bool same_tests = windows.size() == here.size();
   for (size_t i = 0; same_tests && i < windows.size(); ++i) same_tests = windows[i].first == here[i].first;
   if (!same_tests)
-    throw InputError(where + ": its folds test other windows than this run's (\"fold_windows\" differs): "
+    throw InputError(where +
+                     ": its folds test other windows than this run's (\"fold_windows\" differs): "
                      "not the same dataset, folds, repeats and seed");
   if (level != ScoreLevel::kObject) {
     for (size_t i = 0; i < windows.size(); ++i) windows[i].second = std::min(windows[i].second, here[i].second);
@@ -637,8 +638,8 @@ std::vector<PairedComparison> CompareWithEarlier(const CrossValidationResult& re
     }
     const std::vector<double> now = result.MacroF1PerFold(name, level);
     if (before.size() != now.size())
-      throw InputError(where + ": " + field + " has " + std::to_string(before.size()) +
-                       " folds, this run " + std::to_string(now.size()));
+      throw InputError(where + ": " + field + " has " + std::to_string(before.size()) + " folds, this run " +
+                       std::to_string(now.size()));
     out.push_back(CompareFolds(name, name + " (earlier)", now, before, sizes));
   }
   if (out.empty()) throw InputError(where + ": none of this run's models is in it");
@@ -655,14 +656,13 @@ std::vector<PairedComparison> CrossValidationResult::PairedComparisons(ScoreLeve
 nlohmann::json PairedComparisonsJson(const std::vector<PairedComparison>& comparisons) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& c : comparisons)
-    j[c.a + " vs " + c.b] = {{"macro_f1_difference", {{"mean", c.mean_difference}, {"std", c.std_difference}}},
-                             {"corrected_t_test",
-                              {{"t", c.corrected_t},
-                               {"p_value", c.p_value},
-                               {"interval_95", {c.interval_low, c.interval_high}}}},
-                             {"folds_ahead", c.ahead},
-                             {"folds_behind", c.behind},
-                             {"folds", c.folds}};
+    j[c.a + " vs " + c.b] = {
+        {"macro_f1_difference", {{"mean", c.mean_difference}, {"std", c.std_difference}}},
+        {"corrected_t_test",
+         {{"t", c.corrected_t}, {"p_value", c.p_value}, {"interval_95", {c.interval_low, c.interval_high}}}},
+        {"folds_ahead", c.ahead},
+        {"folds_behind", c.behind},
+        {"folds", c.folds}};
   return j;
 }
 

@@ -154,7 +154,8 @@ PreparedDataset ReadPrepared(const std::string& dir) {
                      " features, as windows.npy (a dataset of an older version: prepare it again)");
   ReadWindowsCsv(dir + "/windows.csv", d);
   if (d.windows.size() * d.windows.features * d.windows.length != d.windows.x.size())
-    throw InputError(dir + ": windows.csv has " + std::to_string(d.windows.size()) + " rows, windows.npy another count");
+    throw InputError(dir + ": windows.csv has " + std::to_string(d.windows.size()) +
+                     " rows, windows.npy another count");
   return d;
 }
 
@@ -210,7 +211,8 @@ std::vector<float> HandcraftedRows(const PreparedDataset& d, const std::vector<s
   const size_t width = static_cast<size_t>(HandcraftedFeatureCount());
   std::vector<float> out;
   out.reserve(rows.size() * width);
-  for (size_t r : rows) out.insert(out.end(), d.handcrafted.begin() + r * width, d.handcrafted.begin() + (r + 1) * width);
+  for (size_t r : rows)
+    out.insert(out.end(), d.handcrafted.begin() + r * width, d.handcrafted.begin() + (r + 1) * width);
   return out;
 }
 

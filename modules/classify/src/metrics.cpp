@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/text.h"
@@ -13,8 +12,8 @@ namespace specht::classify {
 namespace {
 
 // Colours of classes or models in the pictures (BGR; matplotlib's tab10).
-const cv::Scalar kPalette[] = {{180, 119, 31}, {14, 127, 255}, {44, 160, 44}, {40, 39, 214}, {189, 103, 148},
-                               {75, 86, 140},  {194, 119, 227}, {127, 127, 127}};
+const cv::Scalar kPalette[] = {{180, 119, 31},  {14, 127, 255}, {44, 160, 44},   {40, 39, 214},
+                               {189, 103, 148}, {75, 86, 140},  {194, 119, 227}, {127, 127, 127}};
 constexpr int kPaletteSize = sizeof(kPalette) / sizeof(kPalette[0]);
 
 void PutLabel(cv::Mat& img, const std::string& text, cv::Point at, double scale = 0.45,
@@ -67,11 +66,14 @@ Scores Score(const std::vector<int>& truth, const std::vector<int>& predicted, i
 }
 
 nlohmann::json Scores::ToJson(const std::vector<std::string>& classes) const {
-  nlohmann::json j = {{"macro_f1", macro_f1}, {"weighted_f1", weighted_f1}, {"accuracy", accuracy},
-                      {"confusion", confusion}, {"classes", classes}};
+  nlohmann::json j = {{"macro_f1", macro_f1},
+                      {"weighted_f1", weighted_f1},
+                      {"accuracy", accuracy},
+                      {"confusion", confusion},
+                      {"classes", classes}};
   for (size_t c = 0; c < classes.size() && c < f1.size(); ++c)
-    j["per_class"][classes[c]] = {{"f1", f1[c]}, {"precision", precision[c]}, {"recall", recall[c]},
-                                  {"support", support[c]}};
+    j["per_class"][classes[c]] = {
+        {"f1", f1[c]}, {"precision", precision[c]}, {"recall", recall[c]}, {"support", support[c]}};
   return j;
 }
 
@@ -151,8 +153,8 @@ void WriteStepCountsPng(const std::map<std::string, std::map<std::string, long>>
       long v = 0;
       if (it != counts.end() && it->second.count(classes[c])) v = it->second.at(classes[c]);
       const int x = left + s * group + c * bar;
-      cv::rectangle(img, cv::Point(x, y_of(static_cast<double>(v))), cv::Point(x + bar - 2, top + height), kPalette[c % kPaletteSize],
-                    cv::FILLED);
+      cv::rectangle(img, cv::Point(x, y_of(static_cast<double>(v))), cv::Point(x + bar - 2, top + height),
+                    kPalette[c % kPaletteSize], cv::FILLED);
     }
     PutLabel(img, steps[s], {left + s * group, top + height + 20});
   }

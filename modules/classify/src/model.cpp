@@ -1,7 +1,5 @@
 #include "specht/classify/model.h"
 
-#include "internal/object_hash.h"
-
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -11,9 +9,10 @@
 #include <limits>
 #include <sstream>
 
+#include "internal/object_hash.h"
 #include "specht/classify/metrics.h"
-#include "specht/core/interrupt.h"
 #include "specht/core/error.h"
+#include "specht/core/interrupt.h"
 #include "specht/io/atomic_file.h"
 
 namespace specht::classify {
@@ -93,8 +92,8 @@ struct Classifier::Net : nn::Module {
       Path path{split ? f * per_row : 0, split ? per_row : features, {}};
       int width = path.channels;
       for (int out : filters) {
-        const std::string name = (split ? "path" + std::to_string(f) + "_" : "") + "block" +
-                                 std::to_string(path.blocks.size());
+        const std::string name =
+            (split ? "path" + std::to_string(f) + "_" : "") + "block" + std::to_string(path.blocks.size());
         path.blocks.push_back(register_module(name, ResBlock(width, out, o.batch_norm)));
         width = out;
       }
@@ -114,8 +113,8 @@ struct Classifier::Net : nn::Module {
   // clamp((v − l) / w, 0, 1), i.e. 0 below the bin, 1 above, linear inside.
   torch::Tensor Encode(const torch::Tensor& x) const {
     if (bins == 0) return x;
-    const auto e = ((x.unsqueeze(2) - bin_lower.view({1, rows, bins, 1})) / bin_width.view({1, rows, bins, 1}))
-                       .clamp(0, 1);
+    const auto e =
+        ((x.unsqueeze(2) - bin_lower.view({1, rows, bins, 1})) / bin_width.view({1, rows, bins, 1})).clamp(0, 1);
     return e.reshape({x.size(0), rows * bins, x.size(2)});
   }
   // Bins at the quantiles 0, 1/B, … of each row's values in `x` (windows × rows × length).
@@ -268,8 +267,8 @@ nlohmann::json ReportsJson(const std::vector<EpochReport>& reports) {
 std::vector<EpochReport> ReportsFromJson(const nlohmann::json& j) {
   std::vector<EpochReport> reports;
   for (const auto& e : j)
-    reports.push_back({e[0].get<int>(), e[1].get<double>(), e[2].get<double>(), e[3].get<double>(),
-                       e[4].get<double>(), e[5].get<double>()});
+    reports.push_back({e[0].get<int>(), e[1].get<double>(), e[2].get<double>(), e[3].get<double>(), e[4].get<double>(),
+                       e[5].get<double>()});
   return reports;
 }
 
@@ -338,8 +337,7 @@ std::vector<EpochReport> Classifier::Train(const Dataset& train, const Dataset& 
   return Fit(train, validation, on_epoch, checkpoint, options_.learning_rate, true);
 }
 
-std::vector<EpochReport> Classifier::FineTune(const Dataset& train, const Dataset& validation,
-                                              double learning_rate,
+std::vector<EpochReport> Classifier::FineTune(const Dataset& train, const Dataset& validation, double learning_rate,
                                               const std::function<void(const EpochReport&)>& on_epoch) {
   if (net_->paths.empty()) throw InputError("classify: an mlp takes one window length, it cannot be fine-tuned");
   if (!(learning_rate > 0)) throw InputError("classify: fine-tuning needs a positive learning rate");
@@ -374,12 +372,18 @@ std::vector<EpochReport> Classifier::Fit(const Dataset& train, const Dataset& va
   torch::optim::Adam optimiser(net_->parameters(), torch::optim::AdamOptions(learning_rate));
 
   // What must match for a checkpoint to be continued (epochs may grow).
-  const nlohmann::json run = {{"variant", options_.variant}, {"batch_norm", options_.batch_norm},
-                              {"features", features_},       {"length", length_},
-                              {"classes", classes_},         {"train", train.size()},
-                              {"validation", validation.size()}, {"batch_size", options_.batch_size},
-                              {"seed", options_.seed},       {"input_noise", options_.input_noise},
-                              {"class_weights", options_.class_weights}, {"input_bins", options_.input_bins},
+  const nlohmann::json run = {{"variant", options_.variant},
+                              {"batch_norm", options_.batch_norm},
+                              {"features", features_},
+                              {"length", length_},
+                              {"classes", classes_},
+                              {"train", train.size()},
+                              {"validation", validation.size()},
+                              {"batch_size", options_.batch_size},
+                              {"seed", options_.seed},
+                              {"input_noise", options_.input_noise},
+                              {"class_weights", options_.class_weights},
+                              {"input_bins", options_.input_bins},
                               {"distillation", options_.distillation}};
   TrainingState state;
   state.learning_rate = learning_rate;
@@ -397,8 +401,8 @@ std::vector<EpochReport> Classifier::Fit(const Dataset& train, const Dataset& va
   const double alpha = options_.distillation;
   if (alpha > 0 && train.teacher.size() != train.size() * k)
     throw InputError("classify: distillation needs the teacher's probabilities for every training window");
-  const auto teacher_all = alpha > 0 ? torch::tensor(train.teacher).reshape({static_cast<int64_t>(train.size()), k})
-                                     : torch::Tensor();
+  const auto teacher_all =
+      alpha > 0 ? torch::tensor(train.teacher).reshape({static_cast<int64_t>(train.size()), k}) : torch::Tensor();
   // An interrupt (core/interrupt.h) stops at the epoch boundary: the checkpoint holds
   // every finished epoch, so a resumed run continues to the same result.
   for (int epoch = state.epoch + 1;

@@ -24,8 +24,8 @@ void CheckPoints(const Trajectory& t) {
 }  // namespace
 
 const std::vector<std::string>& FeatureNames() {
-  static const std::vector<std::string> names = {"x",     "y",         "dt",          "speed",   "course",
-                                                 "heading", "accel", "turn_rate", "dist_static", "dist_poi",
+  static const std::vector<std::string> names = {"x",        "y",        "dt",        "speed",       "course",
+                                                 "heading",  "accel",    "turn_rate", "dist_static", "dist_poi",
                                                  "region_x", "region_y", "category"};
   return names;
 }
@@ -173,7 +173,9 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
   // X' = (X − Xmin) / (Xmax − Xmin); a degenerate range maps to 0.
   auto scale = [](double v, double lo, double hi) { return hi > lo ? Clamp01((v - lo) / (hi - lo)) : 0.0; };
   // Log-scaled features: log(1 + v) / log(1 + cap), for values spread over decades.
-  auto log_scale = [](double v, double cap) { return cap > 0 ? Clamp01(std::log1p(std::max(0.0, v)) / std::log1p(cap)) : 0.0; };
+  auto log_scale = [](double v, double cap) {
+    return cap > 0 ? Clamp01(std::log1p(std::max(0.0, v)) / std::log1p(cap)) : 0.0;
+  };
   std::vector<double> dt(valid, 0), speed(valid, 0), course(valid, 0), accel(valid, 0), turn(valid, 0);
   for (int i = 1; i < valid; ++i) {
     const auto &a = w.points[i - 1], &c = w.points[i];
@@ -218,22 +220,33 @@ std::vector<float> Features(const Window& w, const PreprocessOptions& o, const M
         fill([&](int) { return 0.5 + 0.5 * std::cos(phase); });
       }
     };
-    if (name == "x") fill([&](int i) { return scale(pos[i].x, b.min_x, b.max_x); });
-    else if (name == "y") fill([&](int i) { return scale(pos[i].y, b.min_y, b.max_y); });
-    else if (name == "dt") fill([&](int i) { return log ? log_scale(dt[i], o.max_gap_s) : scale(dt[i], 0, o.max_gap_s); });
-    else if (name == "speed") fill([&](int i) { return scale(speed[i], 0, o.max_speed); });
-    else if (name == "course") fill([&](int i) { return scale(course[i], 0, 2 * M_PI); });
+    if (name == "x")
+      fill([&](int i) { return scale(pos[i].x, b.min_x, b.max_x); });
+    else if (name == "y")
+      fill([&](int i) { return scale(pos[i].y, b.min_y, b.max_y); });
+    else if (name == "dt")
+      fill([&](int i) { return log ? log_scale(dt[i], o.max_gap_s) : scale(dt[i], 0, o.max_gap_s); });
+    else if (name == "speed")
+      fill([&](int i) { return scale(speed[i], 0, o.max_speed); });
+    else if (name == "course")
+      fill([&](int i) { return scale(course[i], 0, 2 * M_PI); });
     else if (name == "heading") {
       fill([&](int i) { return 0.5 + 0.5 * std::sin(course[i]); });
       fill([&](int i) { return 0.5 + 0.5 * std::cos(course[i]); });
-    }
-    else if (name == "accel") fill([&](int i) { return scale(accel[i], -o.max_accel, o.max_accel); });
-    else if (name == "turn_rate") fill([&](int i) { return scale(turn[i], -o.max_turn_rate, o.max_turn_rate); });
-    else if (name == "dist_static") fill_map(map.distance_to_static, o.static_cap);
-    else if (name == "dist_poi") fill_map(map.distance_to_poi, o.poi_cap);
-    else if (name == "region_x") fill_region(0);
-    else if (name == "region_y") fill_region(1);
-    else if (name == "category") fill_category();
+    } else if (name == "accel")
+      fill([&](int i) { return scale(accel[i], -o.max_accel, o.max_accel); });
+    else if (name == "turn_rate")
+      fill([&](int i) { return scale(turn[i], -o.max_turn_rate, o.max_turn_rate); });
+    else if (name == "dist_static")
+      fill_map(map.distance_to_static, o.static_cap);
+    else if (name == "dist_poi")
+      fill_map(map.distance_to_poi, o.poi_cap);
+    else if (name == "region_x")
+      fill_region(0);
+    else if (name == "region_y")
+      fill_region(1);
+    else if (name == "category")
+      fill_category();
   }
   return out;
 }

@@ -90,13 +90,14 @@ std::string ShorterWindowsProblem(const PreparedDataset& windows, const Prepared
   const PreprocessOptions w = options(windows, "scored");
   PreprocessOptions s = options(shorter, "shorter");
   if (s.length >= w.length || w.length % s.length != 0)
-    return "its windows (" + std::to_string(s.length) + " points) must be shorter than " +
-           std::to_string(w.length) + " and divide them";
+    return "its windows (" + std::to_string(s.length) + " points) must be shorter than " + std::to_string(w.length) +
+           " and divide them";
   s.length = w.length;
   const std::vector<std::string> a = SplitLines(params::ToYaml(w)), b = SplitLines(params::ToYaml(s));
   for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
-    if (a[i] != b[i]) return "the datasets were prepared differently beyond the window length: \"" + a[i] +
-                             "\" against \"" + b[i] + "\"";
+    if (a[i] != b[i])
+      return "the datasets were prepared differently beyond the window length: \"" + a[i] + "\" against \"" + b[i] +
+             "\"";
   return a.size() == b.size() ? "" : "the datasets were prepared differently beyond the window length";
 }
 
@@ -105,8 +106,9 @@ TrajectoryClassifier TrajectoryClassifier::Load(const std::string& path, const s
   Classifier model = Classifier::Load(path, &extra);
   const std::string where = path + ".json";
   if (!extra.contains("preprocessing"))
-    throw InputError(where + ": the model carries no preprocessing (made before it was stored; re-run classify "
-                             "prepare and train)");
+    throw InputError(where +
+                     ": the model carries no preprocessing (made before it was stored; re-run classify "
+                     "prepare and train)");
   Preprocessing windows = ParsePreprocessing(extra, "preprocessing", where);
   std::optional<Preprocessing> inputs;
   if (extra.contains("input_preprocessing")) {

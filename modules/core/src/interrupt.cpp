@@ -1,8 +1,8 @@
 #include "specht/core/interrupt.h"
 
-#include <atomic>
 #include <signal.h>
 
+#include <atomic>
 #include <csignal>
 
 namespace specht {

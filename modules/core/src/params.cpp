@@ -37,9 +37,12 @@ std::string Range::ToString(bool integer) const {
   const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
   if (!has_min && !has_max) return "";
   std::string s;
-  if (has_min && has_max) s = "[" + FormatNumber(min, integer) + ", " + FormatNumber(max, integer) + "]";
-  else if (has_min) s = ">= " + FormatNumber(min, integer);
-  else s = "<= " + FormatNumber(max, integer);
+  if (has_min && has_max)
+    s = "[" + FormatNumber(min, integer) + ", " + FormatNumber(max, integer) + "]";
+  else if (has_min)
+    s = ">= " + FormatNumber(min, integer);
+  else
+    s = "<= " + FormatNumber(max, integer);
   if (log_scale) s += " log";
   if (!tunable) s += " fixed";
   return s;
@@ -106,8 +109,7 @@ bool Codec<std::string>::Decode(const YAML::Node& n, std::string& out, std::stri
   return false;
 }
 
-bool Codec<std::vector<double>>::Decode(const YAML::Node& n, std::vector<double>& out,
-                                        std::string* why) {
+bool Codec<std::vector<double>>::Decode(const YAML::Node& n, std::vector<double>& out, std::string* why) {
   if (!n.IsSequence()) {
     *why = "expected a list of reals, got " + Describe(n);
     return false;
@@ -231,9 +233,12 @@ void ParamTree::MergeFileImpl(const std::string& path, std::vector<std::string>&
   if (const YAML::Node inc = root["include"]) {
     const auto dir = std::filesystem::path(path).parent_path();
     std::vector<std::string> files;
-    if (inc.IsScalar()) files.push_back(inc.Scalar());
-    else if (inc.IsSequence()) for (const auto& f : inc) files.push_back(f.as<std::string>());
-    else throw InputError(Where(path, inc.Mark().line + 1) + "'include' must be a file name or a list");
+    if (inc.IsScalar())
+      files.push_back(inc.Scalar());
+    else if (inc.IsSequence())
+      for (const auto& f : inc) files.push_back(f.as<std::string>());
+    else
+      throw InputError(Where(path, inc.Mark().line + 1) + "'include' must be a file name or a list");
     for (const std::string& f : files) MergeFileImpl((dir / f).lexically_normal().string(), stack);
   }
   stack.pop_back();
@@ -296,8 +301,7 @@ std::string Reader::Located(const Leaf* leaf) {
   return leaf != nullptr ? Where(leaf->file, leaf->line) : std::string("(built-in default): ");
 }
 
-void Reader::Choice(const char* key, std::string& field, const std::vector<std::string>& choices,
-                    const char* doc) {
+void Reader::Choice(const char* key, std::string& field, const std::vector<std::string>& choices, const char* doc) {
   const std::string full = JoinKey(prefix_, key);
   Leaf* leaf = tree_.Find(full);
   if (leaf != nullptr) {
@@ -322,15 +326,13 @@ void Writer::Emit(const char* key, const YAML::Node& value, const char* doc, con
   if (with_docs_) out_ << YAML::Comment(bounds.empty() ? std::string(doc) : std::string(doc) + " — " + bounds);
 }
 
-void Writer::Choice(const char* key, std::string& field, const std::vector<std::string>& choices,
-                    const char* doc) {
+void Writer::Choice(const char* key, std::string& field, const std::vector<std::string>& choices, const char* doc) {
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "one of " : "|") + c;
   Emit(key, YAML::Node(field), doc, list);
 }
 
-void Describer::Choice(const char* key, std::string& field, const std::vector<std::string>& choices,
-                       const char* doc) {
+void Describer::Choice(const char* key, std::string& field, const std::vector<std::string>& choices, const char* doc) {
   out_.push_back(ParamInfo{JoinKey(prefix_, key), "choice", doc, std::nullopt, choices, YAML::Node(field)});
 }
 

@@ -1,8 +1,8 @@
 #include "specht/core/pose_graph.h"
 
-#include <cmath>
-
 #include <mrpt/math/wrap2pi.h>
+
+#include <cmath>
 
 namespace specht {
 

@@ -1,12 +1,11 @@
 #include "specht/core/progress.h"
 
 #include <sys/resource.h>
-
 #include <unistd.h>
 
 #include <cmath>
-#include <sstream>
 #include <iomanip>
+#include <sstream>
 
 namespace specht {
 namespace {
@@ -15,9 +14,12 @@ std::string FormatDuration(double s) {
   if (!std::isfinite(s) || s < 0) return "?";
   const int total = static_cast<int>(std::lround(s));
   std::ostringstream out;
-  if (total >= 3600) out << total / 3600 << "h" << std::setw(2) << std::setfill('0') << (total % 3600) / 60 << "m";
-  else if (total >= 60) out << total / 60 << "m" << std::setw(2) << std::setfill('0') << total % 60 << "s";
-  else out << total << "s";
+  if (total >= 3600)
+    out << total / 3600 << "h" << std::setw(2) << std::setfill('0') << (total % 3600) / 60 << "m";
+  else if (total >= 60)
+    out << total / 60 << "m" << std::setw(2) << std::setfill('0') << total % 60 << "s";
+  else
+    out << total << "s";
   return out.str();
 }
 
@@ -40,12 +42,10 @@ ProgressLine::~ProgressLine() {
   if (enabled_ && tty_ && !finished_ && done_ > 0) std::fputs("\n", stderr);
 }
 
-double ProgressLine::ElapsedSeconds() const {
-  return std::chrono::duration<double>(Clock::now() - start_).count();
-}
+double ProgressLine::ElapsedSeconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
-std::string ProgressLine::Format(const std::string& label, double done, double fraction,
-                                 const std::string& unit, double elapsed_s, const std::string& note) {
+std::string ProgressLine::Format(const std::string& label, double done, double fraction, const std::string& unit,
+                                 double elapsed_s, const std::string& note) {
   std::ostringstream out;
   out << label << ": ";
   if (fraction >= 0) out << std::fixed << std::setprecision(1) << 100.0 * fraction << "% ";
@@ -65,8 +65,10 @@ void ProgressLine::Update(double done, double fraction, const std::string& note)
   if (since < (tty_ ? 0.2 : log_interval_s_)) return;
   last_print_ = now;
   const std::string line = Format(label_, done, fraction, unit_, ElapsedSeconds(), note);
-  if (tty_) std::fprintf(stderr, "\r\033[K%s", line.c_str());
-  else std::fprintf(stderr, "%s\n", line.c_str());
+  if (tty_)
+    std::fprintf(stderr, "\r\033[K%s", line.c_str());
+  else
+    std::fprintf(stderr, "%s\n", line.c_str());
   std::fflush(stderr);
 }
 
@@ -76,12 +78,13 @@ void ProgressLine::Finish(const std::string& summary) {
   if (!enabled_) return;
   const double elapsed = ElapsedSeconds();
   std::ostringstream out;
-  out << label_ << ": " << static_cast<long long>(done_) << " " << unit_ << " in " << std::fixed
-      << std::setprecision(2) << elapsed << " s (" << std::setprecision(1)
-      << (elapsed > 0 ? done_ / elapsed : 0.0) << " " << unit_ << "/s)";
+  out << label_ << ": " << static_cast<long long>(done_) << " " << unit_ << " in " << std::fixed << std::setprecision(2)
+      << elapsed << " s (" << std::setprecision(1) << (elapsed > 0 ? done_ / elapsed : 0.0) << " " << unit_ << "/s)";
   if (!summary.empty()) out << " " << summary;
-  if (tty_) std::fprintf(stderr, "\r\033[K%s\n", out.str().c_str());
-  else std::fprintf(stderr, "%s\n", out.str().c_str());
+  if (tty_)
+    std::fprintf(stderr, "\r\033[K%s\n", out.str().c_str());
+  else
+    std::fprintf(stderr, "%s\n", out.str().c_str());
   std::fflush(stderr);
 }
 

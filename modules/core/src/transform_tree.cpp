@@ -9,8 +9,8 @@
 namespace specht {
 
 mrpt::poses::CPose3D StaticTransform::Pose() const {
-  return mrpt::poses::CPose3D(xyz_m[0], xyz_m[1], xyz_m[2], mrpt::DEG2RAD(rpy_deg[2]),
-                              mrpt::DEG2RAD(rpy_deg[1]), mrpt::DEG2RAD(rpy_deg[0]));
+  return mrpt::poses::CPose3D(xyz_m[0], xyz_m[1], xyz_m[2], mrpt::DEG2RAD(rpy_deg[2]), mrpt::DEG2RAD(rpy_deg[1]),
+                              mrpt::DEG2RAD(rpy_deg[0]));
 }
 
 std::vector<std::string> FramesOptions::Relations() const {
@@ -47,8 +47,7 @@ void TransformTree::CheckParent(const std::string& parent, const std::string& ch
   }
 }
 
-void TransformTree::SetStatic(const std::string& parent, const std::string& child,
-                              const mrpt::poses::CPose3D& pose) {
+void TransformTree::SetStatic(const std::string& parent, const std::string& child, const mrpt::poses::CPose3D& pose) {
   CheckParent(parent, child);
   Edge& e = edges_[child];
   e.parent = parent;
@@ -78,8 +77,8 @@ mrpt::poses::CPose3D TransformTree::RootFrom(const std::string& frame, Stamp sta
       bool valid = false;
       e.history.interpolate(ToMrpt(stamp), p, valid);
       if (!valid) {
-        throw RuntimeError("transform tree: no transform '" + e.parent + "' -> '" + f + "' at t=" +
-                           std::to_string(stamp.Seconds()));
+        throw RuntimeError("transform tree: no transform '" + e.parent + "' -> '" + f +
+                           "' at t=" + std::to_string(stamp.Seconds()));
       }
       parent_from_child = mrpt::poses::CPose3D(p);
     }
@@ -90,8 +89,7 @@ mrpt::poses::CPose3D TransformTree::RootFrom(const std::string& frame, Stamp sta
   return root_from_frame;
 }
 
-mrpt::poses::CPose3D TransformTree::Lookup(const std::string& target, const std::string& source,
-                                           Stamp stamp) const {
+mrpt::poses::CPose3D TransformTree::Lookup(const std::string& target, const std::string& source, Stamp stamp) const {
   for (const auto* f : {&target, &source}) {
     if (!Has(*f)) throw RuntimeError("transform tree: unknown frame '" + *f + "'");
   }
@@ -160,10 +158,14 @@ bool Codec<std::vector<StaticTransform>>::Decode(const YAML::Node& n, std::vecto
       const std::string k = kv.first.Scalar();
       std::string inner;
       bool ok = true;
-      if (k == "parent") ok = Codec<std::string>::Decode(kv.second, t.parent, &inner);
-      else if (k == "child") ok = Codec<std::string>::Decode(kv.second, t.child, &inner);
-      else if (k == "xyz_m") ok = Codec<std::vector<double>>::Decode(kv.second, t.xyz_m, &inner);
-      else if (k == "rpy_deg") ok = Codec<std::vector<double>>::Decode(kv.second, t.rpy_deg, &inner);
+      if (k == "parent")
+        ok = Codec<std::string>::Decode(kv.second, t.parent, &inner);
+      else if (k == "child")
+        ok = Codec<std::string>::Decode(kv.second, t.child, &inner);
+      else if (k == "xyz_m")
+        ok = Codec<std::vector<double>>::Decode(kv.second, t.xyz_m, &inner);
+      else if (k == "rpy_deg")
+        ok = Codec<std::vector<double>>::Decode(kv.second, t.rpy_deg, &inner);
       else {
         *why = at + "unknown field '" + k + "' (parent, child, xyz_m, rpy_deg)";
         return false;

@@ -1,9 +1,9 @@
 #include "specht/decide/mission.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <yaml-cpp/yaml.h>
 
 #include "specht/core/error.h"
 

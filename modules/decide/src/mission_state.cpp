@@ -35,30 +35,48 @@ constexpr std::array<Row, 12> kTable = {{
 
 const char* Name(MissionState s) {
   switch (s) {
-    case S::kPlan: return "plan";
-    case S::kDrive: return "drive";
-    case S::kWait: return "wait";
-    case S::kEmergencyStop: return "emergency_stop";
-    case S::kDone: return "done";
-    case S::kFailed: return "failed";
+    case S::kPlan:
+      return "plan";
+    case S::kDrive:
+      return "drive";
+    case S::kWait:
+      return "wait";
+    case S::kEmergencyStop:
+      return "emergency_stop";
+    case S::kDone:
+      return "done";
+    case S::kFailed:
+      return "failed";
   }
   return "?";
 }
 
 const char* Name(MissionEvent e) {
   switch (e) {
-    case E::kPathFound: return "path_found";
-    case E::kNoPath: return "no_path";
-    case E::kAgentInWay: return "agent_in_way";
-    case E::kWayClear: return "way_clear";
-    case E::kGoalReached: return "goal_reached";
-    case E::kGoalMissed: return "goal_missed";
-    case E::kGoalMissedFinal: return "goal_missed_final";
-    case E::kMissionComplete: return "mission_complete";
-    case E::kCollisionImminent: return "collision_imminent";
-    case E::kCollisionCleared: return "collision_cleared";
-    case E::kTimeLimit: return "time_limit";
-    case E::kMapChanged: return "map_changed";
+    case E::kPathFound:
+      return "path_found";
+    case E::kNoPath:
+      return "no_path";
+    case E::kAgentInWay:
+      return "agent_in_way";
+    case E::kWayClear:
+      return "way_clear";
+    case E::kGoalReached:
+      return "goal_reached";
+    case E::kGoalMissed:
+      return "goal_missed";
+    case E::kGoalMissedFinal:
+      return "goal_missed_final";
+    case E::kMissionComplete:
+      return "mission_complete";
+    case E::kCollisionImminent:
+      return "collision_imminent";
+    case E::kCollisionCleared:
+      return "collision_cleared";
+    case E::kTimeLimit:
+      return "time_limit";
+    case E::kMapChanged:
+      return "map_changed";
   }
   return "?";
 }

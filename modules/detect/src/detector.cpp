@@ -4,10 +4,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <set>
-
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "specht/core/error.h"
 
@@ -47,11 +46,13 @@ std::vector<std::pair<std::string, double>> ParseThresholds(const std::vector<st
 std::vector<std::string> DetectorOptions::Relations() const {
   std::vector<std::string> problems;
   for (const auto& [label, cls] : params::SplitAssignments(class_map, "class_map", &problems))
-    if (!IsDrivingClass(cls)) problems.push_back("class_map: '" + cls + "' (for '" + label + "') is not a driving class");
+    if (!IsDrivingClass(cls))
+      problems.push_back("class_map: '" + cls + "' (for '" + label + "') is not a driving class");
   for (const auto& [cls, value] : params::SplitAssignments(class_thresholds, "class_thresholds", nullptr))
     if (!IsDrivingClass(cls)) problems.push_back("class_thresholds: '" + cls + "' is not a driving class");
   ParseThresholds(class_thresholds, &problems);
-  if (input_width % 32 != 0 || input_height % 32 != 0) problems.push_back("input_width and input_height: multiples of 32");
+  if (input_width % 32 != 0 || input_height % 32 != 0)
+    problems.push_back("input_width and input_height: multiples of 32");
   if (format == "darknet" && config.empty()) problems.push_back("config: a darknet model needs its .cfg");
   return problems;
 }
@@ -114,7 +115,8 @@ Detector::Detector(const DetectorOptions& options, const std::string& data_dir)
     throw InputError(model + ": cannot load as " + options.format + " model: " + e.err);
   }
   if (net_->net.empty()) throw InputError(model + ": cannot load as " + options.format + " model");
-  net_->net.setPreferableBackend(options.backend == "opencv" ? cv::dnn::DNN_BACKEND_OPENCV : cv::dnn::DNN_BACKEND_DEFAULT);
+  net_->net.setPreferableBackend(options.backend == "opencv" ? cv::dnn::DNN_BACKEND_OPENCV
+                                                             : cv::dnn::DNN_BACKEND_DEFAULT);
   net_->net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   net_->outputs = net_->net.getUnconnectedOutLayersNames();
 }
@@ -134,19 +136,21 @@ std::vector<Detection> Detector::Detect(const cv::Mat& image) {
   cv::Mat resized;
   if (options_.letterbox) {
     scale_x = scale_y = std::min(scale_x, scale_y);
-    const cv::Size inner(static_cast<int>(std::lround(bgr.cols * scale_x)), static_cast<int>(std::lround(bgr.rows * scale_y)));
+    const cv::Size inner(static_cast<int>(std::lround(bgr.cols * scale_x)),
+                         static_cast<int>(std::lround(bgr.rows * scale_y)));
     pad_x = (input.width - inner.width) / 2.0;
     pad_y = (input.height - inner.height) / 2.0;
     cv::Mat inner_image;
     cv::resize(bgr, inner_image, inner, 0, 0, cv::INTER_LINEAR);
-    cv::copyMakeBorder(inner_image, resized, static_cast<int>(pad_y), input.height - inner.height - static_cast<int>(pad_y),
-                       static_cast<int>(pad_x), input.width - inner.width - static_cast<int>(pad_x), cv::BORDER_CONSTANT,
-                       cv::Scalar::all(114));
+    cv::copyMakeBorder(inner_image, resized, static_cast<int>(pad_y),
+                       input.height - inner.height - static_cast<int>(pad_y), static_cast<int>(pad_x),
+                       input.width - inner.width - static_cast<int>(pad_x), cv::BORDER_CONSTANT, cv::Scalar::all(114));
   } else {
     cv::resize(bgr, resized, input, 0, 0, cv::INTER_LINEAR);
   }
   // Darknet models were trained on RGB, FastestDet on BGR.
-  const cv::Mat blob = cv::dnn::blobFromImage(resized, 1 / 255.0, input, cv::Scalar(), options_.format == "darknet", false);
+  const cv::Mat blob =
+      cv::dnn::blobFromImage(resized, 1 / 255.0, input, cv::Scalar(), options_.format == "darknet", false);
   net_->net.setInput(blob);
   std::vector<cv::Mat> outputs;
   try {
@@ -159,12 +163,13 @@ std::vector<Detection> Detector::Detect(const cv::Mat& image) {
   const int classes = static_cast<int>(labels_.size());
   std::vector<Candidate> candidates;
   auto mismatch = [&](const std::string& got) {
-    return InputError(net_->model_path + ": output " + got + " does not fit the " + options_.format +
-                      " decoder with " + std::to_string(classes) + " labels");
+    return InputError(net_->model_path + ": output " + got + " does not fit the " + options_.format + " decoder with " +
+                      std::to_string(classes) + " labels");
   };
   if (options_.format == "darknet") {
     for (const cv::Mat& out : outputs) {
-      if (out.dims != 2 || out.cols != 5 + classes) throw mismatch(std::to_string(out.dims) + "-d, " + std::to_string(out.cols) + " columns");
+      if (out.dims != 2 || out.cols != 5 + classes)
+        throw mismatch(std::to_string(out.dims) + "-d, " + std::to_string(out.cols) + " columns");
       for (int r = 0; r < out.rows; ++r) {
         const float* row = out.ptr<float>(r);
         const float* best = std::max_element(row + 5, row + 5 + classes);
@@ -193,8 +198,10 @@ std::vector<Detection> Detector::Detect(const cv::Mat& image) {
     if (mapped == class_map_.end()) continue;
     const auto t = class_thresholds_.find(mapped->second);
     if (c.score < (t != class_thresholds_.end() ? t->second : options_.score_threshold)) continue;
-    const double x0 = ((c.cx - c.w / 2) * input.width - pad_x) / scale_x, y0 = ((c.cy - c.h / 2) * input.height - pad_y) / scale_y;
-    const double x1 = ((c.cx + c.w / 2) * input.width - pad_x) / scale_x, y1 = ((c.cy + c.h / 2) * input.height - pad_y) / scale_y;
+    const double x0 = ((c.cx - c.w / 2) * input.width - pad_x) / scale_x,
+                 y0 = ((c.cy - c.h / 2) * input.height - pad_y) / scale_y;
+    const double x1 = ((c.cx + c.w / 2) * input.width - pad_x) / scale_x,
+                 y1 = ((c.cy + c.h / 2) * input.height - pad_y) / scale_y;
     cv::Rect2d box(cv::Point2d(std::max(0.0, x0), std::max(0.0, y0)),
                    cv::Point2d(std::min<double>(bgr.cols, x1), std::min<double>(bgr.rows, y1)));
     if (box.area() <= 0) continue;

@@ -17,7 +17,8 @@ DetectionScorer::DetectionScorer(double iou_threshold, std::vector<double> band_
 std::string DetectionScorer::Band(double range_m) const {
   double lower = 0;
   for (double edge : band_edges_m_) {
-    if (range_m < edge) return std::to_string(static_cast<int>(lower)) + "-" + std::to_string(static_cast<int>(edge)) + " m";
+    if (range_m < edge)
+      return std::to_string(static_cast<int>(lower)) + "-" + std::to_string(static_cast<int>(edge)) + " m";
     lower = edge;
   }
   return std::to_string(static_cast<int>(lower)) + "+ m";
@@ -51,9 +52,8 @@ std::vector<int> DetectionScorer::AddFrame(const std::vector<TruthBox>& truth,
       ++per_class_[d.cls].found, ++all_.found, ++per_band_[Band(truth[best].range_m)].found;
       continue;
     }
-    const bool on_dont_care = std::any_of(truth.begin(), truth.end(), [&](const TruthBox& t) {
-      return !t.care && IoU(d.box, t.box) >= iou_threshold_;
-    });
+    const bool on_dont_care = std::any_of(
+        truth.begin(), truth.end(), [&](const TruthBox& t) { return !t.care && IoU(d.box, t.box) >= iou_threshold_; });
     if (!on_dont_care) ++per_class_[d.cls].false_positives, ++all_.false_positives;
   }
   return found;

@@ -54,7 +54,7 @@ DisparityErrors CompareDisparity(const cv::Mat& estimate, const cv::Mat& truth, 
 cv::Mat DisparityErrorImage(const cv::Mat& estimate, const cv::Mat& truth) {
   // KITTI's error colour scale: error / 3 px steps from blue to red.
   static const double kBounds[] = {0.1875, 0.375, 0.75, 1.5, 3, 6, 12, 24, 48, 1e9};
-  static const cv::Vec3b kColours[] = {{149, 54, 49},  {180, 117, 69}, {209, 173, 116}, {233, 217, 171},
+  static const cv::Vec3b kColours[] = {{149, 54, 49},   {180, 117, 69},  {209, 173, 116}, {233, 217, 171},
                                        {248, 243, 224}, {144, 224, 254}, {97, 174, 253},  {67, 109, 244},
                                        {39, 48, 215},   {38, 0, 165}};
   cv::Mat picture(truth.size(), CV_8UC3, cv::Scalar::all(0));
@@ -76,9 +76,9 @@ cv::Mat DisparityErrorImage(const cv::Mat& estimate, const cv::Mat& truth) {
 }
 
 nlohmann::json ToJson(const DisparityErrors& e) {
-  return {{"d1_all", e.d1_all},   {"bad2_all", e.bad2_all},     {"d1_est", e.d1_est},
+  return {{"d1_all", e.d1_all},     {"bad2_all", e.bad2_all},   {"d1_est", e.d1_est},
           {"bad2_est", e.bad2_est}, {"epe_est_px", e.epe_est},  {"density_gt", e.density_gt},
-          {"density", e.density}, {"gt_pixels", e.gt_pixels}, {"est_pixels", e.est_pixels}};
+          {"density", e.density},   {"gt_pixels", e.gt_pixels}, {"est_pixels", e.est_pixels}};
 }
 
 }  // namespace specht::eval

@@ -1,9 +1,9 @@
 #include "specht/eval/map_quality.h"
 
+#include <mrpt/maps/CSimplePointsMap.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <mrpt/maps/CSimplePointsMap.h>
 #include <opencv2/imgproc.hpp>
 
 #include "specht/eval/trajectory_error.h"

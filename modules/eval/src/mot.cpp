@@ -21,15 +21,17 @@ FrameMap ByFrame(const std::vector<io::ObjectSample>& samples, bool ignored) {
   return frames;
 }
 
-double Distance(const io::ObjectSample& a, const io::ObjectSample& b) { return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m); }
+double Distance(const io::ObjectSample& a, const io::ObjectSample& b) {
+  return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m);
+}
 
 }  // namespace
 
 namespace {
 void UpdateRates(MotResult& r) {
-  r.mota = r.truth_objects ? 1.0 - static_cast<double>(r.false_negatives + r.false_positives + r.id_switches) /
-                                       r.truth_objects
-                           : 0.0;
+  r.mota = r.truth_objects
+               ? 1.0 - static_cast<double>(r.false_negatives + r.false_positives + r.id_switches) / r.truth_objects
+               : 0.0;
   r.motp_m = r.matches ? r.distance_sum_m / r.matches : 0.0;
   r.id_switches_per_100s = r.track_seconds > 0 ? 100.0 * r.id_switches / r.track_seconds : 0.0;
 }
@@ -73,8 +75,8 @@ MotResult EvaluateMot(const std::vector<io::ObjectSample>& truth, const std::vec
   for (const auto& [k, v] : hyp_frames) keys.insert(k);
 
   MotResult r;
-  std::map<std::string, std::string> last_match;        // truth id → hypothesis id at its last match
-  std::map<std::string, bool> tracked_last_frame;        // truth id → matched in its previous frame
+  std::map<std::string, std::string> last_match;          // truth id → hypothesis id at its last match
+  std::map<std::string, bool> tracked_last_frame;         // truth id → matched in its previous frame
   std::map<std::string, std::pair<long, long>> coverage;  // truth id → (frames, matched frames)
   std::map<std::string, std::map<std::string, long>> votes;
   std::set<std::string> hyp_ids;

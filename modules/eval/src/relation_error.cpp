@@ -1,12 +1,12 @@
 #include "specht/eval/relation_error.h"
 
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <queue>
-
-#include <mrpt/math/wrap2pi.h>
-#include <mrpt/poses/CPose2D.h>
 
 #include "specht/core/error.h"
 #include "specht/eval/trajectory_error.h"
@@ -143,7 +143,7 @@ PublishedRelationError ComputePublishedRelationError(const Trajectory& estimate,
 }
 
 nlohmann::json ToJson(const RelationStats& s) {
-  return {{"count", s.count}, {"mean_m", s.mean_m}, {"std_m", s.std_m}, {"max_m", s.max_m},
+  return {{"count", s.count},       {"mean_m", s.mean_m},   {"std_m", s.std_m},    {"max_m", s.max_m},
           {"mean_deg", s.mean_deg}, {"std_deg", s.std_deg}, {"max_deg", s.max_deg}};
 }
 
@@ -162,7 +162,11 @@ namespace {
 nlohmann::json ToJson(const std::vector<Relation>& relations, bool with_kind) {
   nlohmann::json out = nlohmann::json::array();
   for (const Relation& r : relations) {
-    out.push_back({{"i", r.i}, {"j", r.j}, {"t_i", r.stamp_i.Seconds()}, {"t_j", r.stamp_j.Seconds()}, {"m", r.m},
+    out.push_back({{"i", r.i},
+                   {"j", r.j},
+                   {"t_i", r.stamp_i.Seconds()},
+                   {"t_j", r.stamp_j.Seconds()},
+                   {"m", r.m},
                    {"deg", r.deg}});
     if (with_kind) out.back()["kind"] = r.loop ? "loop" : "consecutive";
   }
@@ -172,16 +176,21 @@ nlohmann::json ToJson(const std::vector<Relation>& relations, bool with_kind) {
 }  // namespace
 
 nlohmann::json ToJson(const RelationError& e) {
-  return {{"consecutive", ToJson(e.consecutive)}, {"loop", ToJson(e.loop)}, {"all", ToJson(e.all)},
-          {"paired_poses", e.paired_poses}, {"worst", ToJson(e.worst, true)}};
+  return {{"consecutive", ToJson(e.consecutive)},
+          {"loop", ToJson(e.loop)},
+          {"all", ToJson(e.all)},
+          {"paired_poses", e.paired_poses},
+          {"worst", ToJson(e.worst, true)}};
 }
 
 nlohmann::json ToJson(const PublishedRelationError& e) {
   const RelationStats& q = e.squared;
-  const nlohmann::json squared = {{"count", q.count},       {"mean_m2", q.mean_m},     {"std_m2", q.std_m},
-                                  {"max_m2", q.max_m},      {"mean_deg2", q.mean_deg}, {"std_deg2", q.std_deg},
+  const nlohmann::json squared = {{"count", q.count},     {"mean_m2", q.mean_m},     {"std_m2", q.std_m},
+                                  {"max_m2", q.max_m},    {"mean_deg2", q.mean_deg}, {"std_deg2", q.std_deg},
                                   {"max_deg2", q.max_deg}};
-  return {{"relations", e.relations}, {"absolute", ToJson(e.absolute)}, {"squared", squared},
+  return {{"relations", e.relations},
+          {"absolute", ToJson(e.absolute)},
+          {"squared", squared},
           {"worst", ToJson(e.worst, false)}};
 }
 

@@ -1,11 +1,11 @@
 #include "specht/eval/trajectory_error.h"
 
+#include <mrpt/core/bits_math.h>
+#include <mrpt/math/wrap2pi.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-
-#include <mrpt/core/bits_math.h>
-#include <mrpt/math/wrap2pi.h>
 
 #include "specht/core/error.h"
 
@@ -85,8 +85,8 @@ AteResult AbsoluteTrajectoryError2D(const Trajectory& estimate, const Trajectory
 }
 
 nlohmann::json ToJson(const AteResult& a) {
-  return {{"pairs", a.pairs},     {"rmse_m", a.rmse_m},     {"mean_m", a.mean_m},
-          {"max_m", a.max_m},     {"rmse_deg", a.rmse_deg}, {"final_m", a.final_error_m}};
+  return {{"pairs", a.pairs}, {"rmse_m", a.rmse_m},     {"mean_m", a.mean_m},
+          {"max_m", a.max_m}, {"rmse_deg", a.rmse_deg}, {"final_m", a.final_error_m}};
 }
 
 Trajectory Transform(const Trajectory& t, const mrpt::poses::CPose2D& alignment) {

@@ -1,6 +1,7 @@
 #include "specht/io/carmen.h"
 
-#include "specht/io/line_reader.h"
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +13,7 @@
 #include <sstream>
 #include <utility>
 
-#include <mrpt/obs/CObservation2DRangeScan.h>
-#include <mrpt/obs/CObservationOdometry.h>
+#include "specht/io/line_reader.h"
 
 namespace specht::io {
 namespace {
@@ -30,8 +30,8 @@ struct LaserMessage {
   double start_angle = -M_PI / 2;
   double increment = 0;
   double max_range = 0;
-  CPose2D pose;          // the laser's pose in a FLASER line, the robot's in ROBOTLASER1 (corrected logs: the reference)
-  CPose2D odometry;      // the robot's odometry at this scan (FLASER odom_*, ROBOTLASER1 robot_*)
+  CPose2D pose;      // the laser's pose in a FLASER line, the robot's in ROBOTLASER1 (corrected logs: the reference)
+  CPose2D odometry;  // the robot's odometry at this scan (FLASER odom_*, ROBOTLASER1 robot_*)
   CPose2D laser_offset;  // laser on the robot (ROBOTLASER1), else from PARAM
   bool has_offset = false;
   double stamp = 0;
@@ -130,8 +130,10 @@ LaserMessage ParseRobotLaser(const Fields& f) {
     throw Fields::Bad("ROBOTLASER1 with " + std::to_string(n) + " beams needs at least " + std::to_string(p + 12) +
                       " fields, got " + std::to_string(f.size()));
   }
-  const CPose2D laser(f.Number(p, "laser_pose_x"), f.Number(p + 1, "laser_pose_y"), f.Number(p + 2, "laser_pose_theta"));
-  m.pose = CPose2D(f.Number(p + 3, "robot_pose_x"), f.Number(p + 4, "robot_pose_y"), f.Number(p + 5, "robot_pose_theta"));
+  const CPose2D laser(f.Number(p, "laser_pose_x"), f.Number(p + 1, "laser_pose_y"),
+                      f.Number(p + 2, "laser_pose_theta"));
+  m.pose =
+      CPose2D(f.Number(p + 3, "robot_pose_x"), f.Number(p + 4, "robot_pose_y"), f.Number(p + 5, "robot_pose_theta"));
   m.odometry = m.pose;
   m.laser_offset = laser - m.pose;
   m.has_offset = true;
@@ -374,8 +376,9 @@ bool IsCorrectedCarmenLog(const std::string& path) {
 Trajectory ReadCarmenReference(const std::string& path) {
   CarmenReader reader(path, OnBadRecord::kSkip);
   if (!reader.corrected()) {
-    throw InputError(path + ": a raw CARMEN log (no NEFF lines), not a corrected one: its laser poses are the "
-                            "robot's odometry, not a reference (score it with --relations, or give --reference)");
+    throw InputError(path +
+                     ": a raw CARMEN log (no NEFF lines), not a corrected one: its laser poses are the "
+                     "robot's odometry, not a reference (score it with --relations, or give --reference)");
   }
   Trajectory t;
   while (auto e = reader.Next()) {

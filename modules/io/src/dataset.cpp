@@ -16,9 +16,7 @@ std::string Located(const std::string& file, int64_t record, int64_t byte_offset
 }  // namespace
 
 DatasetError::DatasetError(const std::string& file, int64_t record, int64_t byte_offset, const std::string& why)
-    : InputError(Located(file, record, byte_offset) + why),
-      record_(record),
-      byte_offset_(byte_offset) {}
+    : InputError(Located(file, record, byte_offset) + why), record_(record), byte_offset_(byte_offset) {}
 
 std::unique_ptr<DatasetSource> OpenDataset(const std::string& path, OnBadRecord on_bad) {
   std::error_code ec;

@@ -1,10 +1,9 @@
 #include "specht/io/g2o.h"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <fstream>
 #include <sstream>
-
-#include <Eigen/Cholesky>
 
 #include "specht/io/atomic_file.h"
 
@@ -89,8 +88,9 @@ G2oReadResult ReadG2o(const std::string& path, OnBadRecord on_bad) {
     for (int id = 1; id <= max_id; ++id) {
       auto it = odometry.find(id - 1);
       if (it == odometry.end()) {
-        throw DatasetError(path, 0, -1, "edges-only graph has no odometry edge " + std::to_string(id - 1) + " -> " +
-                                            std::to_string(id) + " to build its initial guess from");
+        throw DatasetError(path, 0, -1,
+                           "edges-only graph has no odometry edge " + std::to_string(id - 1) + " -> " +
+                               std::to_string(id) + " to build its initial guess from");
       }
       r.graph.nodes[id] = r.graph.nodes[id - 1] + it->second->measurement;
     }
@@ -109,12 +109,13 @@ G2oReadResult ReadG2o(const std::string& path, OnBadRecord on_bad) {
 void WriteG2o(const PoseGraph2D& graph, const std::string& path) {
   std::ostringstream out;
   out.precision(10);
-  for (const auto& [id, p] : graph.nodes) out << "VERTEX_SE2 " << id << " " << p.x() << " " << p.y() << " " << p.phi() << "\n";
+  for (const auto& [id, p] : graph.nodes)
+    out << "VERTEX_SE2 " << id << " " << p.x() << " " << p.y() << " " << p.phi() << "\n";
   for (const auto& e : graph.edges) {
     const auto& I = e.information;
     out << "EDGE_SE2 " << e.from << " " << e.to << " " << e.measurement.x() << " " << e.measurement.y() << " "
-        << e.measurement.phi() << " " << I(0, 0) << " " << I(0, 1) << " " << I(0, 2) << " " << I(1, 1) << " "
-        << I(1, 2) << " " << I(2, 2) << "\n";
+        << e.measurement.phi() << " " << I(0, 0) << " " << I(0, 1) << " " << I(0, 2) << " " << I(1, 1) << " " << I(1, 2)
+        << " " << I(2, 2) << "\n";
   }
   WriteTextAtomically(path, out.str());
 }

@@ -110,9 +110,9 @@ bool LineReader::ReadRaw(std::string& line) {
     int error = Z_OK;
     const char* message = gzerror(Gz(file_), &error);
     if (error != Z_OK)
-      throw DatasetError(path_, number_ + 1, -1,
-                         std::string("compressed data ends or breaks here (") + message +
-                             "): truncated or corrupt gzip file");
+      throw DatasetError(
+          path_, number_ + 1, -1,
+          std::string("compressed data ends or breaks here (") + message + "): truncated or corrupt gzip file");
     return !line.empty();
   }
   for (;;) {

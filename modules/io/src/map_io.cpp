@@ -1,16 +1,16 @@
 #include "specht/io/map_io.h"
 
-#include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <yaml-cpp/yaml.h>
+#include <sstream>
 
 #include "specht/core/error.h"
 #include "specht/core/text.h"
@@ -27,9 +27,7 @@ namespace {
 constexpr int kMaxPictureSidePx = 4096;
 
 // MRPT cells hold the probability of being free; ROS and people think in occupancy.
-double Occupancy(const COccupancyGridMap2D& grid, unsigned cx, unsigned cy) {
-  return 1.0 - grid.getCell(cx, cy);
-}
+double Occupancy(const COccupancyGridMap2D& grid, unsigned cx, unsigned cy) { return 1.0 - grid.getCell(cx, cy); }
 
 }  // namespace
 

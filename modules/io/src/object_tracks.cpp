@@ -90,8 +90,8 @@ void WriteObjectTracks(const std::vector<ObjectSample>& samples, const std::stri
     with_truth |= !s.truth_cls.empty(), with_ignore |= s.ignore;
     for (const auto& [cls, p] : s.class_probabilities) classes.insert(cls);
   }
-  std::string text = std::string("id,t_s,x_m,y_m,class") + (with_truth ? ",truth_class" : "") +
-                     (with_ignore ? ",ignore" : "");
+  std::string text =
+      std::string("id,t_s,x_m,y_m,class") + (with_truth ? ",truth_class" : "") + (with_ignore ? ",ignore" : "");
   for (const auto& c : classes) text += ",p_" + c;
   text += "\n";
   char row[160];

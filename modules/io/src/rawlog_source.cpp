@@ -1,11 +1,6 @@
 // Reads MRPT rawlogs object by object, so that a corrupt or truncated file is
 // reported at the record where it breaks (MRPT's own CRawlog helpers treat any
 // error as the end of the file, which would silently cut a replay short).
-#include <algorithm>
-#include <deque>
-#include <filesystem>
-#include <fstream>
-
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -14,6 +9,11 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
+
+#include <algorithm>
+#include <deque>
+#include <filesystem>
+#include <fstream>
 
 #include "specht/io/dataset.h"
 

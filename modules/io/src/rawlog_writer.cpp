@@ -1,14 +1,13 @@
 #include "specht/io/rawlog_writer.h"
 
-#include <unistd.h>
-
-#include <filesystem>
-
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 #include "specht/core/error.h"
 

@@ -5,8 +5,8 @@
 namespace specht::io {
 
 std::vector<std::string> ReplayOptions::Relations() const {
-  if (to_s > 0 && to_s <= from_s) return {"to_s (" + std::to_string(to_s) + ") must be after from_s (" +
-                                          std::to_string(from_s) + ")"};
+  if (to_s > 0 && to_s <= from_s)
+    return {"to_s (" + std::to_string(to_s) + ") must be after from_s (" + std::to_string(from_s) + ")"};
   return {};
 }
 

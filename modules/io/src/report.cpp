@@ -34,12 +34,9 @@ nlohmann::json StageTimer::ToJson() const {
 }
 
 RunReport::RunReport(std::string command) {
-  json_ = {{"command", std::move(command)},
-           {"status", "complete"},
-           {"inputs", nlohmann::json::object()},
-           {"counts", nlohmann::json::object()},
-           {"timing", nlohmann::json::object()},
-           {"metrics", nlohmann::json::object()},
+  json_ = {{"command", std::move(command)},      {"status", "complete"},
+           {"inputs", nlohmann::json::object()}, {"counts", nlohmann::json::object()},
+           {"timing", nlohmann::json::object()}, {"metrics", nlohmann::json::object()},
            {"outputs", nlohmann::json::array()}};
 }
 
@@ -95,8 +92,8 @@ std::string RunReport::ToMarkdown(const nlohmann::json& r) {
   if (timing.contains("stages")) {
     md << "\n## Timing\n\n| stage | total ms | calls | ms per call |\n|---|---|---|---|\n";
     for (const auto& [name, s] : timing["stages"].items()) {
-      md << "| " << name << " | " << Cell(s["total_ms"]) << " | " << Cell(s["calls"]) << " | "
-         << Cell(s["ms_per_call"]) << " |\n";
+      md << "| " << name << " | " << Cell(s["total_ms"]) << " | " << Cell(s["calls"]) << " | " << Cell(s["ms_per_call"])
+         << " |\n";
     }
     nlohmann::json rest = timing;
     rest.erase("stages");
@@ -107,8 +104,10 @@ std::string RunReport::ToMarkdown(const nlohmann::json& r) {
     md << "\n## Outputs\n\n";
     for (const auto& f : outputs) {
       const std::string name = f.get<std::string>();
-      if (name.size() > 4 && name.substr(name.size() - 4) == ".png") md << "![" << name << "](" << name << ")\n\n";
-      else md << "- `" << name << "`\n";
+      if (name.size() > 4 && name.substr(name.size() - 4) == ".png")
+        md << "![" << name << "](" << name << ")\n\n";
+      else
+        md << "- `" << name << "`\n";
     }
   }
   return md.str();

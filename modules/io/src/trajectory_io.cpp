@@ -1,12 +1,12 @@
 #include "specht/io/trajectory_io.h"
 
+#include <mrpt/math/CQuaternion.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <mrpt/math/CQuaternion.h>
 
 #include "specht/core/error.h"
 #include "specht/io/atomic_file.h"
@@ -38,8 +38,8 @@ void ReadNumberLines(const std::string& path, size_t expect, const char* layout,
       v.push_back(x);
     }
     if (v.size() != expect) {
-      throw InputError(Where(path, number) + "expected " + std::to_string(expect) + " numbers (" + layout +
-                       "), got " + std::to_string(v.size()));
+      throw InputError(Where(path, number) + "expected " + std::to_string(expect) + " numbers (" + layout + "), got " +
+                       std::to_string(v.size()));
     }
     try {
       on_line(v, number);
@@ -59,9 +59,8 @@ void WriteTum(const Trajectory& trajectory, const std::string& path) {
     p.pose.getAsQuaternion(q);
     // Print the time from its integer nanoseconds so no rounding creeps in.
     const int64_t sec = p.stamp.ns / 1000000000LL, nsec = p.stamp.ns % 1000000000LL;
-    std::snprintf(buf, sizeof(buf), "%lld.%09lld %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n",
-                  static_cast<long long>(sec), static_cast<long long>(nsec), p.pose.x(), p.pose.y(), p.pose.z(),
-                  q.x(), q.y(), q.z(), q.r());
+    std::snprintf(buf, sizeof(buf), "%lld.%09lld %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", static_cast<long long>(sec),
+                  static_cast<long long>(nsec), p.pose.x(), p.pose.y(), p.pose.z(), q.x(), q.y(), q.z(), q.r());
     text += buf;
   }
   WriteTextAtomically(path, text);

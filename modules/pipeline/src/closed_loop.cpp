@@ -1,13 +1,12 @@
 #include "specht/pipeline/closed_loop.h"
 
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <optional>
-
 #include <opencv2/imgproc.hpp>
-
-#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <optional>
 
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
@@ -79,8 +78,10 @@ Box AgentBox(const sim::AgentTruth& a) { return {a.pose.x, a.pose.y, a.pose.yaw_
 class LidarMap {
  public:
   explicit LidarMap(const plan::DistanceMap& extent)
-      : grid_(static_cast<float>(extent.origin_x()), static_cast<float>(extent.origin_x() + extent.cols() * extent.resolution()),
-              static_cast<float>(extent.origin_y()), static_cast<float>(extent.origin_y() + extent.rows() * extent.resolution()),
+      : grid_(static_cast<float>(extent.origin_x()),
+              static_cast<float>(extent.origin_x() + extent.cols() * extent.resolution()),
+              static_cast<float>(extent.origin_y()),
+              static_cast<float>(extent.origin_y() + extent.rows() * extent.resolution()),
               static_cast<float>(extent.resolution())) {
     grid_.insertionOptions.maxDistanceInsertion = 25.0f;
     grid_.insertionOptions.considerInvalidRangesAsFreeSpace = false;
@@ -166,8 +167,8 @@ class Machine {
     for (size_t i = tracker_->progress_index(); i < points.size(); ++i)
       if (!static_map_->Free(discs, points[i].pose)) {
         char reason[96];
-        std::snprintf(reason, sizeof(reason), "the map shows an obstacle on the path at (%.1f, %.1f)",
-                      points[i].pose.x, points[i].pose.y);
+        std::snprintf(reason, sizeof(reason), "the map shows an obstacle on the path at (%.1f, %.1f)", points[i].pose.x,
+                      points[i].pose.y);
         Handle(MissionEvent::kMapChanged, t, reason);
         ++r_.map_replans;
         return;
@@ -184,7 +185,8 @@ class Machine {
       return {};
     }
     switch (machine_.state()) {
-      case MissionState::kPlan: return Plan(t, pose, agents, false);
+      case MissionState::kPlan:
+        return Plan(t, pose, agents, false);
       case MissionState::kDrive:
         if (tracker_->finished()) return GoalReached(t, pose);
         if (const std::string who = Blocking(pose, speed, agents); !who.empty()) {
@@ -207,7 +209,8 @@ class Machine {
         if (t - estop_clear_since_ >= c_.loop.clear_s)
           Handle(MissionEvent::kCollisionCleared, t, "nothing within the stopping distance");
         return {};
-      default: return {};  // done, failed
+      default:
+        return {};  // done, failed
     }
   }
 
@@ -218,7 +221,7 @@ class Machine {
     const Goal& goal = mission_[goal_];
     std::shared_ptr<plan::DistanceMap> map = static_map_;
     std::unique_ptr<plan::HybridAStar> local;  // around agents: the default search on a map with them
-    if (around_agents) {  // the blocking agents become obstacles, inflated by their margins
+    if (around_agents) {                       // the blocking agents become obstacles, inflated by their margins
       cv::Mat obstacles = static_map_->obstacles().clone();
       for (const auto& a : agents) {
         Box b = AgentBox(a);
@@ -226,7 +229,8 @@ class Machine {
         b.hl += m, b.hw += m;
         std::vector<cv::Point> poly;
         for (const auto& p : Corners(b))
-          poly.push_back({static_cast<int>((p.x - map->origin_x()) / 0.1), static_cast<int>((p.y - map->origin_y()) / 0.1)});
+          poly.push_back(
+              {static_cast<int>((p.x - map->origin_x()) / 0.1), static_cast<int>((p.y - map->origin_y()) / 0.1)});
         cv::fillConvexPoly(obstacles, poly, cv::Scalar(1));
       }
       map = std::make_shared<plan::DistanceMap>(obstacles, static_map_->origin_x(), static_map_->origin_y(), 0.1);
@@ -352,7 +356,9 @@ class Machine {
     const double shift = (speed > 0 ? 1 : -1) * reach / 2;
     box.x += shift * std::cos(pose.theta), box.y += shift * std::sin(pose.theta), box.hl += reach / 2;
     for (const auto& a : agents)
-      if (BoxToBox(box, AgentBox(a)) <= 0) return std::string("emergency stop: ") + sim::Name(a.cls) + " " + std::to_string(a.id) + " within the stopping distance";
+      if (BoxToBox(box, AgentBox(a)) <= 0)
+        return std::string("emergency stop: ") + sim::Name(a.cls) + " " + std::to_string(a.id) +
+               " within the stopping distance";
     return "";
   }
 
@@ -370,7 +376,8 @@ class Machine {
       swept.push_back(CarBox(c_.car, points[i].pose));
     }
     for (const auto& a : agents) {
-      const double margin = a.cls == sim::AgentClass::kPedestrian ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
+      const double margin =
+          a.cls == sim::AgentClass::kPedestrian ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
       // The agent where it is and where it would be, going straight on, over the
       // prediction horizon: a cyclist about to cross counts before it arrives.
       for (double dt = 0; dt <= c_.loop.prediction_s + 1e-9; dt += 0.5) {
@@ -428,7 +435,8 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   ClosedLoopResult r;
   sim::Simulator sim(scenario, seed);
   Machine machine(scenario, config, mission, r);
-  const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (config.loop.control_hz * sim::Simulator::kStepS))));
+  const int substeps =
+      std::max(1, static_cast<int>(std::lround(1.0 / (config.loop.control_hz * sim::Simulator::kStepS))));
   std::optional<LidarMap> lidar;
   if (config.loop.map_source == "lidar") {
     lidar.emplace(machine.truth_map());
@@ -495,7 +503,9 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
 nlohmann::json ClosedLoopResult::ToJson() const {
   std::vector<double> t = plan_ms;
   std::sort(t.begin(), t.end());
-  const auto q = [&](double p) { return t.empty() ? 0.0 : t[std::min(t.size() - 1, static_cast<size_t>(p * t.size()))]; };
+  const auto q = [&](double p) {
+    return t.empty() ? 0.0 : t[std::min(t.size() - 1, static_cast<size_t>(p * t.size()))];
+  };
   nlohmann::json states = nlohmann::json::array(), visited = nlohmann::json::array();
   for (const auto& tr : transitions) {
     states.push_back({{"t_s", tr.t_s}, {"from", tr.from}, {"to", tr.to}, {"reason", tr.reason}});

@@ -1,9 +1,9 @@
 #include "internal/map_outputs.h"
 
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
 #include <algorithm>
 #include <filesystem>
-
-#include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include "specht/core/error.h"
 #include "specht/core/log.h"
@@ -29,10 +29,10 @@ Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& r
     rel_options.max_dt_s = 0.05;
     const auto rel = eval::ComputeRelationError(trajectory, reference, rel_options);
     metrics["relation"] = eval::ToJson(rel);
-    spdlog::info("against the reference: ATE RMSE {:.3f} m; relation error {:.4f} ± {:.4f} m (max {:.3f}), "
-                 "{:.3f} ± {:.3f} deg over {} relations",
-                 ate.rmse_m, rel.all.mean_m, rel.all.std_m, rel.all.max_m, rel.all.mean_deg, rel.all.std_deg,
-                 rel.all.count);
+    spdlog::info(
+        "against the reference: ATE RMSE {:.3f} m; relation error {:.4f} ± {:.4f} m (max {:.3f}), "
+        "{:.3f} ± {:.3f} deg over {} relations",
+        ate.rmse_m, rel.all.mean_m, rel.all.std_m, rel.all.max_m, rel.all.mean_deg, rel.all.std_deg, rel.all.count);
     return eval::Transform(reference, -ate.alignment);
   } catch (const InputError& e) {
     spdlog::warn("reference not used: {}", e.what());
@@ -52,10 +52,11 @@ void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::Relatio
     spdlog::info("published relations ({}): {:.4f} ± {:.4f} m (max {:.3f}), {:.3f} ± {:.3f} deg (max {:.2f})",
                  rel.relations, a.mean_m, a.std_m, a.max_m, a.mean_deg, a.std_deg, a.max_deg);
     const Trajectory worst = eval::RelationSegments(trajectory, rel.worst);
-    io::WriteMapPng(grid,
-                    {{&trajectory, {30, 90, 220}, "estimate"},
-                     {&worst, {220, 30, 30}, "the " + std::to_string(rel.worst.size()) + " worst relations", false, true}},
-                    out + "/relations.png");
+    io::WriteMapPng(
+        grid,
+        {{&trajectory, {30, 90, 220}, "estimate"},
+         {&worst, {220, 30, 30}, "the " + std::to_string(rel.worst.size()) + " worst relations", false, true}},
+        out + "/relations.png");
   } catch (const InputError& e) {
     m["error"] = e.what();
     spdlog::warn("published relations not scored: {}", e.what());
@@ -65,8 +66,7 @@ void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::Relatio
 // Mean map entropy of the keyframe scans at the estimated poses and, with a
 // reference, of the same scans at the estimate's and at the reference's poses
 // (eval/map_quality.h): whether the reference's map is sharper than ours.
-void AddMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Trajectory& reference,
-                   nlohmann::json& metrics) {
+void AddMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Trajectory& reference, nlohmann::json& metrics) {
   const eval::MapEntropy ours = eval::MeanMapEntropy(keyframes);
   metrics["map_entropy"] = {{"mean_nats", ours.mean_nats}, {"points", ours.points}};
   if (reference.empty()) return;
@@ -76,9 +76,10 @@ void AddMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Trajector
   const eval::MapEntropy b = eval::MeanMapEntropy(at_reference);
   metrics["map_entropy_vs_reference"] = {
       {"keyframes", at_estimate.size()}, {"estimate_nats", a.mean_nats}, {"reference_nats", b.mean_nats}};
-  spdlog::info("map entropy: {:.3f} nats at the estimated poses, {:.3f} at the reference's ({} keyframes; lower is "
-               "sharper)",
-               a.mean_nats, b.mean_nats, at_estimate.size());
+  spdlog::info(
+      "map entropy: {:.3f} nats at the estimated poses, {:.3f} at the reference's ({} keyframes; lower is "
+      "sharper)",
+      a.mean_nats, b.mean_nats, at_estimate.size());
 }
 
 // The map artefact: grid (ROS + MRPT), pose graph (g2o; node i = keyframe i) and the
@@ -128,14 +129,20 @@ void ReportLoops(const slam::GraphSlam& slam, const slam::PoseGraphOptions& opti
     const auto& l = loops[i];
     const auto scan = [&](int id) { return keyframes.at(static_cast<size_t>(id)).scan_index; };
     const auto t = [&](int id) { return keyframes.at(static_cast<size_t>(id)).stamp.Seconds(); };
-    worst.push_back({{"from_scan", scan(l.from)}, {"to_scan", scan(l.to)}, {"t_from", t(l.from)}, {"t_to", t(l.to)},
-                     {"error_m", l.error_m}, {"error_deg", l.error_deg}, {"weight", l.weight}});
+    worst.push_back({{"from_scan", scan(l.from)},
+                     {"to_scan", scan(l.to)},
+                     {"t_from", t(l.from)},
+                     {"t_to", t(l.to)},
+                     {"error_m", l.error_m},
+                     {"error_deg", l.error_deg},
+                     {"weight", l.weight}});
   }
   j["worst"] = worst;
   metrics["loops"] = j;
-  spdlog::info("loops in the final graph: {} kept, {} weakened, {} set aside by the robust loss (kept: error p50 "
-               "{:.3f} m, p95 {:.3f} m)",
-               kept.size() / 2, weakened.size() / 2, set_aside.size() / 2, quantile(0.5), quantile(0.95));
+  spdlog::info(
+      "loops in the final graph: {} kept, {} weakened, {} set aside by the robust loss (kept: error p50 "
+      "{:.3f} m, p95 {:.3f} m)",
+      kept.size() / 2, weakened.size() / 2, set_aside.size() / 2, quantile(0.5), quantile(0.95));
   const std::vector<io::PathOverlay> paths = {
       {&trajectory, {30, 90, 220}, "estimate"},
       {&kept, {40, 170, 60}, "loop kept (" + std::to_string(kept.size() / 2) + ")", false, true},
@@ -160,8 +167,7 @@ SavedMap ReadMapArtefact(const std::string& dir) {
   for (const auto& [id, pose] : graph.graph.nodes) poses.push_back(pose);
   if (scans.size() != poses.size() || scans.empty()) {
     throw InputError(dir + ": map artefact is inconsistent: " + std::to_string(scans.size()) +
-                     " keyframe scans in keyframes.rawlog but " + std::to_string(poses.size()) +
-                     " nodes in graph.g2o");
+                     " keyframe scans in keyframes.rawlog but " + std::to_string(poses.size()) + " nodes in graph.g2o");
   }
   return {slam::KeyframesFromGraph(scans, poses), graph.graph, io::ReadMrptGridmap(dir + "/map.gridmap")};
 }

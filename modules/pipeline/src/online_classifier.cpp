@@ -4,7 +4,8 @@
 
 namespace specht::pipeline {
 
-OnlineClassifier::OnlineClassifier(std::shared_ptr<const classify::TrajectoryClassifier> classifier, Averaging averaging)
+OnlineClassifier::OnlineClassifier(std::shared_ptr<const classify::TrajectoryClassifier> classifier,
+                                   Averaging averaging)
     : classifier_(std::move(classifier)), averaging_(averaging) {}
 
 void OnlineClassifier::Update(std::vector<types::Track>& tracks, const classify::MapFeatures& map) {

@@ -1,17 +1,17 @@
 #include "specht/pipeline/perception.h"
 
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <octomap/OcTree.h>
+
 #include <chrono>
 #include <deque>
 #include <future>
+#include <opencv2/imgproc.hpp>
 #include <set>
 
-#include <mrpt/obs/CObservationStereoImages.h>
-#include <octomap/OcTree.h>
-#include <opencv2/imgproc.hpp>
-
+#include "internal/perception_video.h"
 #include "specht/core/error.h"
 #include "specht/core/log.h"
-#include "internal/perception_video.h"
 #include "specht/core/serial_worker.h"
 #include "specht/pipeline/map_features.h"
 #include "specht/pipeline/pose_history.h"
@@ -27,8 +27,7 @@ double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::
 
 // The disparity at 1/k of the resolution, with the camera that goes with it: pixel
 // coordinates and disparities both scale by 1/k, so depth f·B/d is unchanged.
-std::pair<cv::Mat, stereo::RectifiedCamera> Decimated(const cv::Mat& disparity, stereo::RectifiedCamera camera,
-                                                      int k) {
+std::pair<cv::Mat, stereo::RectifiedCamera> Decimated(const cv::Mat& disparity, stereo::RectifiedCamera camera, int k) {
   if (k <= 1) return {disparity, camera};
   cv::Mat small;
   cv::resize(disparity, small, cv::Size(disparity.cols / k, disparity.rows / k), 0, 0, cv::INTER_NEAREST);
@@ -46,8 +45,9 @@ bool PeriodDue(const std::optional<Stamp>& last, Stamp t, double period_s) {
 }
 
 // One frame's stereo points (every k-th pixel) into the OctoMap, rays from the camera.
-void InsertIntoOctree(octomap::OcTree& octree, const cv::Mat& full_disparity, const stereo::RectifiedCamera& full_camera,
-                      const mrpt::poses::CPose3D& map_from_camera, int k, const stereo::CloudOptions& cloud) {
+void InsertIntoOctree(octomap::OcTree& octree, const cv::Mat& full_disparity,
+                      const stereo::RectifiedCamera& full_camera, const mrpt::poses::CPose3D& map_from_camera, int k,
+                      const stereo::CloudOptions& cloud) {
   const auto [disparity, camera] = Decimated(full_disparity, full_camera, k);
   std::vector<stereo::ColouredPoint> points = stereo::DisparityToPoints(disparity, camera, cv::Mat(), cloud);
   stereo::TransformPoints(points, map_from_camera);
@@ -107,7 +107,9 @@ struct PerceptionPipeline::Stages {
 };
 
 PerceptionPipeline::PerceptionPipeline(const params::Params& params, std::string data_dir)
-    : params_(params), options_(params.Get<PerceptionOptions>("perception")), data_dir_(std::move(data_dir)),
+    : params_(params),
+      options_(params.Get<PerceptionOptions>("perception")),
+      data_dir_(std::move(data_dir)),
       world_(params.Get<world::WorldModelOptions>("world")) {
   if (options_.mode == "off" || options_.classifier_model.empty()) return;
   auto classifier = std::make_shared<classify::TrajectoryClassifier>(
@@ -230,8 +232,8 @@ void PerceptionPipeline::ProcessFrame(const PerceivedFrame& frame, Stamp t, cons
   s.summary.world_ms += MsSince(t0);
 
   for (const auto& tr : tracks) {
-    track_samples_.push_back({"t" + std::to_string(tr.id), t.Seconds(), tr.x_m, tr.y_m, tr.cls, "", false,
-                              tr.class_probabilities});
+    track_samples_.push_back(
+        {"t" + std::to_string(tr.id), t.Seconds(), tr.x_m, tr.y_m, tr.cls, "", false, tr.class_probabilities});
     if (tr.state == "confirmed") s.confirmed.insert(tr.id);
   }
   for (const auto& ob : frame.obstacles)
@@ -252,8 +254,10 @@ void PerceptionPipeline::ProcessFrame(const PerceivedFrame& frame, Stamp t, cons
 }
 
 void PerceptionPipeline::RunMapping(std::function<void()> task) {
-  if (options_.pipelined) stages_->mapping.Post(std::move(task));
-  else task();
+  if (options_.pipelined)
+    stages_->mapping.Post(std::move(task));
+  else
+    task();
 }
 
 void PerceptionPipeline::WriteVideosTo(const std::string& dir) {

@@ -1,6 +1,7 @@
 #include "specht/pipeline/perception_eval.h"
 
-#include "specht/pipeline/perception.h"
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/poses/CPoint2D.h>
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +9,6 @@
 #include <map>
 #include <set>
 #include <sstream>
-
-#include <mrpt/obs/CObservationStereoImages.h>
-#include <mrpt/poses/CPoint2D.h>
 
 #include "specht/classify/metrics.h"
 #include "specht/core/error.h"
@@ -21,9 +19,10 @@
 #include "specht/io/dataset.h"
 #include "specht/io/object_tracks.h"
 #include "specht/io/trajectory_io.h"
+#include "specht/pipeline/perception.h"
+#include "specht/pipeline/stereo_perception.h"
 #include "specht/sim/camera.h"
 #include "specht/sim/simulator.h"
-#include "specht/pipeline/stereo_perception.h"
 
 namespace specht::pipeline {
 namespace {
@@ -54,7 +53,8 @@ std::map<int, std::vector<AgentInView>> ReadAgentsInView(const std::string& path
   std::map<int, std::vector<AgentInView>> out;
   for (int n = 2; std::getline(in, line); ++n) {
     const std::vector<std::string> f = Fields(line);
-    if (f.size() != 12) throw InputError(path + ":" + std::to_string(n) + ": expected 12 fields, found " + std::to_string(f.size()));
+    if (f.size() != 12)
+      throw InputError(path + ":" + std::to_string(n) + ": expected 12 fields, found " + std::to_string(f.size()));
     try {
       AgentInView a;
       a.id = std::stoi(f[2]);
@@ -74,7 +74,10 @@ std::map<int, std::vector<AgentInView>> ReadAgentsInView(const std::string& path
 
 nlohmann::json Quantiles(const std::vector<double>& v) {
   if (v.empty()) return {{"count", 0}};
-  return {{"count", v.size()}, {"p50", Percentile(v, 0.5)}, {"p90", Percentile(v, 0.9)}, {"max", Percentile(v, 1.0)},
+  return {{"count", v.size()},
+          {"p50", Percentile(v, 0.5)},
+          {"p90", Percentile(v, 0.9)},
+          {"max", Percentile(v, 1.0)},
           {"mean", Mean(v)}};
 }
 
@@ -129,7 +132,8 @@ nlohmann::json EvaluateModel(const std::string& sim_dir, const params::Params& p
   j["distance_abs_error_m"] = Quantiles(abs_error_m);
   j["distance_rel_error"] = Quantiles(rel_error);
   const auto& s = perception.stats();
-  j["ms_per_frame"] = {{"stereo", s.stereo_ms / std::max(1L, s.frames)}, {"detect", s.detect_ms / std::max(1L, s.frames)}};
+  j["ms_per_frame"] = {{"stereo", s.stereo_ms / std::max(1L, s.frames)},
+                       {"detect", s.detect_ms / std::max(1L, s.frames)}};
   return j;
 }
 
@@ -267,9 +271,8 @@ nlohmann::json EvaluatePerceivedTracks(const std::string& sim_dir, const std::st
           {"care", {{"max_range_m", o.max_range_m}, {"match_threshold_m", o.match_threshold_m}}}};
 }
 
-nlohmann::json EvaluatePerception(const std::string& sim_dir, const params::Params& params,
-                                  const std::string& data_dir, const PerceptionEvalOptions& options,
-                                  const std::function<void(double)>& progress) {
+nlohmann::json EvaluatePerception(const std::string& sim_dir, const params::Params& params, const std::string& data_dir,
+                                  const PerceptionEvalOptions& options, const std::function<void(double)>& progress) {
   const auto truth = ReadAgentsInView(sim_dir + "/stereo/agents.csv");
   nlohmann::json j = {{"sim_dir", sim_dir},
                       {"care", {{"min_visible", options.min_visible}, {"min_height_px", options.min_height_px}}}};
@@ -277,7 +280,8 @@ nlohmann::json EvaluatePerception(const std::string& sim_dir, const params::Para
     const auto part = [&](double f) {
       if (progress) progress((m + f) / options.models.size());
     };
-    j["detection"][options.models[m]] = EvaluateModel(sim_dir, params, data_dir, options.models[m], truth, options, part);
+    j["detection"][options.models[m]] =
+        EvaluateModel(sim_dir, params, data_dir, options.models[m], truth, options, part);
   }
   return j;
 }

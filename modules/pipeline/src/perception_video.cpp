@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-
 #include <opencv2/imgproc.hpp>
 
 namespace specht::pipeline::internal {
@@ -39,7 +38,7 @@ cv::Mat CostColours() {
   cv::Mat lut(1, 256, CV_8UC3);
   for (int v = 0; v < 256; ++v) {
     const auto shade = static_cast<uint8_t>(255 - v * 150 / 252);
-    lut.at<cv::Vec3b>(v) = v == types::CostGrid::kUnknown    ? cv::Vec3b(160, 160, 160)
+    lut.at<cv::Vec3b>(v) = v == types::CostGrid::kUnknown     ? cv::Vec3b(160, 160, 160)
                            : v == types::CostGrid::kInscribed ? cv::Vec3b(90, 90, 90)
                            : v == types::CostGrid::kLethal    ? cv::Vec3b(0, 0, 0)
                                                               : cv::Vec3b(shade, shade, shade);
@@ -77,8 +76,10 @@ std::array<unsigned char, 3> ClassColour(const std::string& cls) {
 
 cv::Mat AnnotatedCamera(const PerceivedFrame& frame, const std::vector<types::Track>& tracks) {
   cv::Mat image;
-  if (frame.image.channels() == 1) cv::cvtColor(frame.image, image, cv::COLOR_GRAY2BGR);
-  else image = frame.image.clone();
+  if (frame.image.channels() == 1)
+    cv::cvtColor(frame.image, image, cv::COLOR_GRAY2BGR);
+  else
+    image = frame.image.clone();
   for (size_t i = 0; i < frame.detections.size(); ++i) {
     const auto& d = frame.detections[i];
     const cv::Scalar colour = Bgr(d.cls);
@@ -101,7 +102,8 @@ cv::Mat BirdsEye(const world::Snapshot& s, const mrpt::poses::CPose3D& car, doub
   const double px_per_m = size_px / extent_m;
   const double x0 = car.x() - extent_m / 2, y1 = car.y() + extent_m / 2;
   const auto pixel = [&](double x, double y) {
-    return cv::Point(static_cast<int>(std::lround((x - x0) * px_per_m)), static_cast<int>(std::lround((y1 - y) * px_per_m)));
+    return cv::Point(static_cast<int>(std::lround((x - x0) * px_per_m)),
+                     static_cast<int>(std::lround((y1 - y) * px_per_m)));
   };
   cv::Mat image(size_px, size_px, CV_8UC3, cv::Scalar(160, 160, 160));
   if (s.cost && !s.cost->cost.empty()) DrawCost(*s.cost, x0, y1, px_per_m, image);
@@ -124,7 +126,8 @@ cv::Mat BirdsEye(const world::Snapshot& s, const mrpt::poses::CPose3D& car, doub
   }
   const double yaw = car.yaw();
   const auto ahead = [&](double forward, double left) {
-    return pixel(car.x() + forward * std::cos(yaw) - left * std::sin(yaw), car.y() + forward * std::sin(yaw) + left * std::cos(yaw));
+    return pixel(car.x() + forward * std::cos(yaw) - left * std::sin(yaw),
+                 car.y() + forward * std::sin(yaw) + left * std::cos(yaw));
   };
   const std::vector<cv::Point> triangle = {ahead(1.5, 0), ahead(-0.8, 0.8), ahead(-0.8, -0.8)};
   cv::fillConvexPoly(image, triangle, cv::Scalar(200, 90, 30), cv::LINE_AA);

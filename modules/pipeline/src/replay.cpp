@@ -131,12 +131,13 @@ struct Replay::State {
 };
 
 Replay::Replay(const params::Params& params, ReplayInputs in, std::string command)
-    : state_(std::make_unique<State>(State{params, std::move(in), std::move(command), nullptr, "", {}, {}, {}, nullptr})) {
+    : state_(
+          std::make_unique<State>(State{params, std::move(in), std::move(command), nullptr, "", {}, {}, {}, nullptr})) {
   State& s = *state_;
   if (s.in.dataset.empty()) s.in.dataset = io::DefaultRawlog();
   const auto& replay = params.Get<io::ReplayOptions>("replay");
-  s.source = io::OpenDataset(s.in.dataset,
-                             replay.on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop);
+  s.source =
+      io::OpenDataset(s.in.dataset, replay.on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop);
   s.reference_path =
       s.in.ground_truth.empty() ? io::DefaultReferencePath(s.in.dataset, s.source->Format()) : s.in.ground_truth;
   if (!s.reference_path.empty()) s.reference = io::ReadReference(s.reference_path);
@@ -163,22 +164,22 @@ Estimate Replay::State::Localize(io::ReplayClock& clock, PerceptionPipeline& per
   const auto located = LocalizerOnSaved(frames);
   slam::Localizer& localizer = *located;
   size_t placed = 0;
-  run = Drive(*source, clock,
-              [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
-                {
-                  auto timing = timer.Time("slam");
-                  localizer.Add(t, o);
-                }
-                auto timing = timer.Time("perception");
-                perception.Add(t, o);
-                // The saved grid is the static layer, once perception has started.
-                if (perception.active() && !perception.world().snapshot()->static_map)
-                  perception.SetStaticMap(saved.grid, t);
-                for (const auto& p = localizer.trajectory(); placed < p.size(); ++placed)
-                  perception.AddPose(p[placed].stamp, p[placed].pose);
-                return std::make_pair(localizer.stats().scans, std::string());
-              },
-              timer, report, quiet, exit_code);
+  run = Drive(
+      *source, clock,
+      [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
+        {
+          auto timing = timer.Time("slam");
+          localizer.Add(t, o);
+        }
+        auto timing = timer.Time("perception");
+        perception.Add(t, o);
+        // The saved grid is the static layer, once perception has started.
+        if (perception.active() && !perception.world().snapshot()->static_map) perception.SetStaticMap(saved.grid, t);
+        for (const auto& p = localizer.trajectory(); placed < p.size(); ++placed)
+          perception.AddPose(p[placed].stamp, p[placed].pose);
+        return std::make_pair(localizer.stats().scans, std::string());
+      },
+      timer, report, quiet, exit_code);
   RequireScans(localizer.stats().scans, run, report, in.dataset);
   if (localizer.global_score()) report.json()["metrics"]["global_search_score"] = *localizer.global_score();
   return {localizer.trajectory(), {}, saved.grid, localizer.stats()};
@@ -199,36 +200,36 @@ Estimate Replay::State::Map(io::ReplayClock& clock, PerceptionPipeline& percepti
   std::unique_ptr<slam::Localizer> locate;
   if (!in.continue_dir.empty()) locate = LocalizerOnSaved(frames);
   long scans_placed = 0, optimizations = 0;
-  run = Drive(*source, clock,
-              [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
-                if (locate) {
-                  locate->Add(t, o);
-                  if (locate->trajectory().empty()) return std::make_pair(0L, std::string("locating"));
-                  const mrpt::poses::CPose3D& p = locate->trajectory().front().pose;
-                  slam.Continue(saved.keyframes, saved.graph, mrpt::poses::CPose2D(p.x(), p.y(), p.yaw()));
-                  if (locate->global_score()) j["metrics"]["continue_global_search_score"] = *locate->global_score();
-                  locate.reset();
-                }
-                {
-                  auto timing = timer.Time("slam");
-                  slam.Add(t, o);
-                }
-                auto timing = timer.Time("perception");
-                perception.Add(t, o);
-                if (slam.front_end_stats().scans > scans_placed) {
-                  scans_placed = slam.front_end_stats().scans;
-                  const auto latest = slam.LatestPose();
-                  perception.AddPose(latest->stamp, latest->pose);
-                  // The static layer as the map grows, and at once after a loop closure moved it.
-                  const bool moved = slam.stats().optimizations > optimizations;
-                  optimizations = slam.stats().optimizations;
-                  if (perception.active() && (moved || perception.StaticMapDue(t)))
-                    perception.SetStaticMap(slam::BuildGrid(slam.keyframes(), grid_options), latest->stamp);
-                }
-                return std::make_pair(slam.front_end_stats().scans,
-                                      "loops " + std::to_string(slam.stats().loops_accepted));
-              },
-              timer, report, quiet, exit_code);
+  run = Drive(
+      *source, clock,
+      [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
+        if (locate) {
+          locate->Add(t, o);
+          if (locate->trajectory().empty()) return std::make_pair(0L, std::string("locating"));
+          const mrpt::poses::CPose3D& p = locate->trajectory().front().pose;
+          slam.Continue(saved.keyframes, saved.graph, mrpt::poses::CPose2D(p.x(), p.y(), p.yaw()));
+          if (locate->global_score()) j["metrics"]["continue_global_search_score"] = *locate->global_score();
+          locate.reset();
+        }
+        {
+          auto timing = timer.Time("slam");
+          slam.Add(t, o);
+        }
+        auto timing = timer.Time("perception");
+        perception.Add(t, o);
+        if (slam.front_end_stats().scans > scans_placed) {
+          scans_placed = slam.front_end_stats().scans;
+          const auto latest = slam.LatestPose();
+          perception.AddPose(latest->stamp, latest->pose);
+          // The static layer as the map grows, and at once after a loop closure moved it.
+          const bool moved = slam.stats().optimizations > optimizations;
+          optimizations = slam.stats().optimizations;
+          if (perception.active() && (moved || perception.StaticMapDue(t)))
+            perception.SetStaticMap(slam::BuildGrid(slam.keyframes(), grid_options), latest->stamp);
+        }
+        return std::make_pair(slam.front_end_stats().scans, "loops " + std::to_string(slam.stats().loops_accepted));
+      },
+      timer, report, quiet, exit_code);
   RequireScans(slam.front_end_stats().scans, run, report, in.dataset);
   {
     auto t = timer.Time("slam");
@@ -240,8 +241,10 @@ Estimate Replay::State::Map(io::ReplayClock& clock, PerceptionPipeline& percepti
     e.grid = slam::BuildGrid(slam.keyframes(), grid_options);
   }
   const auto& be = slam.stats();
-  j["counts"] = {{"keyframes", e.front_end.keyframes}, {"loop_searches", be.loop_searches},
-                 {"loops_found", be.loops_found},      {"loops_accepted", be.loops_accepted},
+  j["counts"] = {{"keyframes", e.front_end.keyframes},
+                 {"loop_searches", be.loop_searches},
+                 {"loops_found", be.loops_found},
+                 {"loops_accepted", be.loops_accepted},
                  {"optimizations", be.optimizations}};
   j["metrics"]["graph_chi2"] = be.final_chi2;
   j["timing"]["loop_search_ms"] = be.loop_search_ms;
@@ -310,18 +313,20 @@ int Replay::Run(const std::string& out, bool quiet) {
   io::StageTimer timer;
   io::RunReport report(s.command);
   auto& j = report.json();
-  j["inputs"] = {{"dataset", s.in.dataset},      {"format", s.source->Format()},
-                 {"ground_truth", s.reference_path}, {"relations", s.relations ? s.relations->path : ""},
+  j["inputs"] = {{"dataset", s.in.dataset},
+                 {"format", s.source->Format()},
+                 {"ground_truth", s.reference_path},
+                 {"relations", s.relations ? s.relations->path : ""},
                  {"map", s.in.map_dir},
-                 {"continue", s.in.continue_dir}, {"params_files", s.in.param_files},
+                 {"continue", s.in.continue_dir},
+                 {"params_files", s.in.param_files},
                  {"overrides", s.in.overrides}};
   int exit_code = 0;
   PerceptionPipeline& perception = *s.perception;
   perception.WriteVideosTo(out);
   DriveResult run;
-  const Estimate e = s.in.map_dir.empty()
-                         ? s.Map(clock, perception, timer, report, frames, run, out, quiet, exit_code)
-                         : s.Localize(clock, perception, timer, report, frames, run, quiet, exit_code);
+  const Estimate e = s.in.map_dir.empty() ? s.Map(clock, perception, timer, report, frames, run, out, quiet, exit_code)
+                                          : s.Localize(clock, perception, timer, report, frames, run, quiet, exit_code);
   try {
     auto t = timer.Time("perception");
     perception.Finish();
@@ -368,7 +373,10 @@ int Replay::Run(const std::string& out, bool quiet) {
   report.Write(out);
   spdlog::info("{}: {} scans, {:.1f} m, {:.2f} ms/scan, {:.0f}x real time{}", s.command, e.front_end.scans,
                PathLength(e.trajectory), e.front_end.scans ? slam_ms / e.front_end.scans : 0.0,
-               run.wall_s > 0 ? data_s / run.wall_s : 0.0, exit_code == 0 ? "" : InterruptRequested() ? " (INTERRUPTED)" : " (INCOMPLETE)");
+               run.wall_s > 0 ? data_s / run.wall_s : 0.0,
+               exit_code == 0         ? ""
+               : InterruptRequested() ? " (INTERRUPTED)"
+                                      : " (INCOMPLETE)");
   return exit_code;
 }
 

@@ -1,8 +1,11 @@
 #include "specht/pipeline/simulation.h"
 
+#include <mrpt/obs/CObservationStereoImages.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <algorithm>
+#include <filesystem>
 #include <map>
 #include <optional>
 
@@ -20,10 +23,6 @@
 #include "specht/sim/simulator.h"
 #include "specht/sim/sprites.h"
 
-#include <filesystem>
-
-#include <mrpt/obs/CObservationStereoImages.h>
-
 namespace specht::pipeline {
 namespace {
 
@@ -37,7 +36,8 @@ std::optional<sim::SpriteLibrary> LoadSprites(const SimulationOptions& a, sim::S
     scenario.stereo->sprites = a.sprites;
   }
   const auto data = io::ResolveDataDir(a.data_dir);
-  const bool named = std::any_of(scenario.agents.begin(), scenario.agents.end(), [](auto& g) { return !g.sprite.empty(); });
+  const bool named =
+      std::any_of(scenario.agents.begin(), scenario.agents.end(), [](auto& g) { return !g.sprite.empty(); });
   if (!data || !std::filesystem::is_directory(*data + "/sprites")) {
     if (a.sprites != "auto" || named)
       throw InputError("--sprites: no sprites directory in the data directory (--data-dir or $SPECHT_DATA_DIR)");
@@ -62,8 +62,8 @@ struct ClassStats {
 };
 
 // Writes one rendered stereo frame and returns the rawlog observation referring to it.
-mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index, Stamp stamp,
-                                              const sim::StereoFrame& f, const sim::StereoSpec& spec) {
+mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index, Stamp stamp, const sim::StereoFrame& f,
+                                              const sim::StereoSpec& spec) {
   char name[16];
   std::snprintf(name, sizeof(name), "%06d", index);
   io::WritePng(f.left_bgr, out + "/sim_Images/left_" + name + ".png");
@@ -85,8 +85,8 @@ mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index,
     cam->setIntrinsicParamsFromValues(spec.focal_px, spec.focal_px, cx, cy);
   }
   // The left camera on base_link (optical frame: x right, y down, z forward).
-  obs->cameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(spec.x_m, spec.y_m, spec.z_m, spec.yaw_rad - M_PI / 2,
-                                                                  0, -M_PI / 2 - spec.pitch_rad));
+  obs->cameraPose = mrpt::poses::CPose3DQuat(
+      mrpt::poses::CPose3D(spec.x_m, spec.y_m, spec.z_m, spec.yaw_rad - M_PI / 2, 0, -M_PI / 2 - spec.pitch_rad));
   obs->rightCameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(spec.baseline_m, 0, 0, 0, 0, 0));
   obs->sensorLabel = "STEREO";
   obs->timestamp = ToMrpt(stamp);
@@ -136,9 +136,9 @@ int RecordSimulation(const SimulationOptions& a) {
             labelled_boxes += static_cast<long>(frame.kitti_labels.size());
             for (const auto& v : frame.agents) {
               char row[320];
-              std::snprintf(row, sizeof(row), "%d,%.3f,%d,%s,%s,%.0f,%.0f,%.0f,%.0f,%.3f,%.3f,%.3f\n", stereo_frames - 1,
-                            simulator.time_s(), v.id, v.cls.c_str(), v.sprite.c_str(), v.box.x, v.box.y, v.box.br().x,
-                            v.box.br().y, v.visible, v.truncated, v.range_m);
+              std::snprintf(row, sizeof(row), "%d,%.3f,%d,%s,%s,%.0f,%.0f,%.0f,%.0f,%.3f,%.3f,%.3f\n",
+                            stereo_frames - 1, simulator.time_s(), v.id, v.cls.c_str(), v.sprite.c_str(), v.box.x,
+                            v.box.y, v.box.br().x, v.box.br().y, v.visible, v.truncated, v.range_m);
               views += row;
             }
             ++counts["mrpt::obs::CObservationStereoImages"];
@@ -179,9 +179,12 @@ int RecordSimulation(const SimulationOptions& a) {
   }
   io::RunReport report("sim");
   auto& j = report.json();
-  j["inputs"] = {{"scenario", a.scenario}, {"name", scenario.name}, {"seed", scenario.seed},
-                 {"sprites", sprites ? scenario.stereo->sprites + " (" + std::to_string(sprites->size()) + ")" : "none"},
-                 {"duration_s", scenario.duration_s}};
+  j["inputs"] = {
+      {"scenario", a.scenario},
+      {"name", scenario.name},
+      {"seed", scenario.seed},
+      {"sprites", sprites ? scenario.stereo->sprites + " (" + std::to_string(sprites->size()) + ")" : "none"},
+      {"duration_s", scenario.duration_s}};
   if (InterruptRequested()) report.SetInterrupted(std::to_string(simulator.time_s()) + " s simulated");
   j["counts"] = {{"observations", counts},
                  {"scans", truth.size()},

@@ -1,10 +1,10 @@
 #include "specht/pipeline/stereo_perception.h"
 
+#include <mrpt/core/Clock.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-
-#include <mrpt/core/Clock.h>
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
@@ -62,22 +62,31 @@ stereo::RectifiedCamera CameraOf(const mrpt::obs::CObservationStereoImages& obs,
   camera.cx_px = left.cx();
   camera.cy_px = left.cy();
   camera.baseline_m = mrpt::poses::CPose3D(obs.rightCameraPose).x();
-  if (!(camera.focal_px > 0)) throw InputError(what + "leftCamera: no focal length (fx = " + std::to_string(camera.focal_px) + "): the stereo pair has no calibration");
+  if (!(camera.focal_px > 0))
+    throw InputError(what + "leftCamera: no focal length (fx = " + std::to_string(camera.focal_px) +
+                     "): the stereo pair has no calibration");
   if (!(std::abs(camera.baseline_m) > 1e-6))
-    throw InputError(what + "rightCameraPose: no baseline (the right camera sits on the left one): the stereo pair has no calibration");
+    throw InputError(
+        what +
+        "rightCameraPose: no baseline (the right camera sits on the left one): the stereo pair has no calibration");
   if (static_cast<int>(left.ncols) != size.width || static_cast<int>(left.nrows) != size.height)
-    throw InputError(what + "leftCamera: intrinsics for " + std::to_string(left.ncols) + "x" + std::to_string(left.nrows) +
-                     " but the image is " + std::to_string(size.width) + "x" + std::to_string(size.height));
+    throw InputError(what + "leftCamera: intrinsics for " + std::to_string(left.ncols) + "x" +
+                     std::to_string(left.nrows) + " but the image is " + std::to_string(size.width) + "x" +
+                     std::to_string(size.height));
   if (camera.cx_px < 0 || camera.cx_px > size.width || camera.cy_px < 0 || camera.cy_px > size.height)
-    throw InputError(what + "leftCamera: principal point (" + std::to_string(camera.cx_px) + ", " + std::to_string(camera.cy_px) +
-                     ") outside the " + std::to_string(size.width) + "x" + std::to_string(size.height) + " image");
+    throw InputError(what + "leftCamera: principal point (" + std::to_string(camera.cx_px) + ", " +
+                     std::to_string(camera.cy_px) + ") outside the " + std::to_string(size.width) + "x" +
+                     std::to_string(size.height) + " image");
   return camera;
 }
 
 StereoPerception::StereoPerception(const stereo::SgmOptions& sgm, const detect::DetectorOptions& detector,
                                    const detect::FusionOptions& fusion, const std::string& data_dir, int downsample)
-    : sgm_options_(sgm), detector_(detector, data_dir), fusion_(fusion),
-      matcher_(std::make_unique<stereo::SemiGlobalMatcher>(ShrunkBy(sgm, downsample))), downsample_(downsample) {}
+    : sgm_options_(sgm),
+      detector_(detector, data_dir),
+      fusion_(fusion),
+      matcher_(std::make_unique<stereo::SemiGlobalMatcher>(ShrunkBy(sgm, downsample))),
+      downsample_(downsample) {}
 
 cv::Mat StereoPerception::Disparity(const cv::Mat& left, const cv::Mat& right) {
   if (downsample_ <= 1) return matcher_->Compute(left, right);

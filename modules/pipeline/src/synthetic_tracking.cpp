@@ -8,7 +8,8 @@
 
 namespace specht::pipeline {
 
-SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, const track::TrackerOptions& tracker_options,
+SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed,
+                                  const track::TrackerOptions& tracker_options,
                                   const sim::SyntheticDetectionOptions& detection, const std::string& prefix,
                                   const std::function<void(double)>& progress,
                                   const std::function<void(std::vector<types::Track>&, double t_s)>& on_tracks) {
@@ -38,7 +39,8 @@ SyntheticRun RunSyntheticTracking(const sim::Scenario& scenario, uint64_t seed, 
       run.truth.push_back({id, t, a.pose.x, a.pose.y, sim::Name(a.cls), "", false, {}});
     }
     for (const auto& a : detector.hidden())
-      run.truth.push_back({prefix + std::to_string(a.id) + "#hidden", t, a.pose.x, a.pose.y, sim::Name(a.cls), "", true, {}});
+      run.truth.push_back(
+          {prefix + std::to_string(a.id) + "#hidden", t, a.pose.x, a.pose.y, sim::Name(a.cls), "", true, {}});
     std::vector<types::Track> tracks = tracker.Tracks();
     if (on_tracks) on_tracks(tracks, t);
     for (const auto& tr : tracks)

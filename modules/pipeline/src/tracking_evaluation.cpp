@@ -155,21 +155,21 @@ int TrackingEvaluation::Run(const std::string& out, bool quiet) {
         {"tracker_vote", by_vote.ToJson(classifier_->classes())},
         {"classifier_ms_per_window", online_classified ? 1000.0 * online_s / online_classified : 0.0},
         {"classifier_ms_per_frame", frames ? 1000.0 * online_s / frames : 0.0}};
-    std::printf("track: online classifier on %zu labelled track-frames: macro F1 %.3f (tracker's detection vote "
-                "%.3f), %.2f ms per frame\n",
-                online_truth.size(), by_classifier.macro_f1, by_vote.macro_f1, frames ? 1000.0 * online_s / frames : 0.0);
+    std::printf(
+        "track: online classifier on %zu labelled track-frames: macro F1 %.3f (tracker's detection vote "
+        "%.3f), %.2f ms per frame\n",
+        online_truth.size(), by_classifier.macro_f1, by_vote.macro_f1, frames ? 1000.0 * online_s / frames : 0.0);
   }
   for (const char* f : {"truth.csv", "tracks.csv", "tracks.png"}) report.AddOutput(f);
   if (InterruptRequested()) report.SetInterrupted(std::to_string(runs.size()) + " runs");
   report.Write(out);
   progress.Finish();
-  std::printf("track: %zu runs, %.0f track-seconds: MOTA %.3f, MOTP %.3f m, ID switches %ld (%.2f per 100 s), "
-              "FP %ld, FN %ld; tracker %.3f ms per frame\n",
-              runs.size(), total.track_seconds, total.mota, total.motp_m, total.id_switches,
-              total.id_switches_per_100s, total.false_positives, total.false_negatives,
-              frames ? 1000.0 * tracker_s / frames : 0.0);
+  std::printf(
+      "track: %zu runs, %.0f track-seconds: MOTA %.3f, MOTP %.3f m, ID switches %ld (%.2f per 100 s), "
+      "FP %ld, FN %ld; tracker %.3f ms per frame\n",
+      runs.size(), total.track_seconds, total.mota, total.motp_m, total.id_switches, total.id_switches_per_100s,
+      total.false_positives, total.false_negatives, frames ? 1000.0 * tracker_s / frames : 0.0);
   return InterruptExitCode();
 }
 
 }  // namespace specht::pipeline
-

@@ -1,8 +1,8 @@
 #include "specht/plan/distance_map.h"
 
-#include <cmath>
-
 #include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
@@ -68,7 +68,12 @@ struct DistanceMap::FootprintSamples {
   int nx, ny;
   // c, s: cos θ and sin θ of the pose (the caller may have them already).
   FootprintSamples(const DiscCover& discs, const Pose& p, double c, double s, double resolution)
-      : c(c), s(s), x(p.x), y(p.y), rear(discs.rear), half_width(discs.half_width),
+      : c(c),
+        s(s),
+        x(p.x),
+        y(p.y),
+        rear(discs.rear),
+        half_width(discs.half_width),
         nx(static_cast<int>(std::ceil((discs.front + discs.rear) / resolution))),
         ny(static_cast<int>(std::ceil(2 * discs.half_width / resolution))) {
     sx = (discs.front + discs.rear) / nx, sy = 2 * discs.half_width / ny;
@@ -101,8 +106,8 @@ bool DistanceMap::SamplesFree(const FootprintSamples& f, int i0, int i1, int j0,
   if (i0 == i1 && j0 == j1) return true;
   const double r = std::hypot(std::max(im - i0, i1 - im) * f.sx, std::max(jm - j0, j1 - jm) * f.sy);
   const double slack = r + resolution_ * std::sqrt(2.0);
-  const double to_edge = std::min({x - origin_x_, origin_x_ + cols() * resolution_ - x, y - origin_y_,
-                                   origin_y_ + rows() * resolution_ - y});
+  const double to_edge = std::min(
+      {x - origin_x_, origin_x_ + cols() * resolution_ - x, y - origin_y_, origin_y_ + rows() * resolution_ - y});
   if (d - slack > need && to_edge > slack) return true;
   if ((i1 - i0) * f.sx >= (j1 - j0) * f.sy)
     return SamplesFree(f, i0, im, j0, j1, need) && (im + 1 > i1 || SamplesFree(f, im + 1, i1, j0, j1, need));

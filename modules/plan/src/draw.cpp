@@ -1,7 +1,6 @@
 #include "specht/plan/draw.h"
 
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 namespace specht::plan {

@@ -1,12 +1,12 @@
 #include "specht/plan/hybrid_astar.h"
 
+#include <ompl/base/ScopedState.h>
+#include <ompl/base/spaces/ReedsSheppStateSpace.h>
+
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <queue>
-
-#include <ompl/base/ScopedState.h>
-#include <ompl/base/spaces/ReedsSheppStateSpace.h>
 
 #include "specht/core/error.h"
 
@@ -45,16 +45,16 @@ Pose Drive(const Pose& p, double s, double tan_steer, double wheelbase) {
 // OMPL keeps interpolation along a computed Reeds-Shepp path protected; we need it
 // to sample the path we already have instead of solving it again per sample.
 struct ReedsSheppSpace : ompl::base::ReedsSheppStateSpace {
-  using ompl::base::ReedsSheppStateSpace::ReedsSheppStateSpace;
   using ompl::base::ReedsSheppStateSpace::interpolate;
+  using ompl::base::ReedsSheppStateSpace::ReedsSheppStateSpace;
 };
 
 struct Node {
   Pose pose;
   double g = 0;
   int parent = -1;
-  int direction = 0;      // of the arc that led here (0 at the start)
-  double tan_steer = 0;   // of that arc
+  int direction = 0;     // of the arc that led here (0 at the start)
+  double tan_steer = 0;  // of that arc
 };
 
 }  // namespace
@@ -324,7 +324,8 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
         const int next = m.KeyOf(end);
         if (next < 0 || m.closed[next] == m.search || grid(end) < 0) continue;
         const double steer = std::abs(std::atan(tan_steer)) / (m.car.max_steer_deg * M_PI / 180.0);
-        double g = node.g + m.o.step_m * (direction < 0 ? m.o.reverse_penalty : 1.0) + m.o.steer_penalty * steer * m.o.step_m;
+        double g =
+            node.g + m.o.step_m * (direction < 0 ? m.o.reverse_penalty : 1.0) + m.o.steer_penalty * steer * m.o.step_m;
         if (node.direction != 0) {
           g += m.o.steer_change_penalty * std::abs(std::atan(tan_steer) - std::atan(node.tan_steer)) /
                (m.car.max_steer_deg * M_PI / 180.0);
@@ -349,7 +350,8 @@ PlanResult HybridAStar::Plan(const Pose& start_in, const Pose& goal_in) {
   std::reverse(chain.begin(), chain.end());
   Path& path = result.path;
   path.points.push_back({start, 1});
-  for (size_t k = 1; k < chain.size(); ++k) m.AppendArc(nodes[chain[k - 1]], nodes[chain[k]], m.o.output_spacing_m, path.points);
+  for (size_t k = 1; k < chain.size(); ++k)
+    m.AppendArc(nodes[chain[k - 1]], nodes[chain[k]], m.o.output_spacing_m, path.points);
   // The shot was sampled at the collision spacing; resample at the output spacing.
   auto final_leg = m.ReedsSheppShot(nodes[reached].pose, goal, m.o.output_spacing_m);
   if (final_leg.empty()) final_leg = shot;  // a finer sample grazed an obstacle: keep the checked spacing

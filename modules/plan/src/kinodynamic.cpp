@@ -1,9 +1,5 @@
 #include "specht/plan/kinodynamic.h"
 
-#include <chrono>
-#include <cmath>
-#include <mutex>
-
 #include <ompl/base/OptimizationObjective.h>
 #include <ompl/base/ProjectionEvaluator.h>
 #include <ompl/base/goals/GoalSampleableRegion.h>
@@ -17,6 +13,10 @@
 #include <ompl/control/spaces/RealVectorControlSpace.h>
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
+
+#include <chrono>
+#include <cmath>
+#include <mutex>
 
 #include "specht/core/error.h"
 
@@ -45,11 +45,15 @@ enum Log { kTime = 0, kDriven = 1, kReversed = 2, kGearChanges = 3, kDirection =
 const ob::SE2StateSpace::StateType& Se2(const ob::State* s) {
   return *s->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
 }
-ob::SE2StateSpace::StateType& Se2(ob::State* s) { return *s->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0); }
+ob::SE2StateSpace::StateType& Se2(ob::State* s) {
+  return *s->as<ob::CompoundState>()->as<ob::SE2StateSpace::StateType>(0);
+}
 const double* Values(const ob::State* s, int part) {
   return s->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(part)->values;
 }
-double* Values(ob::State* s, int part) { return s->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(part)->values; }
+double* Values(ob::State* s, int part) {
+  return s->as<ob::CompoundState>()->as<ob::RealVectorStateSpace::StateType>(part)->values;
+}
 Pose PoseOf(const ob::State* s) { return {Se2(s).getX(), Se2(s).getY(), Se2(s).getYaw()}; }
 
 // The compound space with its distance written out: OMPL's generic compound
@@ -160,7 +164,8 @@ class Objective : public ob::OptimizationObjective {
     const double reverse_share = driven > 0 ? reversed / driven : 0;
     double c = base * (1 + (o_.reverse_penalty - 1) * reverse_share);
     c += o_.gear_change_penalty * (lb[kGearChanges] - la[kGearChanges]);
-    if (o_.clearance_weight > 0) c += o_.clearance_weight * driven * std::max(0.0, 1 - Clearance(b) / o_.clearance_target_m);
+    if (o_.clearance_weight > 0)
+      c += o_.clearance_weight * driven * std::max(0.0, 1 - Clearance(b) / o_.clearance_target_m);
     return ob::Cost(c);
   }
 
@@ -224,8 +229,11 @@ class XYProjection : public ob::ProjectionEvaluator {
 class GuidedSampler : public ob::StateSampler {
  public:
   GuidedSampler(const ob::StateSpace* space, std::vector<Pose> guide, double bias, double sigma_m)
-      : ob::StateSampler(space), uniform_(space->allocDefaultStateSampler()), guide_(std::move(guide)),
-        bias_(bias), sigma_(sigma_m) {}
+      : ob::StateSampler(space),
+        uniform_(space->allocDefaultStateSampler()),
+        guide_(std::move(guide)),
+        bias_(bias),
+        sigma_(sigma_m) {}
   void sampleUniform(ob::State* s) override {
     uniform_->sampleUniform(s);
     if (guide_.empty() || rng_.uniform01() >= bias_) return;
@@ -326,7 +334,7 @@ KinodynamicPlanner::KinodynamicPlanner(const KinodynamicOptions& options, const 
 KinodynamicPlanner::~KinodynamicPlanner() = default;
 
 KinodynamicResult KinodynamicPlanner::Plan(const Pose& start, const Pose& goal,
-                                          const std::vector<MovingObstacle>& obstacles, const Path* guide) {
+                                           const std::vector<MovingObstacle>& obstacles, const Path* guide) {
   Impl& m = *impl_;
   const auto t0 = Clock::now();
   CheckEndpoint(*m.map, m.car, start, "start");
@@ -386,8 +394,10 @@ KinodynamicResult KinodynamicPlanner::Plan(const Pose& start, const Pose& goal,
 
   // SST stops early only once a solution satisfies the objective: any finite cost
   // does when the first solution is wanted. RRT and KPIECE1 stop at their first.
-  if (m.o.stop_at_first_solution) objective->setCostThreshold(ob::Cost(INFINITY));
-  else objective->setCostThreshold(ob::Cost(-INFINITY));
+  if (m.o.stop_at_first_solution)
+    objective->setCostThreshold(ob::Cost(INFINITY));
+  else
+    objective->setCostThreshold(ob::Cost(-INFINITY));
   // One condition per call: the budget counts from the call's start, less the
   // share kept for the wrap-up — extracting the path and freeing the tree took
   // 5–27 ms after a 225 ms solve on the clutter benchmark (RRT's approximate path
@@ -395,8 +405,8 @@ KinodynamicResult KinodynamicPlanner::Plan(const Pose& start, const Pose& goal,
   // evaluated once per planner iteration.
   constexpr double kWrapUpShare = 0.15;
   long iterations = 0;
-  const double budget_s = std::max(0.0, (1 - kWrapUpShare) * m.o.time_budget_ms / 1e3 -
-                                            std::chrono::duration<double>(Clock::now() - t0).count());
+  const double budget_s = std::max(
+      0.0, (1 - kWrapUpShare) * m.o.time_budget_ms / 1e3 - std::chrono::duration<double>(Clock::now() - t0).count());
   const ob::PlannerTerminationCondition ptc = ob::plannerOrTerminationCondition(
       ob::timedPlannerTerminationCondition(budget_s), ob::PlannerTerminationCondition([&] {
         ++iterations;

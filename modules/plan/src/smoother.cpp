@@ -1,10 +1,10 @@
 #include "specht/plan/smoother.h"
 
-#include <chrono>
-#include <cmath>
-
 #include <ceres/ceres.h>
 #include <ceres/cubic_interpolation.h>
+
+#include <chrono>
+#include <cmath>
 
 namespace specht::plan {
 namespace {
@@ -110,12 +110,11 @@ SmoothResult SmoothPath(const Path& path, const DistanceMap& map, const CarOptio
       for (size_t i = 1; i + 1 < x.size(); ++i) {
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SmoothCost, 2, 2, 2, 2>(new SmoothCost{o.w_smooth}),
                                  nullptr, x[i - 1].data(), x[i].data(), x[i + 1].data());
-        problem.AddResidualBlock(
-            new ceres::AutoDiffCostFunction<ClearCost, ceres::DYNAMIC, 2, 2, 2>(
-                new ClearCost{&distance, o.w_clear, need, map.origin_x(), map.origin_y(), map.resolution(), direction,
-                              offsets},
-                static_cast<int>(offsets.size())),
-            nullptr, x[i - 1].data(), x[i].data(), x[i + 1].data());
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ClearCost, ceres::DYNAMIC, 2, 2, 2>(
+                                     new ClearCost{&distance, o.w_clear, need, map.origin_x(), map.origin_y(),
+                                                   map.resolution(), direction, offsets},
+                                     static_cast<int>(offsets.size())),
+                                 nullptr, x[i - 1].data(), x[i].data(), x[i + 1].data());
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CurvatureCost, 1, 2, 2, 2>(
                                      new CurvatureCost{o.w_curvature, 0.9 * kappa_max}),
                                  nullptr, x[i - 1].data(), x[i].data(), x[i + 1].data());

@@ -104,7 +104,8 @@ double PathTracker::RearWheelFeedback(const Pose& pose, size_t end, int directio
   // The reference: the car's projection on the segment from the nearest point on.
   const size_t i = std::min(index_, end > 0 ? end - 1 : 0), j = std::min(i + 1, p.size() - 1);
   const double ex = p[j].pose.x - p[i].pose.x, ey = p[j].pose.y - p[i].pose.y, len2 = ex * ex + ey * ey;
-  const double u = len2 > 1e-12 ? std::clamp(((pose.x - p[i].pose.x) * ex + (pose.y - p[i].pose.y) * ey) / len2, 0.0, 1.0) : 0.0;
+  const double u =
+      len2 > 1e-12 ? std::clamp(((pose.x - p[i].pose.x) * ex + (pose.y - p[i].pose.y) * ey) / len2, 0.0, 1.0) : 0.0;
   const double dtheta = std::remainder(p[j].pose.theta - p[i].pose.theta, 2 * M_PI);
   const double theta_ref = p[i].pose.theta + u * dtheta;
   const double xr = p[i].pose.x + u * ex, yr = p[i].pose.y + u * ey;

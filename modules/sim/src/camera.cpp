@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <limits>
 #include <map>
-
 #include <opencv2/imgproc.hpp>
 
 namespace specht::sim {
@@ -45,7 +44,8 @@ double Texture(const std::string& kind, double s, double z, uint32_t salt) {
     const double row = std::floor(z / 0.25), offset = std::fmod(row, 2.0) * 0.25;
     const double bs = std::fmod(s + offset, 0.5), bz = std::fmod(z, 0.25);
     const bool mortar = bs < 0.03 || bz < 0.03;
-    return mortar ? 0.85 : 0.35 + 0.4 * n * Hash(static_cast<int64_t>((s + offset) / 0.5), static_cast<int64_t>(row), salt);
+    return mortar ? 0.85
+                  : 0.35 + 0.4 * n * Hash(static_cast<int64_t>((s + offset) / 0.5), static_cast<int64_t>(row), salt);
   }
   if (kind == "stripes") return 0.3 + 0.4 * (std::fmod(std::floor(s / 0.3), 2.0)) + 0.3 * (n - 0.5);
   if (kind == "checker") {
@@ -118,8 +118,8 @@ struct Patch {
 }  // namespace
 
 struct StereoRenderer::View {
-  cv::Vec3d o;     // camera centre in the world
-  cv::Matx33d R;   // world_from_cam
+  cv::Vec3d o;    // camera centre in the world
+  cv::Matx33d R;  // world_from_cam
   double f = 0, cx = 0, cy = 0;
   int w = 0, h = 0;
   cv::Mat3b image;
@@ -208,8 +208,8 @@ const Sprite* StereoRenderer::SpriteFor(const Box3& box, const cv::Vec3d& camera
   const double bx = box.pose.x - camera[0], by = box.pose.y - camera[1], r = std::hypot(bx, by);
   const double across_x = -by / r, across_y = bx / r;
   const double c = std::cos(box.pose.yaw_rad), s = std::sin(box.pose.yaw_rad);
-  const double shown = std::abs(box.length_m * (c * across_x + s * across_y)) +
-                       std::abs(box.width_m * (-s * across_x + c * across_y));
+  const double shown =
+      std::abs(box.length_m * (c * across_x + s * across_y)) + std::abs(box.width_m * (-s * across_x + c * across_y));
   const double want = std::log(shown / box.height_m);
   const Sprite* best = nullptr;
   double best_cost = 1e18;
@@ -263,8 +263,9 @@ StereoFrame StereoRenderer::Render(const Pose2& ego, const std::vector<Box3>& bo
           v.depth(row, u) = static_cast<float>(t);
         } else {
           const double sky = static_cast<double>(row) / v.h;
-          v.image(row, u) = cv::Vec3b(cv::saturate_cast<uint8_t>(235 - 20 * sky), cv::saturate_cast<uint8_t>(200 + 20 * sky),
-                                      cv::saturate_cast<uint8_t>(160 + 50 * sky));
+          v.image(row, u) =
+              cv::Vec3b(cv::saturate_cast<uint8_t>(235 - 20 * sky), cv::saturate_cast<uint8_t>(200 + 20 * sky),
+                        cv::saturate_cast<uint8_t>(160 + 50 * sky));
           v.depth(row, u) = 0;
         }
       }
@@ -301,9 +302,10 @@ StereoFrame StereoRenderer::Render(const Pose2& ego, const std::vector<Box3>& bo
       double s0 = 0;
       for (size_t i = 0; i < edges; ++i, ++salt) {
         const Vec2 a = obj.polygon[i], b = obj.polygon[(i + 1) % n];
-        face(v, a, b, obj.height_m, obj.texture, Tint(obj.texture), s0 + 3.7 * (salt % 3), [&](int u, int row, bool nearer) {
-          if (nearer && !v.agent.empty()) v.agent(row, u) = 0;  // hides any agent drawn there
-        });
+        face(v, a, b, obj.height_m, obj.texture, Tint(obj.texture), s0 + 3.7 * (salt % 3),
+             [&](int u, int row, bool nearer) {
+               if (nearer && !v.agent.empty()) v.agent(row, u) = 0;  // hides any agent drawn there
+             });
         s0 += std::hypot(b.x - a.x, b.y - a.y);
       }
     }
@@ -398,17 +400,22 @@ StereoFrame StereoRenderer::Render(const Pose2& ego, const std::vector<Box3>& bo
     // Truncation: the full extent's box against the part inside the image.
     const double full_h = s.focal_px * box.height_m / c_cam[2];
     const double truncated = std::clamp(1.0 - extent.height / std::max(1.0, full_h), 0.0, 1.0);
-    AgentView view{box.id, box.cls, drawn[i] ? drawn[i]->name : "", cv::Rect2d(extent), truncated,
-                   static_cast<double>(seen) / covered, c_cam[2]};
+    AgentView view{box.id,
+                   box.cls,
+                   drawn[i] ? drawn[i]->name : "",
+                   cv::Rect2d(extent),
+                   truncated,
+                   static_cast<double>(seen) / covered,
+                   c_cam[2]};
     if (view.visible < 0.05) continue;
     const int occluded = view.visible > 0.8 ? 0 : view.visible > 0.4 ? 1 : 2;
     const double rotation_y = -(box.pose.yaw_rad - yaw);  // about the camera's y (down) axis
     const double alpha = rotation_y - std::atan2(c_cam[0], c_cam[2]);
     char line[320];
     std::snprintf(line, sizeof(line), "%s %.2f %d %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f",
-                  box.cls.c_str(), truncated, occluded, std::atan2(std::sin(alpha), std::cos(alpha)),
-                  view.box.x, view.box.y, view.box.br().x - 1, view.box.br().y - 1, box.height_m, box.width_m,
-                  box.length_m, c_cam[0], c_cam[1] + box.height_m / 2, c_cam[2],
+                  box.cls.c_str(), truncated, occluded, std::atan2(std::sin(alpha), std::cos(alpha)), view.box.x,
+                  view.box.y, view.box.br().x - 1, view.box.br().y - 1, box.height_m, box.width_m, box.length_m,
+                  c_cam[0], c_cam[1] + box.height_m / 2, c_cam[2],
                   std::atan2(std::sin(rotation_y), std::cos(rotation_y)));
     f.kitti_labels.push_back(line);
     f.agents.push_back(std::move(view));

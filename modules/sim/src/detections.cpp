@@ -55,7 +55,8 @@ std::vector<types::Obstacle> SyntheticDetector::Detect(const sim::Simulator& sim
       const int shift = 1 + static_cast<int>(uniform(rng_) * 2);
       cls = kClasses[(static_cast<int>(a.cls) + shift) % 3];
     }
-    add(a.pose.x, a.pose.y, cls, options_.position_sigma_m + options_.range_sigma_fraction * d, 0.5 + 0.5 * uniform(rng_));
+    add(a.pose.x, a.pose.y, cls, options_.position_sigma_m + options_.range_sigma_fraction * d,
+        0.5 + 0.5 * uniform(rng_));
     out.back().radius_m = std::max(a.length_m, a.width_m) / 2;
   }
   std::poisson_distribution<int> false_alarms(options_.false_alarms_per_frame);

@@ -92,8 +92,10 @@ double RouteFollower::PursuePath() {
       if (s.speed_mps >= 0.2) break;  // still braking for the stop
       s.wait_s = p.stop_s;
     }
-    if (s.target + 1 < n) ++s.target;
-    else if (loop_) s.target = 0;
+    if (s.target + 1 < n)
+      ++s.target;
+    else if (loop_)
+      s.target = 0;
     else {
       s.finished = true;
       return 0;
@@ -140,9 +142,12 @@ double RouteFollower::HeadForWaypoint(std::mt19937_64& rng) {
     if (p.pause_probability > 0 && u01(rng) < p.pause_probability) {
       s.wait_s = p.pause_min_s + (p.pause_max_s - p.pause_min_s) * u01(rng);
     }
-    if (s.target + 1 < route_.size()) ++s.target;
-    else if (loop_) s.target = 0;
-    else s.finished = true;
+    if (s.target + 1 < route_.size())
+      ++s.target;
+    else if (loop_)
+      s.target = 0;
+    else
+      s.finished = true;
     return 0;
   }
   const double bearing = Wrap(std::atan2(dy, dx) - s.pose.yaw_rad);

@@ -1,5 +1,7 @@
 #include "specht/sim/scenario.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -7,19 +9,20 @@
 #include <set>
 #include <sstream>
 
-#include <yaml-cpp/yaml.h>
-
+#include "internal/geometry.h"
 #include "specht/core/error.h"
 #include "specht/core/params.h"
-#include "internal/geometry.h"
 
 namespace specht::sim {
 
 const char* Name(AgentClass c) {
   switch (c) {
-    case AgentClass::kPedestrian: return "pedestrian";
-    case AgentClass::kCyclist: return "cyclist";
-    case AgentClass::kCar: return "car";
+    case AgentClass::kPedestrian:
+      return "pedestrian";
+    case AgentClass::kCyclist:
+      return "cyclist";
+    case AgentClass::kCar:
+      return "car";
   }
   return "?";
 }
@@ -71,9 +74,9 @@ class Reader {
     try {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
-      Error(n, Join(ctx, key), "expected a number, got '" + (n.IsScalar() ? n.Scalar() : std::string("a ") +
-                                                                                             (n.IsMap() ? "map" : "list")) +
-                                   "'");
+      Error(n, Join(ctx, key),
+            "expected a number, got '" +
+                (n.IsScalar() ? n.Scalar() : std::string("a ") + (n.IsMap() ? "map" : "list")) + "'");
       return fallback;
     }
     if (!std::isfinite(v) || v < min || v > max) {
@@ -191,7 +194,9 @@ class Reader {
     }
   }
 
-  static std::string Join(const std::string& ctx, const std::string& key) { return ctx.empty() ? key : ctx + "." + key; }
+  static std::string Join(const std::string& ctx, const std::string& key) {
+    return ctx.empty() ? key : ctx + "." + key;
+  }
 
  private:
   std::string file_;
@@ -220,10 +225,12 @@ void CheckRouteClear(Reader& r, const YAML::Node& node, const std::string& ctx, 
       const auto& poly = objects[o].polygon;
       if (!objects[o].closed) continue;
       bool blocked = InsidePolygon(poly, a) || InsidePolygon(poly, b);
-      for (size_t i = 0; i < poly.size() && !blocked; ++i) blocked = SegmentsCross(a, b, poly[i], poly[(i + 1) % poly.size()]);
+      for (size_t i = 0; i < poly.size() && !blocked; ++i)
+        blocked = SegmentsCross(a, b, poly[i], poly[(i + 1) % poly.size()]);
       if (blocked) {
-        r.Error(node, ctx, "leg " + std::to_string(k) + " -> " + std::to_string((k + 1) % route.size()) +
-                               " passes through world.objects[" + std::to_string(o) + "]");
+        r.Error(node, ctx,
+                "leg " + std::to_string(k) + " -> " + std::to_string((k + 1) % route.size()) +
+                    " passes through world.objects[" + std::to_string(o) + "]");
         return;
       }
     }
@@ -313,19 +320,23 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
         ParkingBay bay;
         bay.name = r.String(bays[i], ctx, "name", "bay" + std::to_string(i));
         bay.pose = r.Pose(bays[i], ctx, "pose", {});
-        if (const YAML::Node size = bays[i]["size_m"]; size && r.Numbers(size, ctx + ".size_m", 2, "[length_m, width_m]", v)) {
+        if (const YAML::Node size = bays[i]["size_m"];
+            size && r.Numbers(size, ctx + ".size_m", 2, "[length_m, width_m]", v)) {
           bay.length_m = v[0], bay.width_m = v[1];
         }
         s.bays.push_back(bay);
       }
     }
   }
-  auto inside = [&](Vec2 p) { return p.x >= s.bounds[0] && p.x <= s.bounds[2] && p.y >= s.bounds[1] && p.y <= s.bounds[3]; };
+  auto inside = [&](Vec2 p) {
+    return p.x >= s.bounds[0] && p.x <= s.bounds[2] && p.y >= s.bounds[1] && p.y <= s.bounds[3];
+  };
 
   // ego
   if (const YAML::Node e = root["ego"];
-      e && r.Map(e, "ego", {"wheelbase_m", "max_steer_deg", "max_speed_mps", "max_accel_mps2", "length_m", "width_m",
-                            "rear_overhang_m", "start", "route", "cruise_speed_mps", "loop"})) {
+      e && r.Map(e, "ego",
+                 {"wheelbase_m", "max_steer_deg", "max_speed_mps", "max_accel_mps2", "length_m", "width_m",
+                  "rear_overhang_m", "start", "route", "cruise_speed_mps", "loop"})) {
     VehicleModel& m = s.ego.model;
     m.wheelbase_m = r.Number(e, "ego", "wheelbase_m", m.wheelbase_m, 0.2, 10);
     m.max_steer_rad = r.Number(e, "ego", "max_steer_deg", 30, 1, 80) * kDeg;
@@ -345,7 +356,8 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
     }
     if (!inside({s.ego.start.x, s.ego.start.y})) r.Error(e["start"], "ego.start", "outside the world bounds");
     for (size_t i = 0; i < s.ego.route.size(); ++i) {
-      if (!inside(s.ego.route[i].p)) r.Error(e["route"][i], "ego.route[" + std::to_string(i) + "]", "outside the world bounds");
+      if (!inside(s.ego.route[i].p))
+        r.Error(e["route"][i], "ego.route[" + std::to_string(i) + "]", "outside the world bounds");
     }
     std::vector<Waypoint> with_start = s.ego.route;
     with_start.insert(with_start.begin(), Waypoint{{s.ego.start.x, s.ego.start.y}, false});
@@ -361,7 +373,8 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
       if (!r.Map(a, ctx, {"id", "class", "route", "start_s", "loop", "max_speed_mps", "sprite"})) continue;
       AgentSpec spec;
       spec.id = static_cast<int>(r.Number(a, ctx, "id", static_cast<double>(i + 1), 0, 1e6));
-      if (!ids.insert(spec.id).second) r.Error(a["id"], ctx + ".id", "id " + std::to_string(spec.id) + " is used twice");
+      if (!ids.insert(spec.id).second)
+        r.Error(a["id"], ctx + ".id", "id " + std::to_string(spec.id) + " is used twice");
       const std::string cls = r.String(a, ctx, "class", "pedestrian", {"pedestrian", "cyclist", "car"});
       spec.cls = cls == "car" ? AgentClass::kCar : cls == "cyclist" ? AgentClass::kCyclist : AgentClass::kPedestrian;
       spec.route = Route(r, a["route"], ctx + ".route");
@@ -383,7 +396,8 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
   // sensors
   if (const YAML::Node sn = root["sensors"]; sn && r.Map(sn, "sensors", {"lidar", "odometry", "imu", "stereo"})) {
     if (const YAML::Node st = sn["stereo"];
-        st && r.Map(st, "sensors.stereo", {"rate_hz", "width", "height", "focal_px", "baseline_m", "mount", "sprites"})) {
+        st &&
+        r.Map(st, "sensors.stereo", {"rate_hz", "width", "height", "focal_px", "baseline_m", "mount", "sprites"})) {
       StereoSpec x;
       const std::string ctx = "sensors.stereo";
       x.rate_hz = r.Number(st, ctx, "rate_hz", x.rate_hz, 0.1, 60);
@@ -401,7 +415,8 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
       s.stereo = x;
     }
     if (const YAML::Node l = sn["lidar"];
-        l && r.Map(l, "sensors.lidar", {"rate_hz", "beams", "fov_deg", "max_range_m", "range_noise_m", "dropout", "mount"})) {
+        l && r.Map(l, "sensors.lidar",
+                   {"rate_hz", "beams", "fov_deg", "max_range_m", "range_noise_m", "dropout", "mount"})) {
       LidarSpec& x = s.lidar;
       x.rate_hz = r.Number(l, "sensors.lidar", "rate_hz", x.rate_hz, 0.1, 100);
       x.beams = static_cast<int>(r.Number(l, "sensors.lidar", "beams", x.beams, 2, 10000));

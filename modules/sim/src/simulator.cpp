@@ -1,11 +1,11 @@
 #include "specht/sim/simulator.h"
 
-#include <chrono>
-#include <cmath>
-
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
+
+#include <chrono>
+#include <cmath>
 
 namespace specht::sim {
 namespace {
@@ -62,8 +62,8 @@ std::vector<AgentTruth> Simulator::agents() const {
     if (time_s() < scenario_.agents[i].start_s) continue;
     const auto& s = agents_[i].state();
     const auto& p = agents_[i].params();
-    out.push_back({scenario_.agents[i].id, scenario_.agents[i].cls, s.pose, s.speed_mps, s.yaw_rate, p.length_m,
-                   p.width_m});
+    out.push_back(
+        {scenario_.agents[i].id, scenario_.agents[i].cls, s.pose, s.speed_mps, s.yaw_rate, p.length_m, p.width_m});
   }
   return out;
 }
@@ -83,9 +83,10 @@ std::vector<Box3> Simulator::AgentBoxes() const {
 
 void Simulator::Step(const Sink& sink, const StereoSink& stereo) {
   ++step_;
-  if (ego_command_) ego_.StepCommanded(kStepS, ego_command_->speed_mps, ego_command_->steer_rad,
-                                       ego_command_->steer_rate_rad_s);
-  else ego_.Step(kStepS, motion_rng_);
+  if (ego_command_)
+    ego_.StepCommanded(kStepS, ego_command_->speed_mps, ego_command_->steer_rad, ego_command_->steer_rate_rad_s);
+  else
+    ego_.Step(kStepS, motion_rng_);
   for (size_t i = 0; i < agents_.size(); ++i) {
     if (time_s() >= scenario_.agents[i].start_s) agents_[i].Step(kStepS, motion_rng_);
   }

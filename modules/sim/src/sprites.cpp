@@ -4,12 +4,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <optional>
-#include <set>
-
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <set>
 
 #include "specht/core/error.h"
 
@@ -97,7 +96,8 @@ void LoadCoco(const std::string& dir, const SpriteOptions& o, std::vector<Sprite
       }
       if (!rider) continue;
       riders.insert(rider);
-      cv::Mat mask = PolygonMask(v->at("segmentation"), image.size()) | PolygonMask(rider->at("segmentation"), image.size());
+      cv::Mat mask =
+          PolygonMask(v->at("segmentation"), image.size()) | PolygonMask(rider->at("segmentation"), image.size());
       if (auto s = CutOut(image, mask, name(v), "cyclist", id % 3 == 0, o)) out.push_back(std::move(*s));
     }
     for (const auto* a : anns) {

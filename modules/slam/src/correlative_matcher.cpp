@@ -1,14 +1,14 @@
 #include "specht/slam/correlative_matcher.h"
 
+#include <mrpt/math/wrap2pi.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <opencv2/core.hpp>
 #include <stdexcept>
 #include <unordered_set>
-
-#include <mrpt/math/wrap2pi.h>
-#include <opencv2/core.hpp>
 
 namespace specht::slam {
 
@@ -145,7 +145,8 @@ double CorrelativeMatcher::Score(const mrpt::maps::CSimplePointsMap& scan, const
     sum += At(0, static_cast<int>(std::floor((x - x0_) / resolution_)),
               static_cast<int>(std::floor((y - y0_) / resolution_)));
   }
-  const double penalty = prior.weight_per_m > 0 ? prior.weight_per_m * prior.ExcessM(pose.x(), pose.y(), pose.phi()) : 0;
+  const double penalty =
+      prior.weight_per_m > 0 ? prior.weight_per_m * prior.ExcessM(pose.x(), pose.y(), pose.phi()) : 0;
   return sum / (255.0 * xs.size()) - penalty;
 }
 
@@ -154,7 +155,7 @@ namespace {
 struct Candidate {
   int angle = 0;  // index into the rotated scans
   int dx = 0, dy = 0;
-  int score = 0;  // sum of cell values over the points
+  int score = 0;                                                        // sum of cell values over the points
   bool operator<(const Candidate& o) const { return score > o.score; }  // best first
 };
 
@@ -305,7 +306,8 @@ mrpt::maps::CSimplePointsMap Decimate(const mrpt::maps::CSimplePointsMap& points
   std::unordered_set<uint64_t> seen;
   seen.reserve(xs.size());
   for (size_t i = 0; i < xs.size(); ++i) {
-    const auto cx = static_cast<int32_t>(std::floor(xs[i] / cell_m)), cy = static_cast<int32_t>(std::floor(ys[i] / cell_m));
+    const auto cx = static_cast<int32_t>(std::floor(xs[i] / cell_m)),
+               cy = static_cast<int32_t>(std::floor(ys[i] / cell_m));
     const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(cx)) << 32) | static_cast<uint32_t>(cy);
     if (seen.insert(key).second) out.insertPoint(xs[i], ys[i], 0);
   }

@@ -1,14 +1,14 @@
 #include "specht/slam/icp.h"
 
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/slam/CICP.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
-#include <mrpt/math/wrap2pi.h>
-#include <mrpt/slam/CICP.h>
 
 namespace specht::slam {
 
@@ -147,12 +147,10 @@ IcpResult IcpAligner::Align(const IndexedPoints& reference, const mrpt::maps::CS
     // settle in one basin, from the guess too; the lower cost wins, the guess on a tie.
     const mrpt::poses::CPose2D moved = pose - guess;
     const bool two_starts = moved.norm() > 0.5 * o.point_to_line_gate_m || std::abs(moved.phi()) > kSameBasinRad;
-    const LineFit from_icp =
-        RefinePointToLine(reference, scan, pose, o, two_starts, impl_->neighbours);
+    const LineFit from_icp = RefinePointToLine(reference, scan, pose, o, two_starts, impl_->neighbours);
     pose = from_icp.pose;
     if (two_starts) {
-      const LineFit from_guess =
-          RefinePointToLine(reference, scan, guess, o, true, impl_->neighbours);
+      const LineFit from_guess = RefinePointToLine(reference, scan, guess, o, true, impl_->neighbours);
       if (!(from_icp.cost < from_guess.cost)) pose = from_guess.pose;
     }
   }

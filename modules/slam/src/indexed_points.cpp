@@ -1,10 +1,10 @@
 #include "specht/slam/indexed_points.h"
 
+#include <mrpt/poses/CPose2D.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <mrpt/poses/CPose2D.h>
 
 namespace specht::slam {
 
@@ -43,9 +43,11 @@ void IndexedPoints::Build(size_t lo, size_t hi, Box box) {
   const size_t mid = lo + (hi - lo) / 2;
   auto begin = tree_.begin();
   if (axis == 0) {
-    std::nth_element(begin + lo, begin + mid, begin + hi, [](const TreePoint& a, const TreePoint& b) { return a.x < b.x; });
+    std::nth_element(begin + lo, begin + mid, begin + hi,
+                     [](const TreePoint& a, const TreePoint& b) { return a.x < b.x; });
   } else {
-    std::nth_element(begin + lo, begin + mid, begin + hi, [](const TreePoint& a, const TreePoint& b) { return a.y < b.y; });
+    std::nth_element(begin + lo, begin + mid, begin + hi,
+                     [](const TreePoint& a, const TreePoint& b) { return a.y < b.y; });
   }
   axis_[mid] = axis;
   Box left = box, right = box;
@@ -193,8 +195,7 @@ void IndexedPoints::determineMatching2D(const mrpt::maps::CMetricMap* other_map,
     ++paired;
   }
   extra.sumSqrDist = paired > 0 ? static_cast<float>(sum2 / static_cast<double>(paired)) : 0.0f;
-  extra.correspondencesRatio =
-      static_cast<float>(params.decimation_other_map_points * paired) / static_cast<float>(n);
+  extra.correspondencesRatio = static_cast<float>(params.decimation_other_map_points * paired) / static_cast<float>(n);
 }
 
 }  // namespace specht::slam

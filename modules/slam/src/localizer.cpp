@@ -1,9 +1,9 @@
 #include "specht/slam/localizer.h"
 
+#include <mrpt/obs/CObservationOdometry.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <mrpt/obs/CObservationOdometry.h>
 
 #include "internal/matching.h"
 #include "specht/slam/correlative_matcher.h"
@@ -79,8 +79,8 @@ void Localizer::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation
       const double half = std::max(*x1 - *x0, *y1 - *y0) / 2 + 1.0;
       const CorrelativeMatcher global(Decimate(m.map.points(), m.options.global_resolution_m / 2),
                                       m.options.global_resolution_m, half);
-      const auto found = global.Match(Decimate(points, m.options.global_resolution_m), CPose2D(cx, cy, 0), half,
-                                      M_PI, m.options.global_min_score);
+      const auto found = global.Match(Decimate(points, m.options.global_resolution_m), CPose2D(cx, cy, 0), half, M_PI,
+                                      m.options.global_min_score);
       if (found) {
         guess = found->pose;
         global_score_ = found->score;

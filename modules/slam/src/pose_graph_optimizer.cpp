@@ -1,11 +1,11 @@
 #include "specht/slam/pose_graph_optimizer.h"
 
-#include <chrono>
-#include <cmath>
-
-#include <Eigen/Cholesky>
 #include <ceres/ceres.h>
 #include <mrpt/math/wrap2pi.h>
+
+#include <Eigen/Cholesky>
+#include <chrono>
+#include <cmath>
 
 namespace specht::slam {
 namespace {
@@ -138,8 +138,8 @@ OptimizeSummary Optimize(PoseGraph2D& graph, const PoseGraphOptions& options) {
     auto a = state.find(e.from), b = state.find(e.to);
     const bool robust = e.robust && options.loop_loss != "none";
     problem.AddResidualBlock(new RelativePoseError(e.measurement, SqrtInformation(e) * MeasurementFrame(e)),
-                             robust ? &shared_loss : nullptr, a->second.data(), a->second.data() + 2,
-                             b->second.data(), b->second.data() + 2);
+                             robust ? &shared_loss : nullptr, a->second.data(), a->second.data() + 2, b->second.data(),
+                             b->second.data() + 2);
   }
   for (auto& [id, s] : state) {
     if (problem.HasParameterBlock(s.data() + 2)) problem.SetManifold(s.data() + 2, &angle_manifold);

@@ -1,17 +1,17 @@
 #include "specht/stereo/calibration.h"
 
-#include <filesystem>
-#include <fstream>
-#include <map>
-#include <sstream>
-
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/img/TStereoCamera.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DQuat.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
-#include <yaml-cpp/yaml.h>
+#include <sstream>
 
 #include "specht/core/error.h"
 
@@ -147,7 +147,8 @@ cv::Size YamlSize(const std::string& path, const YAML::Node& root) {
   try {
     return cv::Size(root["image_width"].as<int>(), root["image_height"].as<int>());
   } catch (const YAML::Exception&) {
-    throw InputError(Where(path, root["image_width"].Mark().line + 1) + "image_width and image_height must be integers");
+    throw InputError(Where(path, root["image_width"].Mark().line + 1) +
+                     "image_width and image_height must be integers");
   }
 }
 
@@ -184,8 +185,7 @@ StereoCalibration RosPair(const std::string& left_path, const std::string& right
   StereoCalibration c;
   c.source = left_path + "," + right_path;
   c.size = YamlSize(left_path, left);
-  if (YamlSize(right_path, right) != c.size)
-    throw InputError(right_path + ": image size differs from " + left_path);
+  if (YamlSize(right_path, right) != c.size) throw InputError(right_path + ": image size differs from " + left_path);
   // The raw images: K, D, and the rectifying rotations, turned into R, T.
   c.k_left = cv::Matx33d(NeedYamlMatrix(left_path, left, "camera_matrix", 3, 3));
   c.k_right = cv::Matx33d(NeedYamlMatrix(right_path, right, "camera_matrix", 3, 3));

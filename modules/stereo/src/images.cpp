@@ -1,7 +1,6 @@
 #include "specht/stereo/images.h"
 
 #include <filesystem>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -44,10 +43,13 @@ cv::Mat ReadDisparityPng(const std::string& path, double scale_8bit) {
   cv::Mat raw = ReadUnchanged(path);
   if (raw.channels() != 1) throw InputError(path + ": a disparity image must have one channel");
   cv::Mat disparity;
-  if (raw.depth() == CV_16U) raw.convertTo(disparity, CV_32F, 1.0 / 256);
-  else if (raw.depth() == CV_8U) raw.convertTo(disparity, CV_32F, scale_8bit);
-  else throw InputError(path + ": disparity must be uint16 (KITTI) or uint8 (Middlebury), got " +
-                        cv::typeToString(raw.type()));
+  if (raw.depth() == CV_16U)
+    raw.convertTo(disparity, CV_32F, 1.0 / 256);
+  else if (raw.depth() == CV_8U)
+    raw.convertTo(disparity, CV_32F, scale_8bit);
+  else
+    throw InputError(path + ": disparity must be uint16 (KITTI) or uint8 (Middlebury), got " +
+                     cv::typeToString(raw.type()));
   return disparity;
 }
 

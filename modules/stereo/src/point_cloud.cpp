@@ -1,9 +1,9 @@
 #include "specht/stereo/point_cloud.h"
 
+#include <mrpt/maps/CColouredPointsMap.h>
+
 #include <filesystem>
 #include <fstream>
-
-#include <mrpt/maps/CColouredPointsMap.h>
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
@@ -37,9 +37,12 @@ std::vector<ColouredPoint> DisparityToPoints(const cv::Mat& disparity, const Rec
       ColouredPoint p;
       p.xyz = cv::Point3f(static_cast<float>((u - camera.cx_px) * z / camera.focal_px),
                           static_cast<float>((v - camera.cy_px) * z / camera.focal_px), static_cast<float>(z));
-      if (image.empty()) p.bgr = cv::Vec3b(128, 128, 128);
-      else if (image.channels() == 1) p.bgr = cv::Vec3b::all(image.at<uint8_t>(v, u));
-      else p.bgr = image.at<cv::Vec3b>(v, u);
+      if (image.empty())
+        p.bgr = cv::Vec3b(128, 128, 128);
+      else if (image.channels() == 1)
+        p.bgr = cv::Vec3b::all(image.at<uint8_t>(v, u));
+      else
+        p.bgr = image.at<cv::Vec3b>(v, u);
       points.push_back(p);
     }
   }
@@ -85,7 +88,8 @@ std::vector<cv::Vec4f> ReadVelodyne(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
   const auto bytes = std::filesystem::file_size(path);
   if (bytes % sizeof(cv::Vec4f) != 0)
-    throw InputError(path + ": " + std::to_string(bytes) + " bytes is not a whole number of 16-byte points "
+    throw InputError(path + ": " + std::to_string(bytes) +
+                     " bytes is not a whole number of 16-byte points "
                      "(float32 x, y, z, reflectance): truncated?");
   std::vector<cv::Vec4f> points(bytes / sizeof(cv::Vec4f));
   std::ifstream in(path, std::ios::binary);

@@ -7,14 +7,13 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
-#include <thread>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
-#include "specht/core/error.h"
 #include "internal/parallel.h"
 #include "internal/sgm_kernels.h"
+#include "specht/core/error.h"
 
 namespace specht::stereo {
 
@@ -34,7 +33,8 @@ std::vector<std::string> SgmOptions::Relations() const {
   if (p2 <= p1) problems.push_back("p2 must be larger than p1");
   if (median != 0 && median != 3 && median != 5) problems.push_back("median must be 0, 3 or 5");
   if (simd != "auto" && num_disparities % ByteLanes(simd) != 0)
-    problems.push_back("simd " + simd + " needs num_disparities to be a multiple of " + std::to_string(ByteLanes(simd)));
+    problems.push_back("simd " + simd + " needs num_disparities to be a multiple of " +
+                       std::to_string(ByteLanes(simd)));
   if (sgbm_block % 2 == 0) problems.push_back("sgbm_block must be odd");
   return problems;
 }
@@ -47,8 +47,7 @@ bool CpuHas(const char* feature) {
     return __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl") &&
            __builtin_cpu_supports("avx512vpopcntdq") && __builtin_cpu_supports("bmi2");
   if (std::strcmp(feature, "avx2") == 0) return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
-  if (std::strcmp(feature, "sse4.1") == 0)
-    return __builtin_cpu_supports("sse4.1") && __builtin_cpu_supports("popcnt");
+  if (std::strcmp(feature, "sse4.1") == 0) return __builtin_cpu_supports("sse4.1") && __builtin_cpu_supports("popcnt");
   return true;
 }
 
@@ -79,7 +78,8 @@ void CheckPair(const cv::Mat& left, const cv::Mat& right, const SgmOptions& opti
   };
   if (left.empty() || right.empty()) throw InputError("stereo: empty image");
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1)
-    throw InputError("stereo: images must be 8-bit grayscale, got left " + describe(left) + ", right " + describe(right));
+    throw InputError("stereo: images must be 8-bit grayscale, got left " + describe(left) + ", right " +
+                     describe(right));
   if (left.size() != right.size())
     throw InputError("stereo: left " + describe(left) + " and right " + describe(right) + " differ in size");
   if (left.cols < options.census_width || left.rows < options.census_height)
@@ -120,17 +120,17 @@ cv::Mat Census(const cv::Mat& image, const SgmOptions& o, const Kernels& k) {
 // The guidance penalty of one row, added to the costs (see sgm.h).
 class GuidancePenalty {
  public:
-  GuidancePenalty(const Guidance* guidance, const SgmOptions& o)
-      : guidance_(guidance), nd_(o.num_disparities) {
+  GuidancePenalty(const Guidance* guidance, const SgmOptions& o) : guidance_(guidance), nd_(o.num_disparities) {
     if (guidance_ == nullptr) return;
     options_ = guidance->kind == Guidance::Kind::kHints ? o.hints : o.prior;
     // Gaussian profile sampled at 1/8 px: 1 − exp(−Δ²/(2σ²)).
     profile_.resize(static_cast<size_t>(8 * nd_ + 1));
     for (size_t i = 0; i < profile_.size(); ++i) {
       const double delta = static_cast<double>(i) / 8.0;
-      profile_[i] = options_.mode == "window"
-                        ? (delta > options_.window_px ? 1.0f : 0.0f)
-                        : static_cast<float>(1.0 - std::exp(-delta * delta / (2 * options_.width_px * options_.width_px)));
+      profile_[i] =
+          options_.mode == "window"
+              ? (delta > options_.window_px ? 1.0f : 0.0f)
+              : static_cast<float>(1.0 - std::exp(-delta * delta / (2 * options_.width_px * options_.width_px)));
     }
   }
 
@@ -163,7 +163,8 @@ class GuidancePenalty {
 // the modelled background have no estimate of their own) and then by 2 px.
 Guidance WithoutContradictedGuide(const Guidance& guide, const cv::Mat& unguided, double reject_px) {
   Guidance checked = guide;
-  checked.weight = guide.weight.empty() ? cv::Mat(guide.disparity.size(), CV_32FC1, cv::Scalar(1)) : guide.weight.clone();
+  checked.weight =
+      guide.weight.empty() ? cv::Mat(guide.disparity.size(), CV_32FC1, cv::Scalar(1)) : guide.weight.clone();
   cv::Mat difference;
   cv::absdiff(unguided, guide.disparity, difference);
   cv::Mat region = (unguided > 0) & (guide.disparity > 0) & (difference > reject_px);
@@ -190,9 +191,12 @@ struct SweepBuffers {
         mins(static_cast<size_t>(2 * row_paths), std::vector<uint8_t>(static_cast<size_t>(width))),
         horizontal(static_cast<size_t>(2 * stride)),
         cost(static_cast<size_t>(width) * nd),
-        best(width), best_cost(width), unique(width),
+        best(width),
+        best_cost(width),
+        unique(width),
         // The mirrored right-image arrays are written in whole vectors: pad by the widest.
-        right_best(static_cast<size_t>(width + nd + 32)), right_cost(static_cast<size_t>(width + nd + 32)) {
+        right_best(static_cast<size_t>(width + nd + 32)),
+        right_cost(static_cast<size_t>(width + nd + 32)) {
     for (auto* buffer : PathBuffers()) {
       for (size_t p = 0; p < buffer->size(); p += static_cast<size_t>(stride)) {
         (*buffer)[p] = internal::kSentinelByte;
@@ -218,8 +222,15 @@ struct SweepBuffers {
 // Turns one row of summed costs into disparities (×16 fixed point, −16 = none).
 void FinishRow(const Kernels& k, const SgmOptions& o, const uint16_t* sum, int width, SweepBuffers& b, int16_t* out) {
   const int nd = o.num_disparities;
-  internal::RowWinner w{width, nd, o.uniqueness, sum, b.best.data(), b.best_cost.data(), b.unique.data(),
-                        b.right_best.data(), b.right_cost.data()};
+  internal::RowWinner w{width,
+                        nd,
+                        o.uniqueness,
+                        sum,
+                        b.best.data(),
+                        b.best_cost.data(),
+                        b.unique.data(),
+                        b.right_best.data(),
+                        b.right_cost.data()};
   k.winner_row(w);
   for (int x = 0; x < width; ++x) {
     const int d = b.best[x];
@@ -340,8 +351,10 @@ cv::Mat SemiGlobalMatcher::ComputeOnce(const cv::Mat& left, const cv::Mat& right
         while (state_->row_state[y].load(std::memory_order_acquire) != 2) std::this_thread::yield();
       }
       k.sweep_row(s);
-      if (first) state_->row_state[y].store(2, std::memory_order_release);
-      else FinishRow(k, o, s.sum, width, b, fixed_point.ptr<int16_t>(y));
+      if (first)
+        state_->row_state[y].store(2, std::memory_order_release);
+      else
+        FinishRow(k, o, s.sum, width, b, fixed_point.ptr<int16_t>(y));
     }
     stats[dir > 0 ? 0 : 1] = MatchStats{b.winners, b.unique_winners, b.consistent};
   };
@@ -374,8 +387,8 @@ cv::Mat SemiGlobalMatcher::ComputeOnce(const cv::Mat& left, const cv::Mat& right
 namespace {
 
 cv::Mat OpenCvSgbm(const cv::Mat& left, const cv::Mat& right, const SgmOptions& o) {
-  const int mode = o.sgbm_mode == "3way" ? cv::StereoSGBM::MODE_SGBM_3WAY
-                   : o.sgbm_mode == "hh" ? cv::StereoSGBM::MODE_HH
+  const int mode = o.sgbm_mode == "3way"  ? cv::StereoSGBM::MODE_SGBM_3WAY
+                   : o.sgbm_mode == "hh"  ? cv::StereoSGBM::MODE_HH
                    : o.sgbm_mode == "hh4" ? cv::StereoSGBM::MODE_HH4
                                           : cv::StereoSGBM::MODE_SGBM;
   auto sgbm = cv::StereoSGBM::create(0, o.num_disparities, o.sgbm_block, o.sgbm_p1, o.sgbm_p2, o.lr_max_diff, 0,
@@ -395,7 +408,8 @@ cv::Mat OpenCvSgbm(const cv::Mat& left, const cv::Mat& right, const SgmOptions& 
 
 std::string SelectedInstructionSet(const SgmOptions& options) { return KernelsFor(options).name; }
 
-cv::Mat ComputeDisparity(const cv::Mat& left, const cv::Mat& right, const SgmOptions& options, const Guidance* guidance) {
+cv::Mat ComputeDisparity(const cv::Mat& left, const cv::Mat& right, const SgmOptions& options,
+                         const Guidance* guidance) {
   if (options.matcher == "specht") return SemiGlobalMatcher(options).Compute(left, right, guidance);
   CheckPair(left, right, options, guidance);
   cv::Mat disparity = OpenCvSgbm(left, right, options);
@@ -414,9 +428,12 @@ void FillHolesRowwise(cv::Mat& disparity) {
       // Pixels last_valid+1 .. x−1 are a hole between two valid pixels (or a border).
       if (x - last_valid > 1) {
         float fill = 0;
-        if (last_valid >= 0 && x < width) fill = std::min(row[last_valid], row[x]);
-        else if (last_valid >= 0) fill = row[last_valid];
-        else if (x < width) fill = row[x];
+        if (last_valid >= 0 && x < width)
+          fill = std::min(row[last_valid], row[x]);
+        else if (last_valid >= 0)
+          fill = row[last_valid];
+        else if (x < width)
+          fill = row[x];
         for (int i = last_valid + 1; i < x; ++i) row[i] = fill;
       }
       last_valid = x;

@@ -52,9 +52,8 @@ struct Avx512Lanes {
   static Reg Blend(Mask m, Reg if_false, Reg if_true) { return _mm512_mask_blend_epi16(m, if_false, if_true); }
   static uint32_t Bits(Mask m) { return static_cast<uint32_t>(m); }
   static Reg Iota(uint16_t d) {
-    alignas(64) static constexpr uint16_t kIota[32] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10,
-                                                       11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
-                                                       22, 23, 24, 25, 26, 27, 28, 29, 30, 31};
+    alignas(64) static constexpr uint16_t kIota[32] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15,
+                                                       16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31};
     return _mm512_add_epi16(Set(d), _mm512_load_si512(kIota));
   }
 };

@@ -12,8 +12,7 @@ using Mat5 = Eigen::Matrix<double, 5, 5>;
 // Joseph-form update for a filter whose first two states are the position:
 //   K = P Hᵀ S⁻¹, x += K ν, P = (I − K H) P (I − K H)ᵀ + K R Kᵀ (stays symmetric PSD).
 template <int N>
-void PositionUpdate(Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N, N>& p, const Vec2& nu,
-                    const Mat2& r) {
+void PositionUpdate(Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N, N>& p, const Vec2& nu, const Mat2& r) {
   Eigen::Matrix<double, 2, N> h = Eigen::Matrix<double, 2, N>::Zero();
   h(0, 0) = h(1, 1) = 1;
   const Mat2 s = h * p * h.transpose() + r;
@@ -119,8 +118,7 @@ class ConstantTurn final : public MotionFilter {
 
 }  // namespace
 
-std::unique_ptr<MotionFilter> MakeConstantVelocity(const Vec2& position, const Mat2& position_cov,
-                                                   double speed_sigma) {
+std::unique_ptr<MotionFilter> MakeConstantVelocity(const Vec2& position, const Mat2& position_cov, double speed_sigma) {
   Vec4 x;
   x << position, 0, 0;
   Mat4 p = Mat4::Zero();

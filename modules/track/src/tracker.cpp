@@ -99,8 +99,10 @@ CycleStats Tracker::Update(const std::vector<types::Obstacle>& detections_in, St
   for (const auto& d : detections_in) {
     const bool finite = std::isfinite(d.x_m) && std::isfinite(d.y_m) && std::isfinite(d.covariance_xy(0, 0)) &&
                         std::isfinite(d.covariance_xy(1, 1)) && std::isfinite(d.covariance_xy(0, 1));
-    if (finite) detections.push_back(&d);
-    else ++skipped_;
+    if (finite)
+      detections.push_back(&d);
+    else
+      ++skipped_;
   }
   stats.detections = static_cast<int>(detections.size());
   // Each detection's covariance, symmetrised, with the floor added.
@@ -156,7 +158,8 @@ CycleStats Tracker::Update(const std::vector<types::Obstacle>& detections_in, St
       if (t.state == TrackState::kTentative && t.hits >= options_.confirm_hits) {
         t.state = TrackState::kConfirmed;
         ++stats.confirmed;
-        if (options_.UsesTurnModel(t.cls)) t.filter = internal::MakeConstantTurn(*t.filter, options_.initial_turn_rate_sigma_rad_s);
+        if (options_.UsesTurnModel(t.cls))
+          t.filter = internal::MakeConstantTurn(*t.filter, options_.initial_turn_rate_sigma_rad_s);
       }
     } else if (t.state == TrackState::kConfirmed) {
       t.state = TrackState::kCoasting;
@@ -177,7 +180,8 @@ CycleStats Tracker::Update(const std::vector<types::Obstacle>& detections_in, St
     const auto& d = *detections[k];
     auto t = std::make_unique<Entry>();
     t->id = next_id_++;
-    t->filter = internal::MakeConstantVelocity(Vec2(d.x_m, d.y_m), measurement_cov[k], options_.initial_speed_sigma_mps);
+    t->filter =
+        internal::MakeConstantVelocity(Vec2(d.x_m, d.y_m), measurement_cov[k], options_.initial_speed_sigma_mps);
     t->Vote(d);
     t->last_seen = now;
     t->hits = 1;
@@ -224,8 +228,8 @@ std::vector<types::Track> Tracker::Tracks() const {
 }
 
 int Tracker::tentative_count() const {
-  return static_cast<int>(std::count_if(tracks_.begin(), tracks_.end(),
-                                        [](const auto& t) { return t->state == TrackState::kTentative; }));
+  return static_cast<int>(
+      std::count_if(tracks_.begin(), tracks_.end(), [](const auto& t) { return t->state == TrackState::kTentative; }));
 }
 
 }  // namespace specht::track

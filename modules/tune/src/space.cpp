@@ -54,7 +54,8 @@ void AddDimension(const params::ParamInfo& info, const YAML::Node& spec, const s
       } else if (info.range) {
         char* end = nullptr;
         const double v = std::strtod(c.c_str(), &end);
-        if (end == c.c_str() || *end != '\0') problems.push_back(where + ": choice '" + c + "' is not a number");
+        if (end == c.c_str() || *end != '\0')
+          problems.push_back(where + ": choice '" + c + "' is not a number");
         else if (!info.range->Contains(v))
           problems.push_back(where + ": choice " + c + " is outside the declared range " + info.range->ToString());
       }

@@ -7,10 +7,9 @@
 
 #include <chrono>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
-
-#include <nlohmann/json.hpp>
 
 #include "internal/nearest.h"
 #include "specht/core/error.h"
@@ -50,7 +49,7 @@ TuneFile LoadTuneFile(const std::string& path, const std::vector<params::ParamIn
   try {
     for (const auto& kv : root) {
       const std::string k = kv.first.as<std::string>();
-      static const std::vector<std::string> known = {"run",     "report",   "metric",     "goal",
+      static const std::vector<std::string> known = {"run",     "report",    "metric",     "goal",
                                                      "repeats", "timeout_s", "parameters", "search"};
       if (std::find(known.begin(), known.end(), k) == known.end())
         throw InputError(at(kv.first) + "unknown field '" + k + "' (run, report, metric, goal, repeats, timeout_s, " +
@@ -58,7 +57,8 @@ TuneFile LoadTuneFile(const std::string& path, const std::vector<params::ParamIn
     }
     const YAML::Node run = root["run"];
     if (!run) throw InputError(path + ": 'run' is missing (the command lines of one evaluation)");
-    if (run.IsScalar()) t.commands.push_back(Words(run.as<std::string>()));
+    if (run.IsScalar())
+      t.commands.push_back(Words(run.as<std::string>()));
     else
       for (const auto& c : run) t.commands.push_back(Words(c.as<std::string>()));
     for (const auto& c : t.commands)

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "specht/core/error.h"
@@ -39,9 +38,12 @@ void StampCircle(cv::Mat& cost, const CostGrid& grid, double x, double y, double
       const double d = std::hypot(p.x - x, p.y - y);
       if (d > reach) continue;
       uint8_t value;
-      if (d <= core_m) value = CostGrid::kLethal;
-      else if (d <= core_m + footprint_m) value = CostGrid::kInscribed;
-      else value = static_cast<uint8_t>(std::max(1.0, 252.0 * std::exp(-decay * (d - core_m - footprint_m))));
+      if (d <= core_m)
+        value = CostGrid::kLethal;
+      else if (d <= core_m + footprint_m)
+        value = CostGrid::kInscribed;
+      else
+        value = static_cast<uint8_t>(std::max(1.0, 252.0 * std::exp(-decay * (d - core_m - footprint_m))));
       uint8_t& cell = cost.at<uint8_t>(r, c);
       cell = std::max(cell, value);
     }
@@ -53,7 +55,8 @@ void StampCircle(cv::Mat& cost, const CostGrid& grid, double x, double y, double
 std::vector<std::string> WorldModelOptions::Relations() const {
   std::vector<std::string> problems;
   Margins(class_margins, &problems);
-  if (free_probability >= occupied_probability) problems.push_back("free_probability must be below occupied_probability");
+  if (free_probability >= occupied_probability)
+    problems.push_back("free_probability must be below occupied_probability");
   return problems;
 }
 
@@ -80,18 +83,29 @@ nlohmann::json Snapshot::ToJson() const {
                        {"origin_m", {static_map->getXMin(), static_map->getYMin()}}};
   j["obstacles"] = nlohmann::json::array();
   for (const auto& o : obstacles)
-    j["obstacles"].push_back({{"id", o.id}, {"class", o.cls}, {"stamp_s", o.stamp.Seconds()},
-                              {"xyz_m", {o.x_m, o.y_m, o.z_m}}, {"radius_m", o.radius_m}, {"score", o.score}, {"range_m", o.range_m},
-                              {"covariance_xy", {o.covariance_xy(0, 0), o.covariance_xy(0, 1), o.covariance_xy(1, 1)}}});
+    j["obstacles"].push_back(
+        {{"id", o.id},
+         {"class", o.cls},
+         {"stamp_s", o.stamp.Seconds()},
+         {"xyz_m", {o.x_m, o.y_m, o.z_m}},
+         {"radius_m", o.radius_m},
+         {"score", o.score},
+         {"range_m", o.range_m},
+         {"covariance_xy", {o.covariance_xy(0, 0), o.covariance_xy(0, 1), o.covariance_xy(1, 1)}}});
   j["tracks"] = nlohmann::json::array();
   for (const auto& t : tracks) {
-    nlohmann::json track = {{"id", t.id},         {"class", t.cls},
-                            {"stamp_s", t.stamp.Seconds()}, {"xy_m", {t.x_m, t.y_m}},
-                            {"v_mps", {t.vx_mps, t.vy_mps}}, {"state", t.state},
-                            {"motion_model", t.motion_model}, {"history_points", t.history.size()}};
+    nlohmann::json track = {{"id", t.id},
+                            {"class", t.cls},
+                            {"stamp_s", t.stamp.Seconds()},
+                            {"xy_m", {t.x_m, t.y_m}},
+                            {"v_mps", {t.vx_mps, t.vy_mps}},
+                            {"state", t.state},
+                            {"motion_model", t.motion_model},
+                            {"history_points", t.history.size()}};
     track["prediction"] = nlohmann::json::array();
     for (const auto& p : t.prediction)
-      track["prediction"].push_back({{"dt_s", p.dt_s}, {"xy_m", {p.x_m, p.y_m}},
+      track["prediction"].push_back({{"dt_s", p.dt_s},
+                                     {"xy_m", {p.x_m, p.y_m}},
                                      {"covariance_xy", {p.covariance(0, 0), p.covariance(0, 1), p.covariance(1, 1)}}});
     if (!t.class_probabilities.empty()) track["class_probabilities"] = t.class_probabilities;
     j["tracks"].push_back(track);
@@ -206,8 +220,10 @@ WorldModel::StaticLayer WorldModel::InflateStatic(const mrpt::maps::COccupancyGr
   for (int r = 0; r < grid.cost.rows; ++r)
     for (int c = 0; c < grid.cost.cols; ++c) {
       const float p = 1.0f - m.getCell(c, r);  // MRPT stores p(free)
-      if (p > options_.occupied_probability) free_space.at<uint8_t>(r, c) = 0;
-      else if (p >= options_.free_probability) layer.unknown.at<uint8_t>(r, c) = 1;
+      if (p > options_.occupied_probability)
+        free_space.at<uint8_t>(r, c) = 0;
+      else if (p >= options_.free_probability)
+        layer.unknown.at<uint8_t>(r, c) = 1;
     }
   // Distance (m) of every cell to the nearest occupied cell.
   cv::Mat distance;
@@ -218,8 +234,10 @@ WorldModel::StaticLayer WorldModel::InflateStatic(const mrpt::maps::COccupancyGr
       // distanceTransform measures between cell centres: 0 on occupied cells.
       const double d = distance.at<float>(r, c) * grid.resolution_m;
       uint8_t& cell = grid.cost.at<uint8_t>(r, c);
-      if (d <= 0) cell = CostGrid::kLethal;
-      else if (d <= footprint) cell = CostGrid::kInscribed;
+      if (d <= 0)
+        cell = CostGrid::kLethal;
+      else if (d <= footprint)
+        cell = CostGrid::kInscribed;
       else if (d <= footprint + margin)
         cell = static_cast<uint8_t>(std::max(1.0, 252.0 * std::exp(-options_.cost_decay_per_m * (d - footprint))));
     }
@@ -245,8 +263,7 @@ std::shared_ptr<const CostGrid> WorldModel::BuildCost(const Snapshot& s) const {
     StampCircle(grid->cost, *grid, o.x_m, o.y_m, o.radius_m, options_.footprint_radius_m,
                 margin != margins_.end() ? margin->second : other_margin_, options_.cost_decay_per_m);
   }
-  if (static_layer_)
-    grid->cost.setTo(CostGrid::kUnknown, static_layer_->unknown & (grid->cost < CostGrid::kInscribed));
+  if (static_layer_) grid->cost.setTo(CostGrid::kUnknown, static_layer_->unknown & (grid->cost < CostGrid::kInscribed));
   return grid;
 }
 

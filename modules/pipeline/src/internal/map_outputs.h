@@ -2,11 +2,11 @@
 // (what `--map` and `--continue` read back) and the loop report.
 #pragma once
 
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <mrpt/maps/COccupancyGridMap2D.h>
-#include <nlohmann/json.hpp>
 
 #include "specht/core/trajectory.h"
 #include "specht/io/trajectory_io.h"

@@ -2,12 +2,12 @@
 // left camera annotated, and the world model from above around the car.
 #pragma once
 
+#include <mrpt/poses/CPose3D.h>
+
 #include <array>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <mrpt/poses/CPose3D.h>
-#include <opencv2/core.hpp>
 
 #include "specht/pipeline/stereo_perception.h"
 #include "specht/types/track.h"

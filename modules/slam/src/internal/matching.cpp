@@ -1,14 +1,13 @@
 #include "internal/matching.h"
 
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
+
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <thread>
 #include <vector>
-
-#include <Eigen/Cholesky>
-#include <mrpt/math/wrap2pi.h>
-
-#include <mrpt/obs/CObservationIMU.h>
-#include <mrpt/obs/CObservationOdometry.h>
 
 #include "specht/slam/correlative_matcher.h"
 
@@ -172,7 +171,7 @@ Eigen::Matrix3d MatchInformation(const CSimplePointsMap& points, const CPose2D& 
     // Neighbours on the same surface only (within 0.3 m).
     const double tx = xs[i + 1] - xs[i - 1], ty = ys[i + 1] - ys[i - 1], len = std::hypot(tx, ty);
     if (len < 1e-6 || len > 0.3) continue;
-    const double nx = -ty / len, ny = tx / len;             // normal, scan frame
+    const double nx = -ty / len, ny = tx / len;               // normal, scan frame
     const double wx = c * nx - s * ny, wy = s * nx + c * ny;  // normal, map frame
     // d(R p)/dθ = (−s x − c y, c x − s y)
     const double dx = -s * xs[i] - c * ys[i], dy = c * xs[i] - s * ys[i];
@@ -194,8 +193,7 @@ CPose2D FuseWithPrior(const CPose2D& match, const Eigen::Matrix3d& match_informa
 Eigen::Matrix3d PriorInformation(const CPose2D& step, const ScanMatchingOptions& options) {
   const double dist = step.norm();
   const double sigma_t = options.prior_fraction * dist + options.prior_min_m;
-  const double sigma_r =
-      options.prior_fraction * (std::abs(step.phi()) + dist) + mrpt::DEG2RAD(options.prior_min_deg);
+  const double sigma_r = options.prior_fraction * (std::abs(step.phi()) + dist) + mrpt::DEG2RAD(options.prior_min_deg);
   return Eigen::Vector3d(1 / (sigma_t * sigma_t), 1 / (sigma_t * sigma_t), 1 / (sigma_r * sigma_r)).asDiagonal();
 }
 

@@ -2,14 +2,14 @@
 // against a reference point cloud (ICP, with the correlative recovery).
 #pragma once
 
-#include <optional>
-#include <string>
-#include <utility>
-
-#include <Eigen/Core>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "specht/core/time.h"
 #include "specht/core/transform_tree.h"
@@ -77,7 +77,7 @@ class MotionPrior {
   bool have_odometry_ = false;
   mrpt::poses::CPose2D odom_now_, odom_at_last_scan_, last_step_;
   std::optional<std::pair<Stamp, double>> last_gyro_;  // stamp, yaw rate
-  double gyro_yaw_ = 0;                                 // integrated since the last scan
+  double gyro_yaw_ = 0;                                // integrated since the last scan
   int gyro_samples_ = 0;
   bool from_odometry_ = false;
   mrpt::poses::CPose2D predicted_step_;

@@ -35,20 +35,20 @@ struct RowSweep {
   int width = 0;
   int num_disparities = 0;  // D, a multiple of the kernel's byte lanes
   int dir = 1;
-  int row_paths = 1;        // 1 (vertical) or 3 (vertical and both diagonals)
+  int row_paths = 1;  // 1 (vertical) or 3 (vertical and both diagonals)
   uint8_t p1 = 0, p2 = 0;
-  const uint8_t* p2_table = nullptr;   // 256 entries: P2(|ΔI|) as below
-  const uint8_t* cost = nullptr;       // width × D, this row
-  const uint8_t* image = nullptr;      // width, this row (left image)
-  const uint8_t* image_prev = nullptr; // width, the previous row of the sweep, or null on the first
+  const uint8_t* p2_table = nullptr;    // 256 entries: P2(|ΔI|) as below
+  const uint8_t* cost = nullptr;        // width × D, this row
+  const uint8_t* image = nullptr;       // width, this row (left image)
+  const uint8_t* image_prev = nullptr;  // width, the previous row of the sweep, or null on the first
   // Per row path k: previous row's buffers (null on the first row) and this row's.
   const uint8_t* prev_paths[3] = {nullptr, nullptr, nullptr};
   const uint8_t* prev_mins[3] = {nullptr, nullptr, nullptr};
   uint8_t* cur_paths[3] = {nullptr, nullptr, nullptr};
   uint8_t* cur_mins[3] = {nullptr, nullptr, nullptr};
-  uint8_t* horizontal = nullptr;   // 2 × stride scratch for the horizontal path
-  uint16_t* sum = nullptr;         // width × D: Σ over this sweep's paths is stored here,
-  bool accumulate = false;         // or added to what is there
+  uint8_t* horizontal = nullptr;  // 2 × stride scratch for the horizontal path
+  uint16_t* sum = nullptr;        // width × D: Σ over this sweep's paths is stored here,
+  bool accumulate = false;        // or added to what is there
 };
 
 // Winner-take-all of one row of summed costs S (width × D):

@@ -70,9 +70,8 @@ inline uint8_t AdaptedP2(const RowSweep& s, uint8_t here, uint8_t before) {
 // Path costs are bytes (twice the lanes per instruction); the additions saturate at
 // 255, which the bound in sgm_kernels.h keeps out of reach for unguided costs.
 template <class V, int kPaths, bool kAccumulate>
-inline void PixelStep(const uint8_t* cost, const uint8_t* const* before, const uint8_t* before_min,
-                      const uint8_t* p2, uint8_t p1, int num_disparities, uint8_t* const* out, uint8_t* out_min,
-                      uint16_t* sum) {
+inline void PixelStep(const uint8_t* cost, const uint8_t* const* before, const uint8_t* before_min, const uint8_t* p2,
+                      uint8_t p1, int num_disparities, uint8_t* const* out, uint8_t* out_min, uint16_t* sum) {
   using RegB = typename V::RegB;
   using Wide = typename V::Wide;
   const RegB vp1 = V::SetB(p1);

@@ -2,9 +2,8 @@
 // same measurement side: the position is observed directly, z = H x + r.
 #pragma once
 
-#include <memory>
-
 #include <Eigen/Dense>
+#include <memory>
 
 namespace specht::track::internal {
 
@@ -28,8 +27,7 @@ class MotionFilter {
 };
 
 // Constant velocity, x = (x, y, vx, vy).
-std::unique_ptr<MotionFilter> MakeConstantVelocity(const Vec2& position, const Mat2& position_cov,
-                                                   double speed_sigma);
+std::unique_ptr<MotionFilter> MakeConstantVelocity(const Vec2& position, const Mat2& position_cov, double speed_sigma);
 // Constant turn rate and velocity from a cartesian estimate (v = |(vx, vy)|,
 // θ = atan2(vy, vx), ω = 0 with σ_ω = turn_rate_sigma).
 std::unique_ptr<MotionFilter> MakeConstantTurn(const MotionFilter& from, double turn_rate_sigma);

@@ -7,10 +7,9 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/ais/messages.h"
 #include "specht/ais/nmea.h"

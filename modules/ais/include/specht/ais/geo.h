@@ -18,9 +18,9 @@ namespace specht::ais {
 
 // Spherical Earth with the mean radius (IUGG), and the knot, for every AIS figure.
 constexpr double kEarthRadiusM = 6371008.8;
-constexpr double kDegree = M_PI / 180.0;                       // radians
+constexpr double kDegree = M_PI / 180.0;                      // radians
 constexpr double kMetresPerDegree = kEarthRadiusM * kDegree;  // along a meridian
-constexpr double kKnot = 1852.0 / 3600.0;                      // m/s
+constexpr double kKnot = 1852.0 / 3600.0;                     // m/s
 
 struct GeoPoint {
   double lon = 0, lat = 0;

@@ -14,13 +14,12 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>
 #include <variant>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/ais/nmea.h"
 
@@ -32,7 +31,7 @@ using Value = std::variant<std::monostate, bool, int64_t, double, std::string>;
 struct Message {
   int type = 0, repeat = 0;
   int64_t mmsi = 0;
-  bool complete = false;  // every field of the type decoded (false: header only)
+  bool complete = false;                              // every field of the type decoded (false: header only)
   std::vector<std::pair<std::string, Value>> fields;  // in message order
   // From the sentence layer.
   std::optional<double> time_s;

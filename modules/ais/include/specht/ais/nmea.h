@@ -27,8 +27,8 @@
 namespace specht::ais {
 
 struct TagBlock {
-  std::optional<double> time_s;  // c: UNIX time (seconds or milliseconds)
-  std::string source;            // s: receiver / station
+  std::optional<double> time_s;                       // c: UNIX time (seconds or milliseconds)
+  std::string source;                                 // s: receiver / station
   int group_part = 0, group_parts = 0, group_id = 0;  // g: part-parts-id
   bool valid = false;
 };
@@ -36,11 +36,11 @@ struct TagBlock {
 // One complete AIS message as bits (one bit per byte, most significant first).
 struct RawMessage {
   std::vector<uint8_t> bits;
-  char channel = 0;     // 'A', 'B', '1', '2' or 0
-  bool own = false;     // !AIVDO
+  char channel = 0;  // 'A', 'B', '1', '2' or 0
+  bool own = false;  // !AIVDO
   std::optional<double> time_s;
   std::string source;
-  int64_t line = 0;     // line of the last part
+  int64_t line = 0;  // line of the last part
 };
 
 // Section "ais_decoder".

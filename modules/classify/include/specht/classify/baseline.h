@@ -13,12 +13,11 @@
 #pragma once
 
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "specht/classify/preprocess.h"
-
-#include <opencv2/core.hpp>
 
 namespace cv::ml {
 class RTrees;
@@ -31,7 +30,8 @@ namespace specht::classify {
 // category; 0 where not named), so that both models compare on the same
 // information, an ablation takes it from both, and training and prediction cannot
 // disagree.
-std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map, const std::vector<std::string>& features);
+std::vector<float> HandcraftedFeatures(const Window& w, const MapFeatures& map,
+                                       const std::vector<std::string>& features);
 int HandcraftedFeatureCount();
 
 // The network and the forest combined: the mean of their class probabilities, row

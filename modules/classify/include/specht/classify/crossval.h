@@ -23,10 +23,9 @@
 
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/classify/dataset_io.h"
 #include "specht/classify/metrics.h"
@@ -126,7 +125,7 @@ struct CrossValidationOptions {
   int folds = 5;
   int repeats = 1;
   int seed = 1;
-  double train_fraction = 1;  // (0, 1]
+  double train_fraction = 1;                                   // (0, 1]
   std::vector<std::pair<std::string, ModelOptions>> networks;  // name → options
   bool forest = true;
   PseudoLabelOptions pseudo_labels;
@@ -183,9 +182,9 @@ std::string PairedKey(ScoreLevel level);
 // Per fold entries are indexed repeat · folds + fold; per window entries
 // repeat · windows + window.
 struct CrossValidationResult {
-  std::vector<std::string> models;                      // in report order
-  int folds = 0;  // folds in one repeat (the repeat count is per_fold.size() / folds)
-  std::vector<std::map<std::string, Scores>> per_fold;  // fold → model → scores per window
+  std::vector<std::string> models;  // in report order
+  int folds = 0;                    // folds in one repeat (the repeat count is per_fold.size() / folds)
+  std::vector<std::map<std::string, Scores>> per_fold;          // fold → model → scores per window
   std::vector<std::map<std::string, Scores>> per_fold_objects;  // … per object (majority vote)
   std::vector<std::map<std::string, Scores>> per_fold_history;  // … per window, from its object's history
   std::map<std::string, Scores> pooled;  // summed confusion over all folds (a window once per repeat)

@@ -6,10 +6,9 @@
 //   dataset.json     feature names, length, classes, counts per preprocessing step
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/classify/model.h"
 #include "specht/classify/preprocess.h"

@@ -4,9 +4,8 @@
 #pragma once
 
 #include <memory>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "specht/classify/preprocess.h"
 

@@ -63,8 +63,8 @@ struct PreprocessOptions {
   std::string transform = "relative_to_first";
   std::string normalisation = "local";
   double position_extent = 50.0;
-  std::vector<std::string> features = {"x", "y", "dt", "speed", "course", "accel", "turn_rate", "dist_static",
-                                       "dist_poi"};
+  std::vector<std::string> features = {"x",     "y",         "dt",          "speed",   "course",
+                                       "accel", "turn_rate", "dist_static", "dist_poi"};
   std::vector<std::string> log_scaled;
   double max_speed = 15.0;
   double max_accel = 10.0;
@@ -80,8 +80,7 @@ struct PreprocessOptions {
     v.Param("max_gap_s", max_gap_s, "split a trajectory where samples are further apart in time",
             Range::Of(0.01, 1e6).Log());
     v.Param("max_jump_sq", max_jump_sq, "…or in squared distance (position units²)", Range::Of(1e-12, 1e12).Log());
-    v.Param("max_jump_speed", max_jump_speed, "…and (when > 0) implies a faster speed (units/s)",
-            Range::Of(0.0, 1e9));
+    v.Param("max_jump_speed", max_jump_speed, "…and (when > 0) implies a faster speed (units/s)", Range::Of(0.0, 1e9));
     v.Param("length", length, "points per window", Range::Of(4, 100000));
     v.Param("min_fill", min_fill, "a leftover shorter than this fraction of a window is dropped", Range::Of(0.0, 1.0));
     v.Param("stationary_threshold", stationary_threshold, "windows whose mean step is below are dropped",
@@ -91,9 +90,10 @@ struct PreprocessOptions {
              "positions: min-max over the window, over the dataset, or ±position_extent");
     v.Param("position_extent", position_extent, "half-width of the fixed normalisation (position units)",
             Range::Of(1e-9, 1e9).Log());
-    v.Param("features", features,
-            "per-point features, from: x y dt speed course heading accel turn_rate dist_static dist_poi region_x region_y "
-            "category");
+    v.Param(
+        "features", features,
+        "per-point features, from: x y dt speed course heading accel turn_rate dist_static dist_poi region_x region_y "
+        "category");
     v.Param("log_scaled", log_scaled, "features scaled by log(1 + v) / log(1 + cap): any of dt dist_static dist_poi");
     v.Param("max_speed", max_speed, "speed normalisation bound (position units per s)", Range::Of(1e-9, 1e9).Log());
     v.Param("max_accel", max_accel, "acceleration bound (units/s²)", Range::Of(1e-9, 1e9).Log());
@@ -131,7 +131,7 @@ struct Window {
   std::string object_id, label;
   int category = 0;  // the trajectory's
   double t0_s = 0;
-  int valid = 0;                 // points before the zero padding
+  int valid = 0;                        // points before the zero padding
   std::vector<TrajectoryPoint> points;  // the raw points (valid of them)
 };
 

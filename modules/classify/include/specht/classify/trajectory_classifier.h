@@ -19,11 +19,10 @@
 // on windows of the full length (its own length says which).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/classify/baseline.h"
 #include "specht/classify/dataset_io.h"

@@ -2,9 +2,9 @@
 // modules call spdlog::info/warn/error (fmt-style formatting) directly.
 #pragma once
 
-#include <string>
-
 #include <spdlog/spdlog.h>
+
+#include <string>
 
 namespace specht {
 

@@ -24,6 +24,8 @@
 // merged first, relative to the including file, then the file's own keys.
 #pragma once
 
+#include <yaml-cpp/yaml.h>
+
 #include <any>
 #include <cmath>
 #include <functional>
@@ -33,8 +35,6 @@
 #include <string>
 #include <type_traits>
 #include <vector>
-
-#include <yaml-cpp/yaml.h>
 
 #include "specht/core/error.h"
 
@@ -49,9 +49,17 @@ struct Range {
 
   static Range Of(double min, double max) { return Range{min, max, false, true}; }
   static Range AtLeast(double min) { return Range{min, std::numeric_limits<double>::infinity(), false, false}; }
-  Range Log() const { Range r = *this; r.log_scale = true; return r; }
+  Range Log() const {
+    Range r = *this;
+    r.log_scale = true;
+    return r;
+  }
   // Validated, but not offered to the tuner (e.g. a sensor's physical constant).
-  Range Fixed() const { Range r = *this; r.tunable = false; return r; }
+  Range Fixed() const {
+    Range r = *this;
+    r.tunable = false;
+    return r;
+  }
   bool Contains(double v) const { return v >= min && v <= max; }
   // "[min, max]" (integers without decimals), "log", "fixed" as they apply.
   std::string ToString(bool integer = false) const;
@@ -59,8 +67,8 @@ struct Range {
 
 // A description of one declared parameter (for --help, dumps and the tuner).
 struct ParamInfo {
-  std::string key;                   // full dotted key
-  std::string type;                  // "bool", "int", "real", "string", "choice", ...
+  std::string key;   // full dotted key
+  std::string type;  // "bool", "int", "real", "string", "choice", ...
   std::string doc;
   std::optional<Range> range;
   std::vector<std::string> choices;  // for "choice"
@@ -189,8 +197,7 @@ class Reader {
     }
   }
 
-  void Choice(const char* key, std::string& field, const std::vector<std::string>& choices,
-              const char* doc);
+  void Choice(const char* key, std::string& field, const std::vector<std::string>& choices, const char* doc);
 
   template <class O>
   void Group(const char* key, O& group) {
@@ -214,8 +221,7 @@ class Writer {
   void Param(const char* key, T& field, const char* doc, Range range = {}) {
     Emit(key, Codec<T>::Encode(field), doc, std::is_arithmetic_v<T> ? range.ToString(std::is_integral_v<T>) : "");
   }
-  void Choice(const char* key, std::string& field, const std::vector<std::string>& choices,
-              const char* doc);
+  void Choice(const char* key, std::string& field, const std::vector<std::string>& choices, const char* doc);
   template <class O>
   void Group(const char* key, O& group) {
     out_ << YAML::Key << key << YAML::Value << YAML::BeginMap;
@@ -240,8 +246,7 @@ class Describer {
     if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) info.range = range;
     out_.push_back(std::move(info));
   }
-  void Choice(const char* key, std::string& field, const std::vector<std::string>& choices,
-              const char* doc);
+  void Choice(const char* key, std::string& field, const std::vector<std::string>& choices, const char* doc);
   template <class O>
   void Group(const char* key, O& group) {
     Describer nested(JoinKey(prefix_, key), out_);

@@ -5,20 +5,20 @@
 // and writes it as g2o.
 #pragma once
 
-#include <map>
-#include <vector>
+#include <mrpt/poses/CPose2D.h>
 
 #include <Eigen/Core>
-#include <mrpt/poses/CPose2D.h>
+#include <map>
+#include <vector>
 
 namespace specht {
 
 struct PoseGraphEdge {
   int from = 0;
   int to = 0;
-  mrpt::poses::CPose2D measurement;                       // z_ij
+  mrpt::poses::CPose2D measurement;                           // z_ij
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity();  // Ω_ij
-  bool robust = false;  // loop closures: under a robust loss during optimisation
+  bool robust = false;                                        // loop closures: under a robust loss during optimisation
 };
 
 struct PoseGraph2D {

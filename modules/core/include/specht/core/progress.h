@@ -34,8 +34,8 @@ class ProgressLine {
   void Finish(const std::string& summary = "");
 
   // The text of the line for given figures (exposed for tests).
-  static std::string Format(const std::string& label, double done, double fraction,
-                            const std::string& unit, double elapsed_s, const std::string& note);
+  static std::string Format(const std::string& label, double done, double fraction, const std::string& unit,
+                            double elapsed_s, const std::string& note);
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -3,9 +3,9 @@
 // deterministic. A Stamp is an integer count of nanoseconds since the UNIX epoch.
 #pragma once
 
-#include <cstdint>
-
 #include <mrpt/core/Clock.h>
+
+#include <cstdint>
 
 namespace specht {
 

@@ -2,9 +2,9 @@
 // in some fixed frame), the common currency of SLAM, evaluation and writers.
 #pragma once
 
-#include <vector>
-
 #include <mrpt/poses/CPose3D.h>
+
+#include <vector>
 
 #include "specht/core/time.h"
 

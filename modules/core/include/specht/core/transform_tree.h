@@ -12,12 +12,12 @@
 // down to x. A pose "of x in frame p" is the same thing as T_p_from_x.
 #pragma once
 
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPose3DInterpolator.h>
+
 #include <map>
 #include <string>
 #include <vector>
-
-#include <mrpt/poses/CPose3D.h>
-#include <mrpt/poses/CPose3DInterpolator.h>
 
 #include "specht/core/params.h"
 #include "specht/core/time.h"
@@ -61,8 +61,7 @@ class TransformTree {
   // Adds or replaces a fixed transform: the pose of `child` in `parent`.
   void SetStatic(const std::string& parent, const std::string& child, const mrpt::poses::CPose3D& pose);
   // Adds a time-stamped pose of `child` in `parent` (history kept for interpolation).
-  void Set(const std::string& parent, const std::string& child, Stamp stamp,
-           const mrpt::poses::CPose3D& pose);
+  void Set(const std::string& parent, const std::string& child, Stamp stamp, const mrpt::poses::CPose3D& pose);
 
   // The pose of frame `source` in frame `target` at `stamp` (dynamic edges are
   // interpolated; a stamp outside an edge's history throws RuntimeError).
@@ -82,8 +81,7 @@ class TransformTree {
     mrpt::poses::CPose3DInterpolator history;
   };
   void CheckParent(const std::string& parent, const std::string& child) const;
-  mrpt::poses::CPose3D RootFrom(const std::string& frame, Stamp stamp, bool static_only,
-                                std::string* root) const;
+  mrpt::poses::CPose3D RootFrom(const std::string& frame, Stamp stamp, bool static_only, std::string* root) const;
 
   std::map<std::string, Edge> edges_;  // by child frame
 };

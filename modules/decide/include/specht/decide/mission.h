@@ -16,9 +16,9 @@
 namespace specht::decide {
 
 struct Goal {
-  std::string name;  // "waypoint 1", "park bay-a"
-  plan::Pose pose;   // the rear-axle reference pose to reach
-  bool park = false; // parking: judged against the bay's tolerances at the end
+  std::string name;   // "waypoint 1", "park bay-a"
+  plan::Pose pose;    // the rear-axle reference pose to reach
+  bool park = false;  // parking: judged against the bay's tolerances at the end
 };
 
 // A marked parking space of the map a mission runs on.

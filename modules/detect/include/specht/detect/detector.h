@@ -13,10 +13,9 @@
 
 #include <map>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "specht/core/params.h"
 
@@ -24,14 +23,14 @@ namespace specht::detect {
 
 // The driving classes every model's labels map to.
 inline const std::vector<std::string>& DrivingClasses() {
-  static const std::vector<std::string> classes = {"pedestrian", "cyclist", "car",   "truck",
+  static const std::vector<std::string> classes = {"pedestrian", "cyclist",      "car",  "truck",
                                                    "bus",        "traffic_sign", "other"};
   return classes;
 }
 
 // Section "detect".
 struct DetectorOptions {
-  std::string format = "darknet";  // darknet | fastestdet_onnx
+  std::string format = "darknet";                         // darknet | fastestdet_onnx
   std::string model = "models/yolo-fastest-1.1.weights";  // relative paths: to the data directory
   std::string config = "models/yolo-fastest-1.1.cfg";
   std::string labels = "models/coco.names";
@@ -44,9 +43,9 @@ struct DetectorOptions {
   int threads = 2;
   std::string backend = "opencv";  // opencv | default
   // "model label=driving class"; labels not listed are dropped.
-  std::vector<std::string> class_map = {"person=pedestrian", "bicycle=cyclist",        "motorbike=cyclist",
-                                        "car=car",           "truck=truck",            "bus=bus",
-                                        "train=other",       "stop sign=traffic_sign", "traffic light=traffic_sign"};
+  std::vector<std::string> class_map = {
+      "person=pedestrian", "bicycle=cyclist",        "motorbike=cyclist",         "car=car", "truck=truck", "bus=bus",
+      "train=other",       "stop sign=traffic_sign", "traffic light=traffic_sign"};
 
   template <class V>
   void Visit(V& v) {
@@ -71,8 +70,9 @@ struct DetectorOptions {
             "OpenCV threads for inference; OpenCV's count is process-wide, set when the detector loads",
             Range::Of(1, 64).Fixed());
     v.Choice("backend", backend, {"opencv", "default"}, "cv::dnn backend");
-    v.Param("class_map", class_map, "\"model label=driving class\" (pedestrian, cyclist, car, truck, bus, "
-                                    "traffic_sign, other); unlisted labels are dropped");
+    v.Param("class_map", class_map,
+            "\"model label=driving class\" (pedestrian, cyclist, car, truck, bus, "
+            "traffic_sign, other); unlisted labels are dropped");
   }
   std::vector<std::string> Relations() const;
   // The parsed lists (Relations() reports malformed entries).
@@ -85,9 +85,9 @@ struct DetectorOptions {
 DetectorOptions ShippedModel(const std::string& name);
 
 struct Detection {
-  cv::Rect2d box;        // image pixels
-  std::string cls;       // driving class
-  std::string label;     // the model's own label
+  cv::Rect2d box;     // image pixels
+  std::string cls;    // driving class
+  std::string label;  // the model's own label
   double score = 0;
 };
 

@@ -13,11 +13,10 @@
 //   σ_Z = Z² σ_d / (f B),   Σ = J diag(σ_u², σ_v², σ_d²) Jᵀ with J = ∂(X,Y,Z)/∂(u,v,d).
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "specht/core/params.h"
 #include "specht/detect/detector.h"
@@ -53,10 +52,10 @@ struct FusionOptions {
 struct Obstacle3D {
   Detection detection;
   double disparity_px = 0;
-  double distance_m = 0;          // Z, along the optical axis
-  cv::Point3d position_camera;    // box centre, camera frame (x right, y down, z forward)
-  cv::Size2d size_m;              // width, height
-  cv::Matx33d covariance;         // of position_camera
+  double distance_m = 0;        // Z, along the optical axis
+  cv::Point3d position_camera;  // box centre, camera frame (x right, y down, z forward)
+  cv::Size2d size_m;            // width, height
+  cv::Matx33d covariance;       // of position_camera
 };
 
 // The box's disparity by `method` (0 when the box has no usable disparity).

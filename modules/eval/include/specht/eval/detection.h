@@ -12,11 +12,10 @@
 #pragma once
 
 #include <map>
-#include <string>
-#include <vector>
-
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <string>
+#include <vector>
 
 namespace specht::eval {
 
@@ -53,7 +52,9 @@ class DetectionScorer {
   const std::map<std::string, DetectionCounts>& per_class() const { return per_class_; }
   const DetectionCounts& all() const { return all_; }
   long frames() const { return frames_; }
-  double FalsePositivesPerFrame() const { return frames_ > 0 ? static_cast<double>(all_.false_positives) / frames_ : 0.0; }
+  double FalsePositivesPerFrame() const {
+    return frames_ > 0 ? static_cast<double>(all_.false_positives) / frames_ : 0.0;
+  }
   nlohmann::json ToJson() const;
 
  private:

@@ -25,10 +25,10 @@
 // far the estimate is from agreeing with the map.
 #pragma once
 
-#include <vector>
-
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/poses/CPose2D.h>
+
+#include <vector>
 
 #include "specht/core/trajectory.h"
 #include "specht/slam/scan_matching.h"
@@ -43,10 +43,10 @@ struct WallThickness {
 WallThickness MeasureWallThickness(const mrpt::maps::COccupancyGridMap2D& grid);
 
 struct MapEntropyOptions {
-  double radius_m = 0.3;     // neighbourhood of each point
-  int min_neighbours = 5;    // points with fewer are left out
-  double max_range_m = 10;   // returns farther than this are left out (sparse, noisy)
-  size_t max_points = 20000; // h is averaged over at most this many points, every k-th of the cloud
+  double radius_m = 0.3;      // neighbourhood of each point
+  int min_neighbours = 5;     // points with fewer are left out
+  double max_range_m = 10;    // returns farther than this are left out (sparse, noisy)
+  size_t max_points = 20000;  // h is averaged over at most this many points, every k-th of the cloud
 };
 
 struct MapEntropy {
@@ -69,7 +69,6 @@ struct Correction {
 
 // One ICP alignment per keyframe against the grid's occupied cells.
 std::vector<Correction> RegisterAgainstGrid(const mrpt::maps::COccupancyGridMap2D& grid,
-                                            const std::vector<slam::Keyframe>& keyframes,
-                                            const slam::IcpOptions& icp);
+                                            const std::vector<slam::Keyframe>& keyframes, const slam::IcpOptions& icp);
 
 }  // namespace specht::eval

@@ -10,10 +10,9 @@
 // apart (the loops, where global consistency shows).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/core/trajectory.h"
 #include "specht/io/trajectory_io.h"
@@ -58,9 +57,9 @@ RelationError ComputeRelationError(const Trajectory& estimate, const Trajectory&
 // the hand-verified one. Kümmerle et al. report the errors absolute and squared:
 //   ε = δ̂ ⊖ δ*,  |t(ε)| m and |θ(ε)| deg,  and t(ε)² m², θ(ε)² deg².
 struct PublishedRelationError {
-  RelationStats absolute;  // m, deg
-  RelationStats squared;   // m², deg²
-  size_t relations = 0;    // in the file, all matched
+  RelationStats absolute;       // m, deg
+  RelationStats squared;        // m², deg²
+  size_t relations = 0;         // in the file, all matched
   std::vector<Relation> worst;  // largest translational error first (i, j: estimate indices)
 };
 

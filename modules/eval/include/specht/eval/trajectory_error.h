@@ -9,12 +9,12 @@
 // and the errors |R(θ*) p_i + t* − q_i| and |wrap(φ_i + θ* − ψ_i)| are summarised.
 #pragma once
 
-#include <utility>
-#include <optional>
-#include <vector>
-
 #include <mrpt/poses/CPose2D.h>
+
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "specht/core/trajectory.h"
 
@@ -24,7 +24,7 @@ struct AteResult {
   size_t pairs = 0;
   double rmse_m = 0, mean_m = 0, max_m = 0;
   double rmse_deg = 0, max_deg = 0;
-  double final_error_m = 0;       // at the last pair, after alignment
+  double final_error_m = 0;        // at the last pair, after alignment
   mrpt::poses::CPose2D alignment;  // reference_from_estimate
 };
 

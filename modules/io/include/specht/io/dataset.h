@@ -10,13 +10,13 @@
 //   CARMEN logs (FLASER, ROBOTLASER1, ODOM, PARAM; plain or gzip): see carmen.h.
 #pragma once
 
+#include <mrpt/obs/CObservation.h>
+
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <mrpt/obs/CObservation.h>
 
 #include "specht/core/error.h"
 #include "specht/core/time.h"

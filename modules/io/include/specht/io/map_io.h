@@ -5,12 +5,12 @@
 //   PNG picture:     the map with trajectories drawn on it, a scale bar and a legend.
 #pragma once
 
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
 #include <array>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <mrpt/maps/COccupancyGridMap2D.h>
-#include <opencv2/core.hpp>
 
 #include "specht/core/trajectory.h"
 

@@ -22,9 +22,9 @@ namespace specht::io {
 struct ObjectSample {
   std::string id;
   double t_s = 0, x_m = 0, y_m = 0;
-  std::string cls;        // empty when the file has no class column
-  std::string truth_cls;  // empty when the file has no truth_class column
-  bool ignore = false;    // truth only: don't care
+  std::string cls;                                    // empty when the file has no class column
+  std::string truth_cls;                              // empty when the file has no truth_class column
+  bool ignore = false;                                // truth only: don't care
   std::map<std::string, double> class_probabilities;  // p_<class> columns; empty when none
 };
 

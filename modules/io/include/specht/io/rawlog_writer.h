@@ -6,11 +6,11 @@
 // The file appears under its name only when Close() succeeds.
 #pragma once
 
-#include <memory>
-#include <string>
-
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/poses/CPose2D.h>
+
+#include <memory>
+#include <string>
 
 namespace specht::io {
 

@@ -16,19 +16,17 @@ namespace specht::io {
 
 // Section "replay".
 struct ReplayOptions {
-  double rate = 0.0;       // 0 = as fast as possible
-  double from_s = 0.0;     // seconds after the first observation
-  double to_s = 0.0;       // 0 = to the end
+  double rate = 0.0;    // 0 = as fast as possible
+  double from_s = 0.0;  // seconds after the first observation
+  double to_s = 0.0;    // 0 = to the end
   std::string on_bad_record = "stop";
 
   template <class V>
   void Visit(V& v) {
     using params::Range;
-    v.Param("rate", rate, "pace the replay at this multiple of real time; 0 = as fast as possible",
-            Range::AtLeast(0));
+    v.Param("rate", rate, "pace the replay at this multiple of real time; 0 = as fast as possible", Range::AtLeast(0));
     v.Param("from_s", from_s, "start this many seconds after the first observation", Range::AtLeast(0));
-    v.Param("to_s", to_s, "stop this many seconds after the first observation; 0 = at the end",
-            Range::AtLeast(0));
+    v.Param("to_s", to_s, "stop this many seconds after the first observation; 0 = at the end", Range::AtLeast(0));
     v.Choice("on_bad_record", on_bad_record, {"stop", "skip"},
              "on a corrupt record: stop (write what was computed, mark the report incomplete) or skip it");
   }

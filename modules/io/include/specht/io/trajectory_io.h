@@ -7,11 +7,11 @@
 //               stamped t2 seen from the scan stamped t1 (metres, radians).
 #pragma once
 
+#include <mrpt/poses/CPose2D.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <mrpt/poses/CPose2D.h>
 
 #include "specht/core/trajectory.h"
 

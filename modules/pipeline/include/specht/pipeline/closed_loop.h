@@ -43,10 +43,9 @@
 
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/decide/mission.h"
 #include "specht/decide/mission_state.h"
@@ -88,8 +87,8 @@ struct ClosedLoopOptions {
     v.Param("pedestrian_margin_m", pedestrian_margin_m, "never drive closer than this to a pedestrian",
             Range::Of(0.0, 10.0));
     v.Param("agent_margin_m", agent_margin_m, "clearance kept from cyclists and cars", Range::Of(0.0, 10.0));
-    v.Param("prediction_s", prediction_s, "agents are checked where they will be up to this far ahead (constant velocity)",
-            Range::Of(0.0, 10.0));
+    v.Param("prediction_s", prediction_s,
+            "agents are checked where they will be up to this far ahead (constant velocity)", Range::Of(0.0, 10.0));
     v.Param("clear_s", clear_s, "how long the way must be clear before driving on", Range::Of(0.0, 60.0));
     v.Param("replan_after_s", replan_after_s, "replan around agents blocking longer than this", Range::Of(0.5, 600.0));
     v.Param("time_limit_s", time_limit_s, "the mission fails after this long", Range::Of(1.0, 36000.0));
@@ -114,10 +113,14 @@ struct ClosedLoopOptions {
             Range::Of(0.0, 10.0));
     v.Choice("map_source", map_source, {"truth", "lidar"},
              "plan on the scenario's true static map, or on the map the car's LiDAR builds as it drives");
-    v.Param("map_update_hz", map_update_hz, "map_source lidar: how often the planning map is rebuilt and the path "
-            "ahead checked against it", Range::Of(0.1, 20.0));
-    v.Param("map_margin_m", map_margin_m, "map_source lidar: clearance planned beyond the car's safety margin "
-            "(the path is given up only when the map leaves less than the safety margin)", Range::Of(0.0, 2.0));
+    v.Param("map_update_hz", map_update_hz,
+            "map_source lidar: how often the planning map is rebuilt and the path "
+            "ahead checked against it",
+            Range::Of(0.1, 20.0));
+    v.Param("map_margin_m", map_margin_m,
+            "map_source lidar: clearance planned beyond the car's safety margin "
+            "(the path is given up only when the map leaves less than the safety margin)",
+            Range::Of(0.0, 2.0));
     v.Choice("planning_budget", planning_budget, {"expansions", "time"},
              "searches stop at max_expansions alone, so a run's outcome does not depend on the machine's speed, "
              "or also at time_budget_ms, as on the car");
@@ -127,11 +130,11 @@ struct ClosedLoopOptions {
 struct ClosedLoopResult {
   bool success = false;
   std::string failure;
-  bool interrupted = false;            // a signal stopped the drive (core/interrupt.h)
-  int collisions = 0;                  // contacts (static or agent) begun while moving
+  bool interrupted = false;                   // a signal stopped the drive (core/interrupt.h)
+  int collisions = 0;                         // contacts (static or agent) begun while moving
   std::vector<std::string> collision_events;  // e.g. "12.30 s: pedestrian 7"
-  double min_clearance_m = 1e9;        // footprint to static obstacles
-  double min_pedestrian_m = 1e9;       // footprint to pedestrian boxes while moving
+  double min_clearance_m = 1e9;               // footprint to static obstacles
+  double min_pedestrian_m = 1e9;              // footprint to pedestrian boxes while moving
   double time_s = 0;
   double park_error_m = -1, park_error_deg = -1;  // of the last parking goal
   std::vector<double> plan_ms;
@@ -153,9 +156,10 @@ struct ClosedLoopConfig {
 };
 
 // Runs the mission; `on_step(t_s, state, pose)` (optional) after every control step.
-ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, const std::vector<decide::Goal>& mission,
-                               const ClosedLoopConfig& config,
-                               const std::function<void(double, const std::string&, const plan::Pose&)>& on_step = nullptr);
+ClosedLoopResult RunClosedLoop(
+    const sim::Scenario& scenario, uint64_t seed, const std::vector<decide::Goal>& mission,
+    const ClosedLoopConfig& config,
+    const std::function<void(double, const std::string&, const plan::Pose&)>& on_step = nullptr);
 
 // The car the closed loop drives: the scenario's ego dimensions, rear overhang and
 // limits over `base` (steering rate, reverse speed, margins).

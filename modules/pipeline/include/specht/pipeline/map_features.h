@@ -4,10 +4,10 @@
 // of interest (what `specht classify` and `specht track --model` use).
 #pragma once
 
-#include <vector>
-
 #include <mrpt/maps/COccupancyGridMap2D.h>
+
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "specht/classify/preprocess.h"
 #include "specht/sim/scenario.h"

@@ -29,8 +29,8 @@ class OnlineClassifier {
   void Update(std::vector<types::Track>& tracks, const classify::MapFeatures& map);
 
   const classify::TrajectoryClassifier& classifier() const { return *classifier_; }
-  long windows() const { return windows_; }      // classified so far
-  double seconds() const { return seconds_; }    // spent classifying
+  long windows() const { return windows_; }    // classified so far
+  double seconds() const { return seconds_; }  // spent classifying
 
  private:
   struct Sum {

@@ -23,15 +23,15 @@
 // car: cost layer, obstacles, tracks with predictions).
 #pragma once
 
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation.h>
+
 #include <functional>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <mrpt/maps/COccupancyGridMap2D.h>
-#include <mrpt/obs/CObservation.h>
-#include <nlohmann/json.hpp>
 
 #include "specht/core/params.h"
 #include "specht/core/trajectory.h"

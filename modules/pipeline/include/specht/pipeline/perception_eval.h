@@ -21,10 +21,9 @@
 #pragma once
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "specht/core/params.h"
 
@@ -41,8 +40,8 @@ struct PerceptionEvalOptions {
 
 // Throws InputError naming the file and line when the drive's outputs are missing or
 // malformed. `progress(fraction)` is called after every frame when given.
-nlohmann::json EvaluatePerception(const std::string& sim_dir, const params::Params& params,
-                                  const std::string& data_dir, const PerceptionEvalOptions& options,
+nlohmann::json EvaluatePerception(const std::string& sim_dir, const params::Params& params, const std::string& data_dir,
+                                  const PerceptionEvalOptions& options,
                                   const std::function<void(double)>& progress = nullptr);
 
 // The tracks part alone.

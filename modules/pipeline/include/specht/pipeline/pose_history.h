@@ -9,10 +9,10 @@
 // extrapolated): Covers() says whether a later pose already brackets the stamp.
 #pragma once
 
+#include <mrpt/poses/CPose3D.h>
+
 #include <deque>
 #include <optional>
-
-#include <mrpt/poses/CPose3D.h>
 
 #include "specht/core/time.h"
 #include "specht/core/trajectory.h"

@@ -20,12 +20,12 @@
 namespace specht::pipeline {
 
 struct ReplayInputs {
-  std::string dataset;       // "" = the rawlog shipped by Debian's mrpt-common
-  std::string ground_truth;  // "" = the dataset's own reference, when it has one
-  std::string relations;     // "" = <log stem>.relations beside the dataset, when there is one
-  std::string map_dir;       // localize on this saved map instead of mapping
-  std::string continue_dir;  // continue this saved map
-  std::string data_dir;      // the detector's models
+  std::string dataset;                              // "" = the rawlog shipped by Debian's mrpt-common
+  std::string ground_truth;                         // "" = the dataset's own reference, when it has one
+  std::string relations;                            // "" = <log stem>.relations beside the dataset, when there is one
+  std::string map_dir;                              // localize on this saved map instead of mapping
+  std::string continue_dir;                         // continue this saved map
+  std::string data_dir;                             // the detector's models
   std::vector<std::string> param_files, overrides;  // recorded in the report
 };
 

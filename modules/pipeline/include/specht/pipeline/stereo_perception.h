@@ -6,12 +6,12 @@
 // outside the rawlog are read from MRPT's images directory (<rawlog>_Images).
 #pragma once
 
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/poses/CPose3D.h>
+
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <mrpt/obs/CObservationStereoImages.h>
-#include <mrpt/poses/CPose3D.h>
 
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
@@ -38,8 +38,8 @@ struct PerceptionStats {
 
 // What the images of one stereo frame give, before its pose is known.
 struct SensedFrame {
-  cv::Mat image;                              // the left image as stored (BGR or grey)
-  cv::Mat disparity;                          // CV_32F, left image, 0 = none
+  cv::Mat image;      // the left image as stored (BGR or grey)
+  cv::Mat disparity;  // CV_32F, left image, 0 = none
   stereo::RectifiedCamera camera;
   std::vector<detect::Detection> detections;  // left image
   double stereo_ms = 0, detect_ms = 0;
@@ -47,11 +47,11 @@ struct SensedFrame {
 
 // What one stereo frame gave.
 struct PerceivedFrame {
-  std::vector<types::Obstacle> obstacles;  // map frame
+  std::vector<types::Obstacle> obstacles;     // map frame
   std::vector<detect::Detection> detections;  // left image, with or without depth
   std::vector<int> obstacle_of;               // per detection: its obstacle's index, −1 without depth
-  cv::Mat image;                           // the left image as stored (BGR or grey)
-  cv::Mat disparity;                       // CV_32F, left image, 0 = none
+  cv::Mat image;                              // the left image as stored (BGR or grey)
+  cv::Mat disparity;                          // CV_32F, left image, 0 = none
   stereo::RectifiedCamera camera;
   mrpt::poses::CPose3D map_from_camera;
 };

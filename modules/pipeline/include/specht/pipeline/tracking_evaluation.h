@@ -31,11 +31,11 @@
 namespace specht::pipeline {
 
 struct TrackingEvaluationInputs {
-  std::vector<std::string> scenarios;                  // scenario files
-  std::vector<std::pair<uint64_t, uint64_t>> seeds;    // per scenario, first and last; none = the scenario's own
-  std::string model_dir;                               // "" = no online classifier
+  std::vector<std::string> scenarios;                // scenario files
+  std::vector<std::pair<uint64_t, uint64_t>> seeds;  // per scenario, first and last; none = the scenario's own
+  std::string model_dir;                             // "" = no online classifier
   bool network_only = false;
-  double match_threshold_m = 1.0;                      // CLEAR MOT match distance
+  double match_threshold_m = 1.0;  // CLEAR MOT match distance
 };
 
 class TrackingEvaluation {

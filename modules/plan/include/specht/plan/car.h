@@ -13,9 +13,8 @@
 // obstacle), so tight bays stay reachable.
 #pragma once
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "specht/core/params.h"
 
@@ -29,7 +28,7 @@ struct Pose {
 struct DiscCover {
   std::vector<double> offsets;  // disc centres along the car's axis from the rear axle
   double radius = 0;
-  double margin = 0;            // the safety margin a free pose keeps beyond the footprint
+  double margin = 0;                           // the safety margin a free pose keeps beyond the footprint
   double front = 0, rear = 0, half_width = 0;  // the rectangle: x in [−rear, front], |y| ≤ half_width
 };
 

@@ -8,9 +8,8 @@
 // as obstacles unless told otherwise (a car should not plan through the unseen).
 #pragma once
 
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "specht/plan/car.h"
 

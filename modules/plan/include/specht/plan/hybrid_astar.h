@@ -70,15 +70,13 @@ struct HybridAStarOptions {
     v.Param("xy_cell_m", xy_cell_m, "search cell size (one node per cell and heading bin)", Range::Of(0.05, 5.0).Log());
     v.Param("heading_bins", heading_bins, "heading cells over 360°", Range::Of(8, 720));
     v.Param("step_m", step_m, "arc length of one expansion (more than a cell diagonal)", Range::Of(0.05, 10.0).Log());
-    v.Param("steer_samples", steer_samples, "steering angles per direction (odd: includes straight)",
-            Range::Of(3, 31));
+    v.Param("steer_samples", steer_samples, "steering angles per direction (odd: includes straight)", Range::Of(3, 31));
     v.Param("allow_reverse", allow_reverse, "expand in reverse too");
     v.Param("reverse_penalty", reverse_penalty, "cost factor on reversing arcs", Range::Of(1.0, 100.0));
     v.Param("gear_change_penalty_m", gear_change_penalty_m, "cost of a change of direction, in metres",
             Range::Of(0.0, 1000.0));
     v.Param("steer_penalty", steer_penalty, "cost per metre at full steering lock", Range::Of(0.0, 10.0));
-    v.Param("steer_change_penalty", steer_change_penalty, "cost of a steering change of δmax",
-            Range::Of(0.0, 10.0));
+    v.Param("steer_change_penalty", steer_change_penalty, "cost of a steering change of δmax", Range::Of(0.0, 10.0));
     v.Param("analytic_every", analytic_every, "try the Reeds-Shepp shot to the goal every n expansions",
             Range::Of(1, 1000));
     v.Param("analytic_radius_m", analytic_radius_m,
@@ -92,7 +90,8 @@ struct HybridAStarOptions {
             "a Reeds-Shepp shot with a shorter stretch between gear changes is kept only as the fallback",
             Range::Of(0.0, 10.0));
     v.Param("collision_step_m", collision_step_m, "spacing of collision checks along arcs", Range::Of(0.01, 1.0).Log());
-    v.Param("output_spacing_m", output_spacing_m, "spacing of the returned path's points", Range::Of(0.01, 1.0).Fixed());
+    v.Param("output_spacing_m", output_spacing_m, "spacing of the returned path's points",
+            Range::Of(0.01, 1.0).Fixed());
     v.Param("max_expansions", max_expansions,
             "give up after this many expansions (the budget that makes a search reproducible)",
             Range::Of(100, 100000000).Fixed());
@@ -119,7 +118,7 @@ struct PlanResult {
   Path path;
   std::string failure;  // why not found
   long expansions = 0;
-  double milliseconds = 0;          // search (and heuristic, when not cached)
+  double milliseconds = 0;            // search (and heuristic, when not cached)
   double heuristic_milliseconds = 0;  // 0 when the goal's grid distances were cached
 };
 

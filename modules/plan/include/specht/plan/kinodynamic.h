@@ -72,15 +72,21 @@ struct KinodynamicOptions {
   template <class V>
   void Visit(V& v) {
     using params::Range;
-    v.Choice("planner", planner, {"sst", "rrt", "kpiece"}, "OMPL control planner: SST (asymptotically near-optimal), RRT, KPIECE1");
+    v.Choice("planner", planner, {"sst", "rrt", "kpiece"},
+             "OMPL control planner: SST (asymptotically near-optimal), RRT, KPIECE1");
     v.Choice("objective", objective, {"length", "time"}, "what a motion costs before penalties");
     v.Param("time_budget_ms", time_budget_ms, "hard limit per call", Range::Of(1.0, 600000.0).Fixed());
-    v.Param("max_iterations", max_iterations, "also stop after this many planner iterations (0: no limit; "
-            "reproducible calls)", Range::Of(0, 100000000).Fixed());
-    v.Param("stop_at_first_solution", stop_at_first_solution, "SST: return the first solution instead of "
+    v.Param("max_iterations", max_iterations,
+            "also stop after this many planner iterations (0: no limit; "
+            "reproducible calls)",
+            Range::Of(0, 100000000).Fixed());
+    v.Param("stop_at_first_solution", stop_at_first_solution,
+            "SST: return the first solution instead of "
             "improving it until the budget ends");
-    v.Param("steer_fraction", steer_fraction, "plan with this share of the steering limit (the rest is the "
-            "tracker's)", Range::Of(0.3, 1.0));
+    v.Param("steer_fraction", steer_fraction,
+            "plan with this share of the steering limit (the rest is the "
+            "tracker's)",
+            Range::Of(0.3, 1.0));
     v.Param("goal_tolerance_m", goal_tolerance_m, "goal reached within this distance", Range::Of(0.01, 5.0));
     v.Param("goal_heading_tolerance_deg", goal_heading_tolerance_deg, "and within this heading difference",
             Range::Of(0.5, 180.0));
@@ -117,18 +123,17 @@ struct MovingObstacle {
 };
 
 struct KinodynamicResult : PlanResult {
-  bool approximate = false;  // the path ends short of the goal (found is then false)
-  double goal_distance_m = 0;  // from the path's end to the goal
-  double cost = 0;             // under the objective above
-  double duration_s = 0;       // driving time of the path
+  bool approximate = false;     // the path ends short of the goal (found is then false)
+  double goal_distance_m = 0;   // from the path's end to the goal
+  double cost = 0;              // under the objective above
+  double duration_s = 0;        // driving time of the path
   std::vector<double> times_s;  // per path point: when the car is there
   std::string planner;
 };
 
 class KinodynamicPlanner {
  public:
-  KinodynamicPlanner(const KinodynamicOptions& options, const CarOptions& car,
-                     std::shared_ptr<const DistanceMap> map);
+  KinodynamicPlanner(const KinodynamicOptions& options, const CarOptions& car, std::shared_ptr<const DistanceMap> map);
   ~KinodynamicPlanner();
   // Throws InputError when start or goal is outside the map or in collision.
   // `obstacles` are checked at the time the car would be there; `guide` (optional,

@@ -13,17 +13,13 @@
 // manoeuvre (a parking correction of a few decimetres) is driven on its planned arcs
 // rather than cut short.
 // `steering: pure_pursuit` (Coulter 1992): the goal point lies `lookahead` ahead on the current
-// stretch (d = min_lookahead + k · |v|; never past the stretch's: near the end it lies on the line of the end pose's heading beyond it, so the
-// car arrives aligned); with α its bearing from the car's heading,
-// δ = atan(2 L sin α / d). In
-// reverse the same law runs for a virtual car facing backwards (heading θ + π) and
-// the angle is negated (θ̇ = v tan δ / L with v < 0).
-// Speed: v ≤ max speed of the direction, v ≤ √(a_lat / κ) for the path's curvature
-// ahead, v ≤ ½ δ̇_max / (L |dκ/ds|) so the steering can keep up through S-bends,
-// v ≤ √(2 a_brake s) with s the distance left to the stretch's end, where
-// the car stops before the next stretch starts (a gear change) or the goal, and
-// v ≤ approach_speed within approach_distance of the path's end (precision where
-// goals sit: bays between parked cars).
+// stretch (d = min_lookahead + k · |v|; never past the stretch's: near the end it lies on the line of the end pose's
+// heading beyond it, so the car arrives aligned); with α its bearing from the car's heading, δ = atan(2 L sin α / d).
+// In reverse the same law runs for a virtual car facing backwards (heading θ + π) and the angle is negated (θ̇ = v tan δ
+// / L with v < 0). Speed: v ≤ max speed of the direction, v ≤ √(a_lat / κ) for the path's curvature ahead, v ≤ ½ δ̇_max
+// / (L |dκ/ds|) so the steering can keep up through S-bends, v ≤ √(2 a_brake s) with s the distance left to the
+// stretch's end, where the car stops before the next stretch starts (a gear change) or the goal, and v ≤ approach_speed
+// within approach_distance of the path's end (precision where goals sit: bays between parked cars).
 #pragma once
 
 #include <cstddef>
@@ -56,8 +52,10 @@ struct TrackerOptions {
             Range::Of(0.0, 20.0));
     v.Param("k_lateral", k_lateral, "rear_wheel_feedback: gain on the lateral error, per square metre",
             Range::Of(0.0, 50.0));
-    v.Param("min_lookahead_m", min_lookahead_m, "pure-pursuit lookahead at standstill (also the reach of the "
-            "speed profile's curvature look-ahead)", Range::Of(0.2, 10.0));
+    v.Param("min_lookahead_m", min_lookahead_m,
+            "pure-pursuit lookahead at standstill (also the reach of the "
+            "speed profile's curvature look-ahead)",
+            Range::Of(0.2, 10.0));
     v.Param("lookahead_per_mps", lookahead_per_mps, "lookahead added per m/s", Range::Of(0.0, 5.0));
     v.Param("max_lateral_accel_mps2", max_lateral_accel_mps2, "speed limit in curves: v²κ ≤ this",
             Range::Of(0.1, 10.0));

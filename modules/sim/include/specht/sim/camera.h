@@ -18,11 +18,10 @@
 // plane is the same in both cameras, so its disparity is exact too.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "specht/sim/scenario.h"
 #include "specht/sim/sprites.h"
@@ -46,20 +45,20 @@ std::string DrivingClassOf(const std::string& kitti_name);
 // One agent in the left image.
 struct AgentView {
   int id = 0;
-  std::string cls;           // KITTI class name
-  std::string sprite;        // the sprite drawn ("" for a box)
-  cv::Rect2d box;            // its full extent in the image, clipped to it
-  double truncated = 0;      // share of the full extent outside the image
-  double visible = 0;        // share of its pixels in the image not hidden by nearer things
-  double range_m = 0;        // depth of its centre along the optical axis
+  std::string cls;       // KITTI class name
+  std::string sprite;    // the sprite drawn ("" for a box)
+  cv::Rect2d box;        // its full extent in the image, clipped to it
+  double truncated = 0;  // share of the full extent outside the image
+  double visible = 0;    // share of its pixels in the image not hidden by nearer things
+  double range_m = 0;    // depth of its centre along the optical axis
 };
 
 struct StereoFrame {
-  cv::Mat left_bgr, right_bgr;  // CV_8UC3: what the cameras record, what the detector sees
-  cv::Mat left, right;          // CV_8U: the same in grey, what stereo matching takes
-  cv::Mat disparity;       // CV_32F, left camera, 0 where nothing is hit (sky)
-  cv::Mat depth;           // CV_32F metres along the optical axis, 0 for sky
-  cv::Mat depth_right;     // the same for the right camera (for occlusion tests)
+  cv::Mat left_bgr, right_bgr;            // CV_8UC3: what the cameras record, what the detector sees
+  cv::Mat left, right;                    // CV_8U: the same in grey, what stereo matching takes
+  cv::Mat disparity;                      // CV_32F, left camera, 0 where nothing is hit (sky)
+  cv::Mat depth;                          // CV_32F metres along the optical axis, 0 for sky
+  cv::Mat depth_right;                    // the same for the right camera (for occlusion tests)
   std::vector<AgentView> agents;          // the agents in view (at least 5 % visible)
   std::vector<std::string> kitti_labels;  // the same, one line each (KITTI object format)
 };
@@ -67,8 +66,7 @@ struct StereoFrame {
 class StereoRenderer {
  public:
   // With `sprites`, agents are drawn as sprites of spec.sprites' set; without, as boxes.
-  StereoRenderer(const Scenario& scenario, const World& world, StereoSpec spec,
-                 const SpriteLibrary* sprites = nullptr);
+  StereoRenderer(const Scenario& scenario, const World& world, StereoSpec spec, const SpriteLibrary* sprites = nullptr);
   // An agent without a named sprite shows the sprite of its class whose aspect is
   // nearest the width its box shows the camera over its height (a car side-on gets a
   // side view, from behind a rear view); ties go by the agent's id.

@@ -46,8 +46,7 @@ struct SyntheticDetectionOptions {
     v.Param("range_sigma_fraction", range_sigma_fraction, "position noise σ growth per metre of range",
             Range::Of(0.0, 0.5));
     v.Param("class_error", class_error, "chance a detection carries a wrong class", Range::Of(0.0, 1.0));
-    v.Param("false_alarms_per_frame", false_alarms_per_frame, "mean false detections per frame",
-            Range::Of(0.0, 50.0));
+    v.Param("false_alarms_per_frame", false_alarms_per_frame, "mean false detections per frame", Range::Of(0.0, 50.0));
     v.Param("truth_episode_gap_s", truth_episode_gap_s,
             "an agent out of view this long comes back under a new truth id (no re-identification)",
             Range::Of(0.0, 1e6));

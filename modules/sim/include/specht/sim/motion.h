@@ -16,8 +16,8 @@
 //   ẋ = v cos θ,  ẏ = v sin θ,  θ̇ = v tan δ / L.
 // In curves the speed is capped by a lateral acceleration of 2 m/s² at the pursuit
 // curvature κ = 2 sin α / d (v ≤ √(2/|κ|)); before a stop waypoint by v ≤ √(2 a_dec s).
-// Pedestrians and cyclists head for their next waypoint with a bounded turn rate. Speeds overlap between classes on purpose: no single speed
-// threshold separates them; turning and stopping behaviour does.
+// Pedestrians and cyclists head for their next waypoint with a bounded turn rate. Speeds overlap between classes on
+// purpose: no single speed threshold separates them; turning and stopping behaviour does.
 #pragma once
 
 #include <random>
@@ -35,8 +35,8 @@ struct MotionParams {
   double pivot_ahead_m = 0.0;  // bicycle movers: the pose point's distance ahead of the rear axle
   double heading_noise = 0.0;  // rad/s std. dev. of a random turn-rate disturbance
   double pause_probability = 0.0, pause_min_s = 0.5, pause_max_s = 3.0;
-  double stop_s = 0.0;         // wait at 'stop' waypoints
-  double reach_m = 0.5;        // a waypoint is reached within this distance
+  double stop_s = 0.0;   // wait at 'stop' waypoints
+  double reach_m = 0.5;  // a waypoint is reached within this distance
   double length_m = 0.5, width_m = 0.5;
 };
 
@@ -50,8 +50,8 @@ struct MoverState {
   double yaw_rate = 0;
   double accel_mps2 = 0;
   double steer_rad = 0;  // bicycle movers under StepCommanded
-  size_t target = 0;  // index of the waypoint heading for
-  double wait_s = 0;  // remaining pause
+  size_t target = 0;     // index of the waypoint heading for
+  double wait_s = 0;     // remaining pause
   bool finished = false;
 };
 

@@ -16,9 +16,9 @@
 #pragma once
 
 #include <array>
-#include <optional>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -84,7 +84,7 @@ struct AgentSpec {
   AgentClass cls = AgentClass::kPedestrian;
   std::vector<Waypoint> route;
   double start_s = 0;
-  bool loop = false;  // closed route; otherwise back and forth along it
+  bool loop = false;         // closed route; otherwise back and forth along it
   double max_speed_mps = 0;  // caps the class's sampled cruise speed (0 = no cap)
   std::string sprite;        // the sprite the camera shows (sprites.h names); "" = chosen by the view
 };
@@ -101,8 +101,8 @@ struct LidarSpec {
 
 struct OdometrySpec {
   double rate_hz = 50;
-  double translation_noise = 0.02;  // std. dev. per metre travelled (fraction)
-  double rotation_noise = 0.02;     // std. dev. per radian turned (fraction)
+  double translation_noise = 0.02;    // std. dev. per metre travelled (fraction)
+  double rotation_noise = 0.02;       // std. dev. per radian turned (fraction)
   double rotation_per_metre = 0.002;  // rad of yaw drift per metre, systematic
 };
 

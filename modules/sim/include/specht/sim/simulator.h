@@ -15,12 +15,12 @@
 // changes both noise and agent behaviour.
 #pragma once
 
+#include <mrpt/obs/CObservation.h>
+
 #include <functional>
 #include <memory>
 #include <random>
 #include <vector>
-
-#include <mrpt/obs/CObservation.h>
 
 #include "specht/core/time.h"
 #include "specht/sim/camera.h"

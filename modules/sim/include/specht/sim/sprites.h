@@ -19,18 +19,17 @@
 #pragma once
 
 #include <map>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace specht::sim {
 
 struct Sprite {
   std::string name;
-  std::string cls;   // pedestrian, cyclist, car
-  cv::Mat bgr;       // CV_8UC3, cropped to the mask's box
-  cv::Mat alpha;     // CV_8U, 255 where the object is
+  std::string cls;  // pedestrian, cyclist, car
+  cv::Mat bgr;      // CV_8UC3, cropped to the mask's box
+  cv::Mat alpha;    // CV_8U, 255 where the object is
   bool held_out = false;
   double Aspect() const { return static_cast<double>(bgr.cols) / bgr.rows; }
 };

@@ -2,9 +2,9 @@
 // against moving boxes), and its true occupancy grid.
 #pragma once
 
-#include <vector>
-
 #include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <vector>
 
 #include "specht/sim/scenario.h"
 

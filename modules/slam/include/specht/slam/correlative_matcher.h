@@ -20,12 +20,12 @@
 // block then loses the least excess over the block, so the search stays exact.
 #pragma once
 
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/poses/CPose2D.h>
+
 #include <cstdint>
 #include <optional>
 #include <vector>
-
-#include <mrpt/maps/CSimplePointsMap.h>
-#include <mrpt/poses/CPose2D.h>
 
 namespace specht::slam {
 

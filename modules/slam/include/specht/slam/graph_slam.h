@@ -164,7 +164,7 @@ class GraphSlam {
   std::vector<size_t> open_submap_;  // keyframes of the submap being filled
   int loops_since_optimize_ = 0;
   std::vector<bool> closed_;  // keyframes with a loop edge of their own
-  size_t seeded_ = 0;  // keyframes taken over from a saved map
+  size_t seeded_ = 0;         // keyframes taken over from a saved map
   GraphSlamStats stats_;
 };
 

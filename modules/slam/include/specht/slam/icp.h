@@ -25,11 +25,11 @@
 // slides along it after whatever its pairs pull at (clutter, a person walking).
 #pragma once
 
-#include <memory>
-
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
+
+#include <memory>
 
 #include "specht/core/params.h"
 #include "specht/slam/indexed_points.h"
@@ -39,30 +39,28 @@ namespace specht::slam {
 // MRPT CICP settings (section "scan_matching.icp").
 struct IcpOptions {
   int max_iterations = 80;
-  double max_pair_distance_m = 0.6;      // initial matching distance (CICP thresholdDist)
-  double max_pair_angle_deg = 5.0;       // angular part of the matching distance (thresholdAng)
-  double threshold_decay = 0.6;          // ALFA: thresholds shrink by this on convergence
-  double min_pair_distance_m = 0.05;     // smallest threshold before stopping
-  int point_decimation = 3;              // use every n-th point of the scan as a query
-  int point_to_line_iterations = 10;     // Gauss–Newton steps of the refinement; 0 = off
-  double point_to_line_gate_m = 0.1;     // pair a scan point only this close to the map
-  int point_to_line_neighbours = 5;      // map points a line is fitted to
+  double max_pair_distance_m = 0.6;   // initial matching distance (CICP thresholdDist)
+  double max_pair_angle_deg = 5.0;    // angular part of the matching distance (thresholdAng)
+  double threshold_decay = 0.6;       // ALFA: thresholds shrink by this on convergence
+  double min_pair_distance_m = 0.05;  // smallest threshold before stopping
+  int point_decimation = 3;           // use every n-th point of the scan as a query
+  int point_to_line_iterations = 10;  // Gauss–Newton steps of the refinement; 0 = off
+  double point_to_line_gate_m = 0.1;  // pair a scan point only this close to the map
+  int point_to_line_neighbours = 5;   // map points a line is fitted to
 
   template <class V>
   void Visit(V& v) {
     using params::Range;
     v.Param("max_iterations", max_iterations, "ICP iterations per alignment", Range::Of(5, 500));
-    v.Param("max_pair_distance_m", max_pair_distance_m, "initial point pairing distance",
-            Range::Of(0.05, 3.0).Log());
-    v.Param("max_pair_angle_deg", max_pair_angle_deg, "angular term of the pairing distance",
-            Range::Of(0.0, 20.0));
+    v.Param("max_pair_distance_m", max_pair_distance_m, "initial point pairing distance", Range::Of(0.05, 3.0).Log());
+    v.Param("max_pair_angle_deg", max_pair_angle_deg, "angular term of the pairing distance", Range::Of(0.0, 20.0));
     v.Param("threshold_decay", threshold_decay, "pairing distance factor on convergence", Range::Of(0.1, 0.95));
     v.Param("min_pair_distance_m", min_pair_distance_m, "smallest pairing distance", Range::Of(0.005, 0.5).Log());
     v.Param("point_decimation", point_decimation, "pair every n-th scan point", Range::Of(1, 20));
     v.Param("point_to_line_iterations", point_to_line_iterations,
             "Gauss-Newton steps of the point-to-line refinement after ICP; 0 = off", Range::Of(0, 100));
-    v.Param("point_to_line_gate_m", point_to_line_gate_m,
-            "point-to-line: pair a scan point only this close to the map", Range::Of(0.01, 1.0).Log());
+    v.Param("point_to_line_gate_m", point_to_line_gate_m, "point-to-line: pair a scan point only this close to the map",
+            Range::Of(0.01, 1.0).Log());
     v.Param("point_to_line_neighbours", point_to_line_neighbours, "point-to-line: map points a line is fitted to",
             Range::Of(3, 20));
   }

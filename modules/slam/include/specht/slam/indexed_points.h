@@ -24,18 +24,18 @@
 // distance alone.
 #pragma once
 
+#include <mrpt/maps/CSimplePointsMap.h>
+
 #include <cstdint>
 #include <optional>
 #include <vector>
-
-#include <mrpt/maps/CSimplePointsMap.h>
 
 namespace specht::slam {
 
 class IndexedPoints : private mrpt::maps::CSimplePointsMap {
  public:
   struct Neighbour {
-    uint32_t index = 0;    // into points()
+    uint32_t index = 0;   // into points()
     float distance2 = 0;  // squared distance to the query
   };
 

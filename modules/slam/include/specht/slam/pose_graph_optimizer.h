@@ -40,8 +40,7 @@ struct PoseGraphOptions {
   template <class V>
   void Visit(V& v) {
     using params::Range;
-    v.Param("max_iterations", max_iterations, "Levenberg-Marquardt iterations per optimisation",
-            Range::Of(1, 1000));
+    v.Param("max_iterations", max_iterations, "Levenberg-Marquardt iterations per optimisation", Range::Of(1, 1000));
     v.Choice("loop_loss", loop_loss, {"cauchy", "huber", "none"}, "robust loss on loop-closure edges");
     v.Param("loop_loss_scale", loop_loss_scale, "scale of the robust loss, in standard deviations",
             Range::Of(0.1, 100.0).Log());

@@ -47,15 +47,15 @@
 // keyframes (graph SLAM) corrects every scan.
 #pragma once
 
-#include <memory>
-#include <optional>
-#include <string>
-#include <vector>
-
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "specht/core/params.h"
 #include "specht/core/trajectory.h"
@@ -165,7 +165,8 @@ struct ScanMatchingOptions {
             "the direction the scan cannot)");
     v.Param("point_sigma_m", point_sigma_m, "std. dev. of a scan point against its surface (match information)",
             Range::Of(0.005, 0.5).Log());
-    v.Param("prior_fraction", prior_fraction, "odometry std. dev. as a fraction of the step", Range::Of(0.001, 1.0).Log());
+    v.Param("prior_fraction", prior_fraction, "odometry std. dev. as a fraction of the step",
+            Range::Of(0.001, 1.0).Log());
     v.Param("prior_min_m", prior_min_m, "odometry std. dev. floor, translation", Range::Of(0.001, 1.0).Log());
     v.Param("prior_min_deg", prior_min_deg, "odometry std. dev. floor, rotation", Range::Of(0.01, 20.0).Log());
     v.Group("icp", icp);
@@ -187,8 +188,7 @@ struct GridOptions {
     v.Param("resolution_m", resolution_m, "cell size", Range::Of(0.01, 1.0).Log());
     v.Param("max_insert_range_m", max_insert_range_m, "returns beyond this do not update the grid",
             Range::Of(1.0, 200.0));
-    v.Param("occupied_update", occupied_update, "occupancy probability a hit adds to its cell",
-            Range::Of(0.51, 0.99));
+    v.Param("occupied_update", occupied_update, "occupancy probability a hit adds to its cell", Range::Of(0.51, 0.99));
     v.Param("free_update", free_update, "freeness probability a pass adds to a cell (0 = as occupied_update)",
             Range::Of(0.0, 0.99));
     v.Param("invalid_ranges_are_free", invalid_ranges_are_free,
@@ -200,7 +200,7 @@ struct GridOptions {
 struct Keyframe {
   size_t scan_index = 0;  // index into the trajectory
   Stamp stamp;
-  mrpt::poses::CPose2D pose;  // base_link in the map frame
+  mrpt::poses::CPose2D pose;                     // base_link in the map frame
   mrpt::obs::CObservation2DRangeScan::Ptr scan;  // with its sensor pose on base_link
 };
 
@@ -208,11 +208,11 @@ struct MappingStats {
   long scans = 0;
   long odometry = 0;
   long imu = 0;
-  long ignored = 0;        // observations of other kinds
+  long ignored = 0;  // observations of other kinds
   long keyframes = 0;
-  long rejected_matches = 0;  // ICP matches rejected (and not recovered)
-  long recovered_matches = 0; // rejected by ICP, recovered by the correlative matcher
-  long rechecked_steps = 0;   // searched steps moved by a recheck with the keyframes after them
+  long rejected_matches = 0;   // ICP matches rejected (and not recovered)
+  long recovered_matches = 0;  // rejected by ICP, recovered by the correlative matcher
+  long rechecked_steps = 0;    // searched steps moved by a recheck with the keyframes after them
   long icp_iterations = 0;
 };
 
@@ -266,9 +266,9 @@ class ScanMatchingMapper {
   std::vector<ScanPose> scans_;
   std::optional<size_t> last_placed_;  // the last scan matched or moved by odometry (not a bare guess)
   std::vector<Keyframe> keyframes_;
-  std::vector<bool> searched_;             // per keyframe: its step came from a search without odometry
-  std::optional<size_t> moved_;            // first keyframe a recheck moved, not yet taken
-  mrpt::poses::CPose2D start_;  // where the first scan is placed (the origin unless seeded)
+  std::vector<bool> searched_;   // per keyframe: its step came from a search without odometry
+  std::optional<size_t> moved_;  // first keyframe a recheck moved, not yet taken
+  mrpt::poses::CPose2D start_;   // where the first scan is placed (the origin unless seeded)
   MappingStats stats_;
 };
 

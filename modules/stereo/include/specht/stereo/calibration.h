@@ -16,11 +16,10 @@
 // (cv::stereoRectify, zero disparity at infinity).
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace specht::stereo {
 

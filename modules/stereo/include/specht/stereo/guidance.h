@@ -7,7 +7,6 @@
 #pragma once
 
 #include <cstdint>
-
 #include <opencv2/core.hpp>
 
 #include "specht/stereo/sgm.h"

@@ -5,9 +5,8 @@
 // Every reader throws InputError naming the file and the reason.
 #pragma once
 
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace specht::stereo {
 

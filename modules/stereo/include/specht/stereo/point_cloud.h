@@ -5,12 +5,12 @@
 //   X = (u − c_x) Z / f,  Y = (v − c_y) Z / f     (camera frame: x right, y down, z forward).
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <mrpt/poses/CPose3D.h>
 #include <octomap/OcTree.h>
+
 #include <opencv2/core.hpp>
+#include <string>
+#include <vector>
 
 #include "specht/core/params.h"
 #include "specht/stereo/calibration.h"

@@ -28,10 +28,9 @@
 #pragma once
 
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "specht/core/params.h"
 
@@ -48,11 +47,13 @@ struct GuidanceOptions {
   template <class V>
   void Visit(V& v) {
     using params::Range;
-    v.Choice("mode", mode, {"gaussian", "window"},
-             "gaussian: soft cost modulation (Poggi 2019); window: penalise |d − g| > window_px (scene-adaptive paper)");
+    v.Choice(
+        "mode", mode, {"gaussian", "window"},
+        "gaussian: soft cost modulation (Poggi 2019); window: penalise |d − g| > window_px (scene-adaptive paper)");
     v.Param("strength", strength, "largest cost added far from the guide (census bits; 255 = exclusion)",
             Range::Of(1.0, 255.0));
-    v.Param("width_px", width_px, "gaussian: standard deviation of the modulation in pixels", Range::Of(0.2, 20.0).Log());
+    v.Param("width_px", width_px, "gaussian: standard deviation of the modulation in pixels",
+            Range::Of(0.2, 20.0).Log());
     v.Param("window_px", window_px, "window: half width of the kept disparity interval", Range::Of(0.5, 20.0));
     v.Param("reject_px", reject_px,
             "drop the guide where an unguided first pass disagrees by more than this (px; 0 = never, one pass)",
@@ -91,7 +92,8 @@ struct SgmOptions {
   void Visit(V& v) {
     using params::Range;
     v.Choice("matcher", matcher, {"specht", "opencv_sgbm"}, "our semi-global matcher, or OpenCV's StereoSGBM baseline");
-    v.Param("num_disparities", num_disparities, "disparities searched, 0..n−1 (a multiple of 16; of 32 for avx2, 64 for avx512)", Range::Of(16, 256));
+    v.Param("num_disparities", num_disparities,
+            "disparities searched, 0..n−1 (a multiple of 16; of 32 for avx2, 64 for avx512)", Range::Of(16, 256));
     v.Param("census_width", census_width, "census window width (odd)", Range::Of(3, 9));
     v.Param("census_height", census_height, "census window height (odd; width × height ≤ 63)", Range::Of(3, 9));
     v.Param("paths", paths, "aggregation paths: 4 (horizontal, vertical) or 8 (and diagonals)", Range::Of(4, 8));

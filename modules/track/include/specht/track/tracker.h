@@ -75,8 +75,7 @@ struct TrackerOptions {
     v.Param("report_coasting_s", report_coasting_s,
             "coasting tracks unseen longer are kept for re-association but not reported", Range::Of(0.0, 30.0));
     v.Param("history_length", history_length, "positions kept per track", Range::Of(1, 100000));
-    v.Param("prediction_horizon_s", prediction_horizon_s, "how far ahead tracks are predicted",
-            Range::Of(0.0, 30.0));
+    v.Param("prediction_horizon_s", prediction_horizon_s, "how far ahead tracks are predicted", Range::Of(0.0, 30.0));
     v.Param("prediction_step_s", prediction_step_s, "spacing of the predicted points", Range::Of(0.05, 10.0));
   }
   std::vector<std::string> Relations() const;

@@ -14,10 +14,10 @@
 //   choice   choices[⌊g·n⌋] (bool: false, true)
 #pragma once
 
+#include <yaml-cpp/yaml.h>
+
 #include <string>
 #include <vector>
-
-#include <yaml-cpp/yaml.h>
 
 #include "specht/core/params.h"
 

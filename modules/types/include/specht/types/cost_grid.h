@@ -6,7 +6,6 @@
 #pragma once
 
 #include <cstdint>
-
 #include <opencv2/core.hpp>
 
 namespace specht::types {

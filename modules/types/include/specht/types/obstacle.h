@@ -3,9 +3,8 @@
 // from the camera into the map frame, or a simulated detection (sim/detections.h).
 #pragma once
 
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "specht/core/time.h"
 
@@ -13,8 +12,8 @@ namespace specht::types {
 
 struct Obstacle {
   long id = 0;
-  std::string cls;  // the detector's class name ("pedestrian", "car", …)
-  Stamp stamp;      // when it was seen
+  std::string cls;                   // the detector's class name ("pedestrian", "car", …)
+  Stamp stamp;                       // when it was seen
   double x_m = 0, y_m = 0, z_m = 0;  // map frame, centre
   double radius_m = 0.5;             // half the larger horizontal extent
   cv::Matx22d covariance_xy = cv::Matx22d::eye() * 0.01;

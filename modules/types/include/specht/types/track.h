@@ -3,10 +3,9 @@
 #pragma once
 
 #include <map>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "specht/core/time.h"
 
@@ -29,11 +28,11 @@ struct Track {
   std::string cls;  // the score-weighted vote of its detections' classes
   Stamp stamp;
   double x_m = 0, y_m = 0, vx_mps = 0, vy_mps = 0;
-  cv::Matx44d covariance = cv::Matx44d::eye();  // over (x, y, vx, vy)
-  std::string state;         // "confirmed" or "coasting" (not seen at its stamp)
-  std::string motion_model;  // "cv" or "ct"
-  std::vector<TrackPoint> history;          // filtered positions, oldest first
-  std::vector<PredictedPoint> prediction;   // short horizon, for the planner
+  cv::Matx44d covariance = cv::Matx44d::eye();        // over (x, y, vx, vy)
+  std::string state;                                  // "confirmed" or "coasting" (not seen at its stamp)
+  std::string motion_model;                           // "cv" or "ct"
+  std::vector<TrackPoint> history;                    // filtered positions, oldest first
+  std::vector<PredictedPoint> prediction;             // short horizon, for the planner
   std::map<std::string, double> class_probabilities;  // from the trajectory classifier
 };
 

@@ -19,18 +19,18 @@
 // load and keep it as long as they like. A reader never sees half an update.
 #pragma once
 
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/poses/CPose3D.h>
+#include <octomap/OcTree.h>
+
 #include <map>
 #include <memory>
 #include <mutex>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <mrpt/maps/COccupancyGridMap2D.h>
-#include <mrpt/poses/CPose3D.h>
-#include <nlohmann/json.hpp>
-#include <octomap/OcTree.h>
-#include <opencv2/core.hpp>
 
 #include "specht/core/params.h"
 #include "specht/core/time.h"
@@ -45,7 +45,7 @@ struct WorldModelOptions {
   double obstacle_lifetime_s = 1.0;
   double footprint_radius_m = 0.7;
   double static_margin_m = 0.3;
-  std::vector<std::string> class_margins = {"pedestrian=1.5", "cyclist=1.2", "car=0.8", "truck=1.0",
+  std::vector<std::string> class_margins = {"pedestrian=1.5", "cyclist=1.2",      "car=0.8",  "truck=1.0",
                                             "bus=1.0",        "traffic_sign=0.2", "other=0.5"};
   double cost_decay_per_m = 3.0;
   double occupied_probability = 0.65;
@@ -65,8 +65,7 @@ struct WorldModelOptions {
     v.Param("class_margins", class_margins, "safety margin beyond the footprint per class, \"class=metres\"");
     v.Param("cost_decay_per_m", cost_decay_per_m, "how fast the cost falls off inside a margin",
             Range::Of(0.1, 20.0).Log());
-    v.Param("occupied_probability", occupied_probability, "a static cell is occupied above this",
-            Range::Of(0.5, 0.99));
+    v.Param("occupied_probability", occupied_probability, "a static cell is occupied above this", Range::Of(0.5, 0.99));
     v.Param("free_probability", free_probability, "a static cell is free below this", Range::Of(0.01, 0.5));
     v.Param("default_resolution_m", default_resolution_m, "cost grid cell size without a static map",
             Range::Of(0.02, 1.0));
@@ -94,9 +93,9 @@ struct Snapshot {
 // Unset members leave their layer as it is.
 struct WorldUpdate {
   Stamp stamp;
-  std::optional<std::vector<types::Obstacle>> obstacles;  // added to the obstacle layer
-  std::optional<std::vector<types::Track>> tracks;        // replace the track layer
-  std::shared_ptr<const octomap::OcTree> octree;          // replaces the 3D layer
+  std::optional<std::vector<types::Obstacle>> obstacles;              // added to the obstacle layer
+  std::optional<std::vector<types::Track>> tracks;                    // replace the track layer
+  std::shared_ptr<const octomap::OcTree> octree;                      // replaces the 3D layer
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> static_map;  // replaces the static layer
 };
 
@@ -121,8 +120,8 @@ class WorldModel {
   template <class Edit>
   void Publish(Stamp now, Edit&& edit);
   struct StaticLayer {
-    types::CostGrid grid;    // the static map inflated
-    cv::Mat unknown;  // CV_8U, 1 on unknown static cells
+    types::CostGrid grid;  // the static map inflated
+    cv::Mat unknown;       // CV_8U, 1 on unknown static cells
   };
   StaticLayer InflateStatic(const mrpt::maps::COccupancyGridMap2D& grid) const;
   std::shared_ptr<const types::CostGrid> BuildCost(const Snapshot& s) const;
