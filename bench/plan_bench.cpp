@@ -4,8 +4,8 @@
 // bays from 25 random free poses each. Pairs not in one free component are left out. Per problem: hybrid A* (grid
 // heuristic computed fresh, as for a new goal; the fine search where the default finds no path, `fine_search_share`) +
 // the Ceres smoother, and plain OMPL RRT (geometric, Reeds-Shepp state space, same collision check, 1 s limit, first
-// solution simplified by OMPL's default shortcutting) on the same problems. JSON: p50/p90/max ms, success rate, mean
-// path length.
+// solution simplified by SimpleSetup::simplifySolution inside the timed region) on the same problems. JSON: each
+// planner's success rate; p50/p90/max ms and mean path length over the problems both solve (`compared_on`).
 //
 // The kinodynamic planner (plan/kinodynamic.h, OMPL control SST / RRT / KPIECE1
 // over the bicycle model):
@@ -115,43 +115,38 @@ bool Connected(const cv::Mat& labels, const specht::plan::DistanceMap& map, cons
   return label(a) != 0 && label(a) == label(b);
 }
 
-// Hybrid A* + smoothing and plain OMPL RRT on the same problems; two JSON lines.
-void Compare(const std::string& name, const std::shared_ptr<specht::plan::DistanceMap>& map,
-             const specht::plan::CarOptions& car,
-             const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems, const Flags& flags) {
-  using namespace specht::plan;
-  const HybridAStarOptions search_options;
-  const SmootherOptions smoother;
-  Stats astar, rrt;
-  int fine = 0;
-  for (const auto& [start, goal] : problems) {
-    // Fresh: the heuristic is computed per problem. The fine search where the
-    // default finds no path, as the closed loop does.
-    SearchWithFallback search(search_options, FineSearchDefaults(), car, map);
-    const auto t0 = Clock::now();
-    const PlanResult r = search.Plan(start, goal);
-    fine += search.last_used_fine();
-    SmoothResult smoothed;
-    if (r.found) smoothed = SmoothPath(r.path, *map, car, smoother);
-    const double length = smoothed.path.Length();
-    if (flags.per_problem)
-      std::fprintf(stderr, "%s #%d: %s, heuristic %.1f ms, search %.1f ms, %ld expansions, smoothing %.1f ms, %.1f m\n",
-                   name.c_str(), astar.problems, r.found ? "found" : r.failure.c_str(), r.heuristic_milliseconds,
-                   r.milliseconds, r.expansions, smoothed.milliseconds, length);
-    ++astar.problems;
-    if (r.found) astar.ms.push_back(Ms(t0)), astar.length.push_back(length), ++astar.solved;
-  }
-  nlohmann::json j = astar.Json("plan/hybrid_astar+smoothing/" + name);
-  j["fine_search_share"] = static_cast<double>(fine) / problems.size();
-  specht::bench::Emit(j);
-  if (flags.hybrid_only) return;
+// One planner's outcome on one problem.
+struct Outcome {
+  bool solved = false;
+  double ms = 0, length = 0;
+};
 
+// Stats over the problems both planners solved (a percentile over each planner's own
+// solved subset would reward the one that gives up on the hard problems), with each
+// planner's own success rate.
+Stats Common(const std::vector<Outcome>& mine, const std::vector<Outcome>& other) {
+  Stats stats;
+  stats.problems = static_cast<int>(mine.size());
+  for (size_t i = 0; i < mine.size(); ++i) {
+    stats.solved += mine[i].solved;
+    if (mine[i].solved && other[i].solved) stats.ms.push_back(mine[i].ms), stats.length.push_back(mine[i].length);
+  }
+  return stats;
+}
+
+// Plain OMPL RRT as its users run it: geometric, Reeds-Shepp state space, the same
+// collision check, 1 s to an exact solution, then SimpleSetup::simplifySolution()
+// (shortcutting and smoothing) inside the timed region.
+std::vector<Outcome> OmplRrt(const std::shared_ptr<specht::plan::DistanceMap>& map, const specht::plan::CarOptions& car,
+                             const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems) {
+  using namespace specht::plan;
   auto space = std::make_shared<ompl::base::ReedsSheppStateSpace>(car.MinTurningRadius());
   ompl::base::RealVectorBounds bounds(2);
   bounds.setLow(0, map->origin_x()), bounds.setHigh(0, map->origin_x() + map->cols() * map->resolution());
   bounds.setLow(1, map->origin_y()), bounds.setHigh(1, map->origin_y() + map->rows() * map->resolution());
   space->setBounds(bounds);
   const DiscCover discs = car.Discs();
+  std::vector<Outcome> outcomes;
   for (const auto& [start, goal] : problems) {
     ompl::geometric::SimpleSetup ss(space);
     ss.setStateValidityChecker([&](const ompl::base::State* s) {
@@ -165,15 +160,58 @@ void Compare(const std::string& name, const std::shared_ptr<specht::plan::Distan
     g->setXY(goal.x, goal.y), g->setYaw(goal.theta);
     ss.setStartAndGoalStates(s, g, 0.05);
     const auto t0 = Clock::now();
-    const auto solved = ss.solve(1.0);
-    const double ms = Ms(t0);
-    ++rrt.problems;
-    if (solved == ompl::base::PlannerStatus::EXACT_SOLUTION) {
-      ++rrt.solved, rrt.ms.push_back(ms);
-      rrt.length.push_back(ss.getSolutionPath().length());
-    }
+    Outcome o;
+    o.solved = ss.solve(1.0) == ompl::base::PlannerStatus::EXACT_SOLUTION;
+    if (o.solved) ss.simplifySolution();
+    o.ms = Ms(t0);
+    if (o.solved) o.length = ss.getSolutionPath().length();
+    outcomes.push_back(o);
   }
-  specht::bench::Emit(rrt.Json("plan/ompl_rrt_reeds_shepp/" + name));
+  return outcomes;
+}
+
+// Hybrid A* + smoothing and plain OMPL RRT on the same problems; two JSON lines, their
+// times and lengths over the problems both solve.
+void Compare(const std::string& name, const std::shared_ptr<specht::plan::DistanceMap>& map,
+             const specht::plan::CarOptions& car,
+             const std::vector<std::pair<specht::plan::Pose, specht::plan::Pose>>& problems, const Flags& flags) {
+  using namespace specht::plan;
+  const HybridAStarOptions search_options;
+  const SmootherOptions smoother;
+  std::vector<Outcome> astar;
+  int fine = 0;
+  for (const auto& [start, goal] : problems) {
+    // Fresh: the heuristic is computed per problem. The fine search where the
+    // default finds no path, as the closed loop does.
+    SearchWithFallback search(search_options, FineSearchDefaults(), car, map);
+    const auto t0 = Clock::now();
+    const PlanResult r = search.Plan(start, goal);
+    fine += search.last_used_fine();
+    SmoothResult smoothed;
+    if (r.found) smoothed = SmoothPath(r.path, *map, car, smoother);
+    const double length = smoothed.path.Length();
+    if (flags.per_problem)
+      std::fprintf(stderr,
+                   "%s #%zu: %s, heuristic %.1f ms, search %.1f ms, %ld expansions, smoothing %.1f ms, %.1f m\n",
+                   name.c_str(), astar.size(), r.found ? "found" : r.failure.c_str(), r.heuristic_milliseconds,
+                   r.milliseconds, r.expansions, smoothed.milliseconds, length);
+    astar.push_back({r.found, Ms(t0), length});
+  }
+  const std::vector<Outcome> rrt = flags.hybrid_only ? astar : OmplRrt(map, car, problems);
+  // Over the problems both solve, and each planner over its own solved ones (`own`).
+  const auto both = [](const std::string& planner, const std::vector<Outcome>& mine,
+                       const std::vector<Outcome>& other) {
+    const Stats common = Common(mine, other);
+    nlohmann::json j = common.Json(planner);
+    j["compared_on"] = common.ms.size();
+    const nlohmann::json own = Common(mine, mine).Json(planner);
+    j["own"] = {{"ms_p50", own["ms_p50"]}, {"ms_p90", own["ms_p90"]}, {"mean_length_m", own["mean_length_m"]}};
+    return j;
+  };
+  nlohmann::json j = both("plan/hybrid_astar+smoothing/" + name, astar, rrt);
+  j["fine_search_share"] = static_cast<double>(fine) / problems.size();
+  specht::bench::Emit(j);
+  if (!flags.hybrid_only) specht::bench::Emit(both("plan/ompl_rrt_reeds_shepp_simplified/" + name, rrt, astar));
 }
 
 // The kinodynamic planner on `problems`, `runs` times each (each call draws new

@@ -30,14 +30,8 @@ struct Case {
 
 std::vector<Case> Cases() {
   std::vector<Case> cases;
-  SgmOptions sgbm;
-  sgbm.matcher = "opencv_sgbm";
-  sgbm.uniqueness = 10;
-  sgbm.speckle_range_px = 2;
-  for (int threads : {1, 2}) {
-    sgbm.threads = threads;
-    cases.push_back({"opencv_sgbm_3way/t" + std::to_string(threads), sgbm});
-  }
+  for (int threads : {1, 2})
+    cases.push_back({"opencv_sgbm_3way/t" + std::to_string(threads), specht::stereo::OpenCvSgbmBaseline(threads)});
   for (int threads : {1, 2}) {
     SgmOptions o;
     o.threads = threads;

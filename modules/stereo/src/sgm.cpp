@@ -408,6 +408,17 @@ cv::Mat OpenCvSgbm(const cv::Mat& left, const cv::Mat& right, const SgmOptions& 
 
 std::string SelectedInstructionSet(const SgmOptions& options) { return KernelsFor(options).name; }
 
+SgmOptions OpenCvSgbmBaseline(int threads) {
+  SgmOptions o;
+  o.matcher = "opencv_sgbm";
+  o.sgbm_mode = "3way", o.sgbm_block = 5, o.sgbm_p1 = 200, o.sgbm_p2 = 800;
+  o.uniqueness = 10;
+  o.speckle_window = 100, o.speckle_range_px = 2;
+  o.lr_max_diff = 1;
+  o.threads = threads;
+  return o;
+}
+
 cv::Mat ComputeDisparity(const cv::Mat& left, const cv::Mat& right, const SgmOptions& options,
                          const Guidance* guidance) {
   if (options.matcher == "specht") return SemiGlobalMatcher(options).Compute(left, right, guidance);

@@ -122,6 +122,11 @@ struct SgmOptions {
   std::vector<std::string> Relations() const;
 };
 
+// OpenCV's StereoSGBM as the data README measures it, the one baseline the tests and
+// bench/stereo_bench compare against: SGBM_3WAY, block 5, P1 200, P2 800, uniqueness
+// 10, speckle window 100 and range 2 px (OpenCV's 32 in 1/16 px), disp12MaxDiff 1.
+SgmOptions OpenCvSgbmBaseline(int threads = 2);
+
 // Guidance for one frame: a disparity g_p per left pixel (CV_32F, 0 = none) and its
 // weight v_p in [0, 1] (CV_32F; empty = 1 wherever g_p > 0).
 struct Guidance {
