@@ -64,15 +64,13 @@ AisPreprocessOptions::AisPreprocessOptions() {
 }
 
 AisModelOptions::AisModelOptions() {
-  variant = "tiny";  // measured here; the paper's "shallow" is 6× slower to train and was not cross-validated
+  variant = "tiny";  // the paper's "shallow" trains far slower; docs/ais-experiments.md compares them
   epochs = 60;
   batch_size = 64;
   learning_rate = 2e-3;  // the paper doubles 1e-3 with batch normalisation
   input_noise = 0.0;     // the paper found no gain; σ 0.01 would drown Δt and the turn rate
-  // Piecewise-linear encoding over 4 quantile bins: the best network measured on
-  // AIS (60 points, 15 folds: macro F1 0.747 against 0.705 without; 8 bins +0.034
-  // on the same folds, ahead in 11 of 15 but p 0.48; 4, 8, 16 bins alike, 4 the
-  // fastest to train). See README, "AIS vessel classification".
+  // Piecewise-linear encoding over 4 quantile bins: the best network on AIS, and 4
+  // bins train fastest of the bin counts that score alike (docs/ais-experiments.md).
   input_bins = 4;
 }
 

@@ -48,8 +48,8 @@ struct ResBlockImpl : nn::Module {
 };
 TORCH_MODULE(ResBlock);
 
-// Setting the thread count rebuilds libtorch's pool (≈ 8 ms, measured: it was the
-// whole cost of classifying one window), so only when it changes.
+// Setting the thread count rebuilds libtorch's pool, which costs more than classifying
+// one window, so it is set only when it changes.
 void UseThreads(int threads) {
   if (torch::get_num_threads() != threads) torch::set_num_threads(threads);
 }

@@ -88,9 +88,10 @@ std::vector<float> Ranges(const Fields& f, size_t first, int n) {
 
 // Angle between FLASER beams, as CARMEN reads a SICK (carmen_laser_get_angle_increment):
 // 180/181 beams at 1°, 360/361 at 0.5°, the first beam at −90°; the even counts drop
-// the last beam, so 180 beams span −90°..+89°, not 180° in 179 steps. Measured on the
-// Radish logs, against the corrected poses: this spacing, and −90° rather than a
-// centred start, give both the lower relation error and the sharper reference map.
+// the last beam, so 180 beams span −90°..+89°, not 180° in 179 steps. On the Radish
+// logs, against the corrected poses, this spacing and −90° rather than a centred
+// start give both the lower relation error and the sharper reference map
+// (docs/slam-experiments.md).
 // Other counts spread over 180°.
 double FlaserIncrement(int n) {
   if (n == 180 || n == 181) return M_PI / 180;

@@ -92,8 +92,8 @@ struct HybridAStar::Impl {
   // car's sides on either hand — except within a car length of the goal, where the
   // car may stand with an obstacle just behind it (then only the rear overhang
   // separates the two; near the start Plan allows the same). Squeezing through gaps narrower than the car
-  // is what made the search wander (measured: 40 % of the benchmark's problems
-  // timed out with the overhang everywhere).
+  // is what made the search wander (with the overhang everywhere many of
+  // bench/plan_bench's problems ran out of their budget).
   void GridDistances(int goal_cell, const Pose& goal) {
     to_goal.assign(static_cast<size_t>(cols) * rows, -1.f);
     const double need_far = car.width_m / 2 + car.safety_margin_m;

@@ -153,10 +153,10 @@ void GraphSlam::SearchLoops(size_t k) {
 
 // Cartographer's "constraints for old nodes": a submap sees a place whole only once it
 // is finished, so a keyframe from long before that saw part of the place may match it
-// although the submaps of its own time never matched the later keyframes (orebro's
-// last room, first seen through a door). Keyframes with a loop of their own are left
-// out: their place is closed already, and searching them too made freiburg-079 and
-// orebro worse (README, "Loops from old keyframes").
+// although the submaps of its own time never matched the later keyframes (a room
+// first seen through a door). Keyframes with a loop of their own are left out: their
+// place is closed already, and searching them too only adds aliases
+// (docs/slam-experiments.md, "Loops from old keyframes").
 void GraphSlam::SearchOldKeyframes(const Submap& s) {
   if (loops_.old_keyframes_per_submap <= 0) return;
   const auto& kfs = front_end_.keyframes();

@@ -129,7 +129,7 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
 }
 
 // Without odometry a step is only what the search made of one scan, and along a
-// corridor a stop and a step of 2 m can score alike (orebro's scan 17). The keyframes
+// corridor a stop and a step of 2 m can score alike. The keyframes
 // that follow see more: turning on the spot, they look back down the corridor. So as
 // each new keyframe m arrives, every searched keyframe k with 2 ≤ m − k ≤ n
 // (`recheck_keyframes`) is checked again, the oldest first: keyframes k..m are taken
@@ -139,8 +139,8 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
 // within ±recheck_window around pose_k. When T* scores recheck_min_gain above pose_k,
 // and k's own scan fits T* at most recheck_own_max_loss worse than pose_k (else the
 // group is torn by a later step, whose own check will find it; a single scan after a
-// turn on the spot may fit a wrong place a little better, orebro's scan 41 by 0.03,
-// while the group fits the right one by 0.10), keyframe k and every later one are moved
+// turn on the spot may fit a wrong place a little better than the right one, while
+// the group fits the right one clearly), keyframe k and every later one are moved
 // rigidly: pose_j ← T* ⊕ (pose_k⁻¹ ⊕ pose_j). At most one move per new keyframe.
 void ScanMatchingMapper::RecheckSearchedSteps() {
   const int n = options_.recheck_keyframes;

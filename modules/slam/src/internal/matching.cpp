@@ -46,15 +46,13 @@ bool WithinCorrectionBounds(const CPose2D& pose, const CPose2D& from, const Scan
 // coarse pose's score, and also when it pairs too few points or leaves the bounds if
 // the coarse pose can stand on its own: always without odometry
 // (`coarse_stands_anywhere`: the search is the only estimate, its score and drive
-// prior vouch for it; orebro's scan 213, where ICP slid 1.2 m and 15° off a right
-// coarse pose, used to send the front end back to the constant-velocity guess), and
+// prior vouch for it, and an ICP that slides along a corridor off a right coarse pose
+// must not send the front end back to the constant-velocity guess), and
 // after a rejected ICP match with odometry only when the coarse pose lies within the
 // correction bounds of the guess (a wide search in a featureless corridor finds
-// aliases turned by a right angle whose refinement fails: the simulated course loop,
-// 77°). Otherwise a failed refinement discards the candidate. The grid is built on
-// the first search and kept for the next from the same reference; the searches around
-// several centres run in parallel (the grid is read-only; ICP refines on the calling
-// thread).
+// aliases turned by a right angle whose refinement fails). Otherwise a failed refinement discards the candidate. The
+// grid is built on the first search and kept for the next from the same reference; the searches around several centres
+// run in parallel (the grid is read-only; ICP refines on the calling thread).
 struct SearchResult {
   CPose2D pose;
   double score = 0;

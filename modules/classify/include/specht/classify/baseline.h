@@ -4,9 +4,8 @@
 //   |turn rate| mean, std, max; fraction of steps below 10 % of the window's max speed
 //   (stops); straightness (net displacement / path length); duration; the time between
 //   samples, 10/50/90th percentile (AIS: class A transponders report every 2–10 s
-//   under way, class B ones, on most pleasure craft, every 30 s: in the shipped
-//   Brest data the median is 2 s for passenger vessels, 10 s for cargo, 31 s for
-//   pleasure craft); distance to the static layer (mean, min) and to the nearest
+//   under way, class B ones, on most pleasure craft, every 30 s, so the intervals
+//   differ by class); distance to the static layer (mean, min) and to the nearest
 //   point of interest (mean); the mean region (map position, when the map gives
 //   one; else 0); the object's category code (AIS: the flag's MID; the trees split
 //   its ranges, e.g. 2xx Europe).

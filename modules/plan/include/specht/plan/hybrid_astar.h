@@ -12,10 +12,9 @@
 // at R_min), shortest 8-connected grid distance to the goal around obstacles
 // ignoring heading) — both admissible for the arc lengths. The Reeds-Shepp term is
 // used only within reeds_shepp_radius_m (grid distance) of the goal: farther away it
-// cost a quarter of the search time (OMPL solves 48 path families per call) and,
-// pulling nodes towards the goal's heading long before it matters, made the
-// weighted search expand more (clutter benchmark: p90 108 → 59 ms at 15 m, paths no
-// longer). The grid distances come
+// costs much of the search time (OMPL solves 48 path families per call) and, pulling
+// nodes towards the goal's heading long before it matters, makes the weighted search
+// expand more without shortening the paths. The grid distances come
 // from one Dijkstra from the goal; they are cached, so replanning to the same goal
 // on the same map costs only the search.
 // Nodes are ordered by g + w·h: with heuristic_weight w > 1 the search expands far

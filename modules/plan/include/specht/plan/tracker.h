@@ -80,7 +80,7 @@ class PathTracker {
  public:
   PathTracker(const TrackerOptions& options, const CarOptions& car, Path path);
   // The command for the car at `pose` moving at `speed_mps` (signed) with its
-  // wheels at `steer_rad` (measured). A stopped car whose wheels are more than
+  // wheels at `steer_rad` (as the car reports them). A stopped car whose wheels are more than
   // steer_ready_deg from the command turns them before it moves: a parking
   // manoeuvre's short arcs are driven on their curvature, not on the way to it.
   Command Update(const Pose& pose, double speed_mps, double steer_rad);

@@ -3,13 +3,13 @@
 //
 // Why not MRPT's own tree (nanoflann inside CPointsMap)? The SLAM front end matches
 // every scan against a local submap of ~20,000 points that changes with every
-// keyframe, so the tree is rebuilt about once per scan, and nanoflann's build took
-// 5.7 ms for such a submap: a third of the front end's time. This tree is a balanced
-// median split kept implicitly in one array (node = the median element of its range,
-// left and right halves its children), built with std::nth_element in 2.2 ms
-// (bench/point_index_bench). Its queries are bounded by a radius, which is all scan
-// matching needs, and are somewhat slower than nanoflann's (0.27 against 0.21 µs for
-// the nearest): a tree rebuilt per scan and queried ~10,000 times wins on the build.
+// keyframe, so the tree is rebuilt about once per scan, and nanoflann's build is a
+// large share of the front end's time. This tree is a balanced median split kept
+// implicitly in one array (node = the median element of its range, left and right
+// halves its children), built with std::nth_element, which is cheaper than
+// nanoflann's build (bench/point_index_bench has both). Its queries are bounded by a
+// radius, which is all scan matching needs, and are somewhat slower than nanoflann's:
+// a tree rebuilt per scan and queried ~10,000 times wins on the build.
 //
 // Queries are exact: the nearest point (or k nearest) with squared distance below a
 // bound, distances computed in float as nanoflann does, (qx − px)² + (qy − py)². The

@@ -32,8 +32,8 @@
 // (search_drive_*) loses score, which tells a corridor's step from its aliases.
 // The search's score decides: ICP refines the searched pose to below a grid cell, but
 // a refinement that scores less than (1 − refine_max_loss) of the searched pose on
-// the same grid has slid into another minimum (orebro's turns on the spot, 40° a scan:
-// 4–6° off), and the searched pose is kept instead; so it is when ICP pairs too few
+// the same grid has slid into another minimum (turns on the spot of tens of degrees a
+// scan end a few degrees off), and the searched pose is kept instead; so it is when ICP pairs too few
 // points or leaves its bounds (after a rejected ICP match with odometry, only when
 // the searched pose lies within the bounds of the odometry's guess).
 // Recheck: a searched step is decided on one scan, and along a corridor a stop and a
