@@ -32,7 +32,9 @@ if [[ -d "$data/stereo" ]]; then
   run "$build/bench/stereo_bench" "$data"
   run "$build/bench/detect_bench" "$data"
 fi
-run "$build/bench/sim_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
+sprites=()
+[[ -d "$data/sprites" ]] && sprites=(--sprites "$data/sprites")
+run "$build/bench/sim_bench" "${sprites[@]}" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/track_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/classify_bench"
 if [[ -d "$data/ais" ]]; then

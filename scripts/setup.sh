@@ -8,6 +8,7 @@ PACKAGES=(
   g++ cmake ninja-build pkg-config git
   ccache             # compiler cache: unchanged sources are not compiled again (CMakeLists.txt)
   clang libclang-rt-14-dev  # libFuzzer and its sanitizers (the fuzz preset, fuzz/)
+  clang-format-14    # the format check (tests/docs/check_format.sh)
   # robotics libraries
   libmrpt-dev        # observations, rawlogs, ICP, occupancy grids, poses
   mrpt-common        # the built-in default rawlog and MRPT's demo datasets
