@@ -4,7 +4,7 @@
 
 #include "options_registry.h"
 #include "specht/core/error.h"
-#include "specht/io/atomic_file.h"
+#include "specht/pipeline/run_directory.h"
 
 namespace specht::app {
 
@@ -35,9 +35,7 @@ std::pair<uint64_t, uint64_t> ParseSeedRange(const std::string& text, uint64_t f
 }
 
 void PrepareOutputDir(const CommonArgs& args, const params::Params& params) {
-  io::MakeOutputDir(args.out_dir);
-  io::WriteTextAtomically(args.out_dir + "/params.yaml", "# effective parameters of this run (specht " +
-                                                             std::string("0.1.0") + ")\n" + params.ToYaml(true));
+  pipeline::PrepareRunDirectory(args.out_dir, params);
 }
 
 }  // namespace specht::app

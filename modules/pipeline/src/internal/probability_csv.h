@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace specht::app {
+namespace specht::pipeline {
 
 // ",p_<class>" for each class.
 inline std::string ProbabilityHeader(const std::vector<std::string>& classes) {
@@ -25,4 +25,4 @@ void AppendProbabilities(std::string& csv, const T* p, size_t k) {
   }
 }
 
-}  // namespace specht::app
+}  // namespace specht::pipeline
