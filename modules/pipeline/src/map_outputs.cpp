@@ -40,6 +40,11 @@ Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& r
   }
 }
 
+std::vector<io::PathOverlay> RelationOverlays(const Trajectory& estimate, const Trajectory& worst, size_t count) {
+  return {{&estimate, {30, 90, 220}, "estimate"},
+          {&worst, {220, 30, 30}, "the " + std::to_string(count) + " worst relations", false, true}};
+}
+
 void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::RelationsFile& relations,
                                  const mrpt::maps::COccupancyGridMap2D& grid, const std::string& out,
                                  nlohmann::json& metrics) {
@@ -52,11 +57,7 @@ void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::Relatio
     spdlog::info("published relations ({}): {:.4f} ± {:.4f} m (max {:.3f}), {:.3f} ± {:.3f} deg (max {:.2f})",
                  rel.relations, a.mean_m, a.std_m, a.max_m, a.mean_deg, a.std_deg, a.max_deg);
     const Trajectory worst = eval::RelationSegments(trajectory, rel.worst);
-    io::WriteMapPng(
-        grid,
-        {{&trajectory, {30, 90, 220}, "estimate"},
-         {&worst, {220, 30, 30}, "the " + std::to_string(rel.worst.size()) + " worst relations", false, true}},
-        out + "/relations.png");
+    io::WriteMapPng(grid, RelationOverlays(trajectory, worst, rel.worst.size()), out + "/relations.png");
   } catch (const InputError& e) {
     m["error"] = e.what();
     spdlog::warn("published relations not scored: {}", e.what());

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "specht/core/trajectory.h"
+#include "specht/io/map_io.h"
 #include "specht/io/trajectory_io.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/pose_graph_optimizer.h"
@@ -25,6 +26,10 @@ Trajectory AddReferenceMetrics(const Trajectory& trajectory, const Trajectory& r
 void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::RelationsFile& relations,
                                  const mrpt::maps::COccupancyGridMap2D& grid, const std::string& out,
                                  nlohmann::json& metrics);
+
+// The estimate and the segments of its worst relations (eval::RelationSegments), as
+// relations.png draws them.
+std::vector<io::PathOverlay> RelationOverlays(const Trajectory& estimate, const Trajectory& worst, size_t count);
 
 // Mean map entropy of the keyframe scans at the estimated poses and, with a
 // reference, of the same scans at the estimate's and at the reference's poses
