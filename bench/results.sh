@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Re-measures every row of the README's results table, one capability after the
 # other, and prints one JSON object per row (also saved to OUT/results.jsonl; each
-# row's own outputs stay in OUT/<row>/). Run it on an idle machine: it takes about
-# 45 minutes on the reference 2-core machine.
+# row's own outputs stay in OUT/<row>/). Run it on an idle machine: it took 65
+# minutes on the reference 2-core machine on a slow day (AIS 21 of them).
 # Usage: bench/results.sh [OUT (default build/release/results)] [row...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -36,7 +36,7 @@ detection() {
 perception() { "$root/bench/perception_eval.sh" 101-101 30 | jq -c '{row: "perception"} + .' | emit; }
 tracking() {
   "$specht" track -q "${S[@]}" --seeds 6-25 -o "$out/tracking" > /dev/null
-  jq -c '{row: "tracking", mot: .metrics.mot}' "$out/tracking/report.json" | emit
+  jq -c '{row: "tracking", mot: .metrics}' "$out/tracking/report.json" | emit
 }
 classification() {
   local d=$out/classification
@@ -58,17 +58,17 @@ planning() { "$build/bench/plan_bench" --quick "${S[@]}" | jq -c '{row: "plannin
 closed_loop() {
   for s in parking-lot urban-crossing course-loop; do
     "$specht" run -q "$root/datasets/scenarios/$s.yaml" --seeds 1-20 -o "$out/closed_loop/$s" > /dev/null || true
-    jq -c --arg s "$s" '{row: "closed_loop", scenario: $s, summary: .summary}' "$out/closed_loop/$s/report.json" | emit
+    jq -c --arg s "$s" '{row: "closed_loop", scenario: $s, metrics: .metrics}' "$out/closed_loop/$s/report.json" | emit
   done
 }
 tuning() {
   local d=$out/tuning k=$data/stereo/kitti2015
   "$specht" tune -q "$root/params/tune/stereo-kitti.yaml" --data-dir "$data" -j 2 -o "$d/tune" > /dev/null
-  jq -c '{row: "tuning", best: .best, baseline: .baseline}' "$d/tune/report.json" | emit
+  jq -c '{row: "tuning", metrics: .metrics, timing: .timing}' "$d/tune/report.json" | emit
   for p in default best; do
     local args=(); [[ $p = best ]] && args=(-p "$d/tune/best.yaml")
     "$specht" stereo -q "$k/image_2/000000_10.png" "$k/image_3/000000_10.png" "${args[@]}" -o "$d/$p-000000" > /dev/null
-    "$specht" eval stereo -q --estimate "$d/$p-000000/disparity.png" --truth "$k/disp_occ_0/000000_10.png" --fill-holes \
+    "$specht" eval stereo --estimate "$d/$p-000000/disparity.png" --truth "$k/disp_occ_0/000000_10.png" --fill-holes \
       -o "$d/$p-000000-eval" > /dev/null
     jq -c --arg p "$p" '{row: "tuning", frame: "000000", params: $p, d1_all: .metrics.d1_all}' "$d/$p-000000-eval/report.json" | emit
   done
