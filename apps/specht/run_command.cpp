@@ -1,135 +1,31 @@
 // `specht run <scenario.yaml> [--mission M.yaml] [--seeds A-B] -o DIR`: the closed
-// loop — the mission state machine (decide/closed_loop.h) plans with hybrid A* and
-// the smoother, follows the path with pure pursuit, and drives the simulated car,
-// with ground-truth localisation, map and agents. Per seed: run-<seed>.png (the
-// driven path with footprints), steps-<seed>.jsonl (state and pose at the control
-// rate) and paths-<seed>.csv (every plan: plan,x_m,y_m,theta_rad,direction); report.json: each run (success,
-// collisions, clearances, parking error, time, planning times, states visited and every transition) and the totals.
-#include <cstdio>
-
+// loop (pipeline/mission_runs.h).
 #include "commands.h"
-#include "run_setup.h"
-#include "specht/core/error.h"
-#include "specht/core/interrupt.h"
-#include "specht/core/progress.h"
-#include "specht/io/atomic_file.h"
-#include "specht/io/map_io.h"
-#include "specht/io/report.h"
-#include "specht/pipeline/closed_loop.h"
-#include "specht/plan/draw.h"
-#include "specht/sim/world.h"
+#include "specht/pipeline/mission_runs.h"
 
 namespace specht::app {
 namespace {
 
 struct RunArgs {
   CommonArgs common;
-  std::string scenario, mission, seeds;
+  pipeline::MissionRunInputs in;
+  std::string seeds;
 };
-
-int RunRun(const RunArgs& a) {
-  const params::Params params = LoadParams(a.common);
-  const sim::Scenario scenario = sim::LoadScenario(a.scenario);
-  pipeline::ClosedLoopConfig config;
-  config.car = pipeline::ScenarioCar(scenario, params.Get<plan::CarOptions>("car"));
-  config.search = params.Get<plan::HybridAStarOptions>("hybrid_astar");
-  config.fine_search = params.Get<plan::HybridAStarOptions>("hybrid_astar_fine");
-  config.smoother = params.Get<plan::SmootherOptions>("smoother");
-  config.tracker = params.Get<plan::TrackerOptions>("tracker");
-  config.loop = params.Get<pipeline::ClosedLoopOptions>("closed_loop");
-  const std::vector<decide::Goal> mission =
-      a.mission.empty() ? decide::DefaultMission(pipeline::MissionSiteOf(scenario), config.car)
-                        : decide::LoadMission(a.mission, pipeline::MissionSiteOf(scenario), config.car);
-  const auto [first, last] = ParseSeedRange(a.seeds, scenario.seed);
-  PrepareOutputDir(a.common, params);
-  const std::string& out = a.common.out_dir;
-  const auto map = plan::DistanceMap::FromGrid(sim::World(scenario).TrueGrid(0.1));
-
-  io::RunReport report("run");
-  nlohmann::json runs = nlohmann::json::array();
-  int successes = 0, collisions = 0;
-  double min_clearance = 1e9, min_pedestrian = 1e9, max_park_m = 0, max_park_deg = 0;
-  ProgressLine progress("run", "runs", !a.common.quiet, 0.0);
-  for (uint64_t seed = first; seed <= last; ++seed) {
-    std::string steps;
-    const pipeline::ClosedLoopResult r = pipeline::RunClosedLoop(
-        scenario, seed, mission, config, [&](double t, const std::string& state, const plan::Pose& p) {
-          char line[160];
-          std::snprintf(line, sizeof(line),
-                        "{\"t_s\":%.2f,\"state\":\"%s\",\"x_m\":%.3f,\"y_m\":%.3f,\"theta_rad\":%.4f}\n", t,
-                        state.c_str(), p.x, p.y, p.theta);
-          steps += line;
-        });
-    io::WriteTextAtomically(out + "/steps-" + std::to_string(seed) + ".jsonl", steps);
-    std::string paths;
-    for (size_t k = 0; k < r.paths.size(); ++k) {
-      const std::string csv = r.paths[k].ToCsv();
-      paths += k == 0 ? "plan," + csv.substr(0, csv.find('\n') + 1) : "";
-      for (size_t a = csv.find('\n') + 1, b; a < csv.size(); a = b + 1) {
-        b = csv.find('\n', a);
-        paths += std::to_string(k) + "," + csv.substr(a, b - a + 1);
-      }
-    }
-    io::WriteTextAtomically(out + "/paths-" + std::to_string(seed) + ".csv", paths);
-    plan::Path driven;
-    for (const auto& p : r.trajectory) driven.points.push_back({p, 1});
-    const plan::Pose start = r.trajectory.empty() ? plan::Pose{} : r.trajectory.front();
-    io::WritePng(plan::DrawPlan(map, config.car, driven, start, mission.back().pose, 3.0),
-                 out + "/run-" + std::to_string(seed) + ".png");
-    nlohmann::json j = r.ToJson();
-    j["seed"] = seed;
-    runs.push_back(j);
-    successes += r.success, collisions += r.collisions;
-    min_clearance = std::min(min_clearance, r.min_clearance_m);
-    min_pedestrian = std::min(min_pedestrian, r.min_pedestrian_m);
-    if (r.park_error_m >= 0)
-      max_park_m = std::max(max_park_m, r.park_error_m), max_park_deg = std::max(max_park_deg, r.park_error_deg);
-    progress.Update(static_cast<double>(seed - first + 1), static_cast<double>(seed - first + 1) / (last - first + 1),
-                    r.success ? "ok" : "failed: " + r.failure);
-    if (InterruptRequested()) break;  // this drive (cut short or not) is written; the next is not started
-  }
-  progress.Finish();
-  const int n = static_cast<int>(runs.size());
-  if (InterruptRequested())
-    report.SetInterrupted(std::to_string(n) + " of " + std::to_string(last - first + 1) + " runs");
-  auto& j = report.json();
-  j["inputs"] = {
-      {"scenario", a.scenario}, {"mission", a.mission.empty() ? "default" : a.mission}, {"seeds", {first, last}}};
-  j["metrics"] = {
-      {"runs", n},
-      {"success_rate", static_cast<double>(successes) / n},
-      {"collisions", collisions},
-      {"min_clearance_m", min_clearance},
-      {"min_pedestrian_distance_m", min_pedestrian > 1e8 ? nlohmann::json() : nlohmann::json(min_pedestrian)},
-      {"pedestrian_margin_m", config.loop.pedestrian_margin_m},
-      {"max_park_error_m", max_park_m},
-      {"max_park_error_deg", max_park_deg}};
-  j["runs"] = runs;
-  report.Write(out);
-  std::printf(
-      "run %s: %d/%d missions completed, %d collisions, min clearance %.2f m, closest pedestrian %s, "
-      "worst parking %.3f m / %.1f°\n",
-      scenario.name.c_str(), successes, n, collisions, min_clearance,
-      min_pedestrian > 1e8 ? "none near" : (std::to_string(min_pedestrian) + " m").c_str(), max_park_m, max_park_deg);
-  for (const auto& run : runs)
-    if (!run["success"].get<bool>())
-      std::printf("  seed %llu: %s\n", static_cast<unsigned long long>(run["seed"].get<uint64_t>()),
-                  run["failure"].get<std::string>().c_str());
-  if (InterruptRequested()) return InterruptExitCode();
-  return successes == n ? 0 : 1;
-}
 
 }  // namespace
 
 void AddRunCommand(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<RunArgs>();
   CLI::App* cmd = app.add_subcommand("run", "drive a scenario's mission in closed loop (plan, track, decide)");
-  cmd->add_option("scenario", args->scenario, "scenario file (datasets/scenarios/*.yaml)")->required();
-  cmd->add_option("--mission", args->mission,
+  cmd->add_option("scenario", args->in.scenario, "scenario file (datasets/scenarios/*.yaml)")->required();
+  cmd->add_option("--mission", args->in.mission,
                   "mission file (goals: waypoints, park: BAY); default: park in the first bay");
   cmd->add_option("--seeds", args->seeds, "seed N or range A-B (default: the scenario's seed)");
   AddCommonOptions(*cmd, args->common, "specht-out/run");
-  cmd->callback([args, &exit_code] { exit_code = RunRun(*args); });
+  cmd->callback([args, &exit_code] {
+    if (!args->seeds.empty()) args->in.seeds = ParseSeedRange(args->seeds, 0);
+    exit_code = pipeline::RunMissions(LoadParams(args->common), args->in, args->common.out_dir, args->common.quiet);
+  });
 }
 
 }  // namespace specht::app
