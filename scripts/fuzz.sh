@@ -65,8 +65,17 @@ run() {
   [[ $t == fuzz_rawlog ]] && mode=(-fork=1 -ignore_ooms=1 -ignore_timeouts=1 -ignore_crashes=0)
   # -seed: the same mutations every run (SPECHT_FUZZ_SEED to explore others), so a
   # CI run does not turn red on a finding another run missed by chance.
-  if (cd "$dir" && "$bin/$t" "${mode[@]}" -seed="${SPECHT_FUZZ_SEED:-1}" -max_total_time="$seconds" -max_len=16384 -timeout=10 \
-        -rss_limit_mb=2048 -print_final_stats=1 corpus seeds > log.txt 2>&1); then
+  local rc=0
+  (cd "$dir" && "$bin/$t" "${mode[@]}" -seed="${SPECHT_FUZZ_SEED:-1}" -max_total_time="$seconds" -max_len=16384 -timeout=10 \
+    -rss_limit_mb=2048 -print_final_stats=1 corpus seeds > log.txt 2>&1) || rc=$?
+  # Fork mode exits with the last job's code even when it ignored it (libFuzzer 14):
+  # 70 (a timeout) or 71 (out of memory) with no sanitizer or libFuzzer error in the
+  # log is no finding.
+  if [[ $rc -ne 0 && ${#mode[@]} -gt 0 && ($rc -eq 70 || $rc -eq 71) ]] &&
+    ! grep -qE "ERROR: (AddressSanitizer|UndefinedBehaviorSanitizer|libFuzzer: deadly)|runtime error:" "$dir/log.txt"; then
+    rc=0
+  fi
+  if [[ $rc -eq 0 ]]; then
     local execs cov
     execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$dir/log.txt" | grep -o '[0-9]*$' ||
             grep -o '^#[0-9]*' "$dir/log.txt" | tail -1 | tr -d '#')
