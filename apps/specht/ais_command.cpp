@@ -27,7 +27,6 @@
 //       (--network-only: the network alone).
 #include "commands.h"
 #include "specht/ais/dataset.h"
-#include "specht/io/data_dir.h"
 #include "specht/pipeline/ais_runs.h"
 #include "specht/pipeline/classifier_runs.h"
 
@@ -41,12 +40,6 @@ struct AisArgs {
   bool network_only = false;
   pipeline::TrainingInputs training;  // train
 };
-
-// The data directory of --data-dir or SPECHT_DATA_DIR, or "" (no coastline).
-std::string DataDirOr(const CommonArgs& c) {
-  const auto d = io::ResolveDataDir(c.data_dir);
-  return d ? *d : "";
-}
 
 }  // namespace
 
@@ -69,7 +62,7 @@ void AddAisCommand(CLI::App& app, int& exit_code) {
       ->required();
   AddCommonOptions(*p, prep->common, "specht-out/ais-data");
   p->callback([prep, &exit_code] {
-    exit_code = pipeline::PrepareAisWindows(LoadParams(prep->common), prep->inputs, DataDirOr(prep->common),
+    exit_code = pipeline::PrepareAisWindows(LoadParams(prep->common), prep->inputs, DataDir(prep->common),
                                             prep->common.out_dir, prep->common.quiet);
   });
 
@@ -101,7 +94,7 @@ void AddAisCommand(CLI::App& app, int& exit_code) {
   AddCommonOptions(*q, pr->common, "specht-out/ais-predict");
   q->callback([pr, &exit_code] {
     exit_code = pipeline::PredictVesselClasses(LoadParams(pr->common), pr->model_dir, pr->inputs, pr->network_only,
-                                               DataDirOr(pr->common), pr->common.out_dir);
+                                               DataDir(pr->common), pr->common.out_dir);
   });
 }
 

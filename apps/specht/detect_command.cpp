@@ -1,7 +1,6 @@
 // `specht detect <image>... [--right IMAGE]... [--calib FILE] -o DIR`
 // (pipeline/image_detection.h).
 #include "commands.h"
-#include "specht/io/data_dir.h"
 #include "specht/pipeline/image_detection.h"
 
 namespace specht::app {
@@ -22,9 +21,8 @@ void AddDetectCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--calib", args->in.calib, "rectified calibration (KITTI calib.txt, or two ROS camera_info files)");
   AddCommonOptions(*cmd, args->common, "specht-out/detect");
   cmd->callback([args, &exit_code] {
-    exit_code = pipeline::DetectInImages(LoadParams(args->common), args->in,
-                                         io::ResolveDataDir(args->common.data_dir).value_or(""), args->common.out_dir,
-                                         args->common.quiet);
+    exit_code = pipeline::DetectInImages(LoadParams(args->common), args->in, DataDir(args->common),
+                                         args->common.out_dir, args->common.quiet);
   });
 }
 

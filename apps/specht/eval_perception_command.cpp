@@ -6,7 +6,6 @@
 #include "run_setup.h"
 #include "specht/core/progress.h"
 #include "specht/core/text.h"
-#include "specht/io/data_dir.h"
 #include "specht/io/report.h"
 #include "specht/pipeline/perception_eval.h"
 
@@ -21,7 +20,7 @@ struct EvalPerceptionArgs {
 
 int RunEvalPerception(const EvalPerceptionArgs& a) {
   const params::Params params = LoadParams(a.common);
-  const std::string data_dir = io::ResolveDataDir(a.common.data_dir).value_or("");
+  const std::string data_dir = DataDir(a.common);
   PrepareOutputDir(a.common, params);
   ProgressLine progress("eval perception", "%", !a.common.quiet);
   const nlohmann::json result = pipeline::EvaluatePerception(a.sim_dir, params, data_dir, a.options,

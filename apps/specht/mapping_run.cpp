@@ -51,8 +51,8 @@ int RunMapping(MappingArgs a, const std::string& command) {
   // Everything that can be wrong with the input is checked before anything is written.
   const params::Params params = LoadParams(common);
   pipeline::Replay replay(params,
-                          {a.dataset, a.ground_truth, a.relations, a.map_dir, a.continue_dir,
-                           io::ResolveDataDir(common.data_dir).value_or(""), common.param_files, common.overrides},
+                          {a.dataset, a.ground_truth, a.relations, a.map_dir, a.continue_dir, DataDir(common),
+                           common.param_files, common.overrides},
                           command);
   PrepareOutputDir(common, params);
   return replay.Run(common.out_dir, common.quiet);

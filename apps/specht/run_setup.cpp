@@ -4,6 +4,7 @@
 
 #include "options_registry.h"
 #include "specht/core/error.h"
+#include "specht/io/data_dir.h"
 #include "specht/pipeline/run_directory.h"
 
 namespace specht::app {
@@ -33,6 +34,8 @@ std::pair<uint64_t, uint64_t> ParseSeedRange(const std::string& text, uint64_t f
   if (n == 3 && dash == '-' && b >= a) return {a, b};
   throw InputError("--seeds: \"" + text + "\" is not N or A-B with A <= B");
 }
+
+std::string DataDir(const CommonArgs& args) { return io::ResolveDataDir(args.data_dir).value_or(""); }
 
 void PrepareOutputDir(const CommonArgs& args, const params::Params& params) {
   pipeline::PrepareRunDirectory(args.out_dir, params);

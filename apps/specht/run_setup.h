@@ -30,6 +30,9 @@ params::Params LoadParams(const CommonArgs& args);
 // "--seeds N" or "A-B" (A <= B); `fallback` when empty. Throws InputError.
 std::pair<uint64_t, uint64_t> ParseSeedRange(const std::string& text, uint64_t fallback);
 
+// The data directory of --data-dir, else $SPECHT_DATA_DIR, else "" (io/data_dir.h).
+std::string DataDir(const CommonArgs& args);
+
 // Creates args.out_dir and writes params.yaml (the effective parameters) there.
 void PrepareOutputDir(const CommonArgs& args, const params::Params& params);
 
