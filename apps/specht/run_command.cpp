@@ -10,6 +10,7 @@ struct RunArgs {
   CommonArgs common;
   pipeline::MissionRunInputs in;
   std::string seeds;
+  std::string stack = "truth";
 };
 
 }  // namespace
@@ -21,9 +22,18 @@ void AddRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--mission", args->in.mission,
                   "mission file (goals: waypoints, park: BAY); default: park in the first bay");
   cmd->add_option("--seeds", args->seeds, "seed N or range A-B (default: the scenario's seed)");
+  cmd->add_option("--stack", args->stack,
+                  "truth: the simulator's pose and agents; full: SLAM localisation and tracks from noisy "
+                  "detections (closed_loop.localization slam, perception detections; --set overrides either)")
+      ->check(CLI::IsMember({"full", "truth"}))
+      ->capture_default_str();
   AddCommonOptions(*cmd, args->common, "specht-out/run");
   cmd->callback([args, &exit_code] {
     if (!args->seeds.empty()) args->in.seeds = ParseSeedRange(args->seeds, 0);
+    const bool full = args->stack == "full";
+    auto& o = args->common.overrides;
+    o.insert(o.begin(), {std::string("closed_loop.localization=") + (full ? "slam" : "truth"),
+                         std::string("closed_loop.perception=") + (full ? "detections" : "truth")});
     exit_code = pipeline::RunMissions(LoadParams(args->common), args->in, args->common.out_dir, args->common.quiet);
   });
 }

@@ -8,9 +8,13 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "internal/loop_geometry.h"
+#include "internal/loop_localization.h"
+#include "internal/loop_perception.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/sim/simulator.h"
+#include "specht/sim/world.h"
 
 namespace specht::pipeline {
 
@@ -19,62 +23,18 @@ using decide::MissionEvent;
 using decide::MissionState;
 using decide::MissionStateMachine;
 using decide::Transition;
+using internal::Box;
+using internal::Perceived;
+using internal::SeenObject;
 
 namespace {
-
-// A box: centre, heading, half length and half width.
-struct Box {
-  double x, y, theta, hl, hw;
-};
-
-Box CarBox(const plan::CarOptions& car, const plan::Pose& p) {
-  const double ahead = car.length_m / 2 - car.rear_overhang_m;
-  return {p.x + ahead * std::cos(p.theta), p.y + ahead * std::sin(p.theta), p.theta, car.length_m / 2, car.width_m / 2};
-}
-
-std::vector<cv::Point2d> Corners(const Box& b) {
-  const double c = std::cos(b.theta), s = std::sin(b.theta);
-  std::vector<cv::Point2d> out;
-  for (const auto& [lx, ly] : {std::pair{b.hl, b.hw}, {-b.hl, b.hw}, {-b.hl, -b.hw}, {b.hl, -b.hw}})
-    out.push_back({b.x + c * lx - s * ly, b.y + s * lx + c * ly});
-  return out;
-}
-
-double PointToBox(const cv::Point2d& p, const Box& b) {
-  const double c = std::cos(b.theta), s = std::sin(b.theta), dx = p.x - b.x, dy = p.y - b.y;
-  const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
-  return std::hypot(std::max(std::abs(lx) - b.hl, 0.0), std::max(std::abs(ly) - b.hw, 0.0));
-}
-
-// Distance between two boxes (0 when they touch or overlap): for separated convex
-// shapes the nearest points include a vertex of one of them.
-double BoxToBox(const Box& a, const Box& b) {
-  double d = std::min(PointToBox({a.x, a.y}, b), PointToBox({b.x, b.y}, a)) > 0 ? INFINITY : 0.0;
-  for (const auto& p : Corners(a)) d = std::min(d, PointToBox(p, b));
-  for (const auto& p : Corners(b)) d = std::min(d, PointToBox(p, a));
-  return d;
-}
-
-// Smallest obstacle distance along the box's outline (0: touching an obstacle cell).
-double OutlineClearance(const plan::DistanceMap& map, const Box& b) {
-  const auto c = Corners(b);
-  double d = INFINITY;
-  for (size_t k = 0; k < 4; ++k) {
-    const cv::Point2d a = c[k], e = c[(k + 1) % 4];
-    const int n = std::max(2, static_cast<int>(std::hypot(e.x - a.x, e.y - a.y) / 0.05));
-    for (int i = 0; i <= n; ++i) d = std::min(d, map.Distance(a.x + (e.x - a.x) * i / n, a.y + (e.y - a.y) * i / n));
-  }
-  return d;
-}
 
 Box AgentBox(const sim::AgentTruth& a) { return {a.pose.x, a.pose.y, a.pose.yaw_rad, a.length_m / 2, a.width_m / 2}; }
 
 // The static map as the car's LiDAR sees it (map_source lidar): an MRPT occupancy
-// grid over the scenario's extent, every scan inserted at the true sensor pose
-// (localisation stays ground truth) with the agents' returns removed — the job of a
-// perception stage that tells tracked objects from the static world. Unknown cells
-// count as free for planning (a car explores optimistically and replans when a
-// wall appears).
+// grid over the scenario's extent, every scan inserted at the pose the car believes
+// it had then, with the returns on perceived tracks removed. Unknown cells count as free for planning (a car explores
+// optimistically and replans when a wall appears).
 class LidarMap {
  public:
   explicit LidarMap(const plan::DistanceMap& extent)
@@ -88,46 +48,32 @@ class LidarMap {
     grid_.insertionOptions.wideningBeamsWithDistance = false;
   }
 
-  void Insert(const mrpt::obs::CObservation2DRangeScan& scan_in, const sim::Pose2& ego,
-              const std::vector<sim::AgentTruth>& agents) {
-    mrpt::obs::CObservation2DRangeScan scan = scan_in;
-    const double c = std::cos(ego.yaw_rad), s = std::sin(ego.yaw_rad);
-    const double sx = ego.x + c * scan.sensorPose.x() - s * scan.sensorPose.y();
-    const double sy = ego.y + s * scan.sensorPose.x() + c * scan.sensorPose.y();
-    const double yaw = ego.yaw_rad + scan.sensorPose.yaw();
-    const size_t n = scan.getScanSize();
-    for (size_t i = 0; i < n; ++i) {
-      if (!scan.getScanRangeValidity(i)) continue;
-      const double a = yaw - scan.aperture / 2 + scan.aperture * static_cast<double>(i) / (n - 1);
-      const double r = scan.getScanRange(i);
-      const cv::Point2d hit{sx + r * std::cos(a), sy + r * std::sin(a)};
-      for (const auto& agent : agents)
-        if (PointToBox(hit, AgentBox(agent)) < 0.3) {
-          scan.setScanRangeValidity(i, false);
-          break;
-        }
-    }
+  // A scan (its returns on road users already removed) at the pose believed for it.
+  void Insert(const mrpt::obs::CObservation2DRangeScan& scan, const sim::Pose2& ego) {
     grid_.insertObservation(scan, mrpt::poses::CPose3D(ego.x, ego.y, 0, ego.yaw_rad, 0, 0));
     changed_ = true;
   }
 
-  // The planning map when scans came in since the last call (nullptr otherwise).
-  std::shared_ptr<plan::DistanceMap> TakeUpdate() {
-    if (!changed_) return nullptr;
-    changed_ = false;
-    // Hits widened by a cell: a return marks the cell its point falls in, the true
-    // surface may lie in the neighbour, and at grazing angles neighbouring hits
-    // leave a cell between them.
-    const plan::DistanceMap seen = plan::DistanceMap::FromGrid(grid_, false);
-    cv::Mat obstacles;
-    cv::dilate(seen.obstacles(), obstacles, cv::Mat::ones(3, 3, CV_8U));
-    return std::make_shared<plan::DistanceMap>(obstacles, seen.origin_x(), seen.origin_y(), seen.resolution());
-  }
+  // Whether scans came in since the last call.
+  bool TakeChanged() { return std::exchange(changed_, false); }
+  const mrpt::maps::COccupancyGridMap2D& grid() const { return grid_; }
 
  private:
   mrpt::maps::COccupancyGridMap2D grid_;
   bool changed_ = true;  // the first map: all unknown
 };
+
+// The planning map of the world model's static layer. A map still being drawn
+// (map_source lidar) counts its unknown cells as free and widens its hits by a
+// cell: a return marks the cell its point falls in, the true surface may lie in
+// the neighbour, and at grazing angles neighbouring hits leave a cell between them.
+std::shared_ptr<plan::DistanceMap> PlanningMap(const mrpt::maps::COccupancyGridMap2D& grid, bool being_drawn) {
+  if (!being_drawn) return std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(grid));
+  const plan::DistanceMap seen = plan::DistanceMap::FromGrid(grid, false);
+  cv::Mat obstacles;
+  cv::dilate(seen.obstacles(), obstacles, cv::Mat::ones(3, 3, CV_8U));
+  return std::make_shared<plan::DistanceMap>(obstacles, seen.origin_x(), seen.origin_y(), seen.resolution());
+}
 
 // The search options with the wall clock taken out unless planning_budget is time.
 plan::HybridAStarOptions Budgeted(const plan::HybridAStarOptions& o, const ClosedLoopOptions& loop) {
@@ -139,14 +85,12 @@ class Machine {
   Machine(const sim::Scenario& s, const ClosedLoopConfig& c, const std::vector<Goal>& mission, ClosedLoopResult& r)
       : s_(s), c_(c), mission_(mission), r_(r) {
     truth_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(s).TrueGrid(0.1)));
-    static_map_ = truth_map_;
     // Paths on a map still being drawn (map_source lidar) keep map_margin_m more
     // clearance than the check that gives them up needs: a wall's outline firming up
     // by a cell as the car comes closer must not send it back to plan at every update.
     plan_car_ = c.car;
     if (c.loop.map_source == "lidar") plan_car_.safety_margin_m += c.loop.map_margin_m;
     search_options_ = Budgeted(c.search, c.loop), fine_options_ = Budgeted(c.fine_search, c.loop);
-    search_ = std::make_unique<plan::SearchWithFallback>(search_options_, fine_options_, plan_car_, static_map_);
   }
 
   MissionState state() const { return machine_.state(); }
@@ -155,10 +99,12 @@ class Machine {
   // The true static map (what collisions and clearance are scored against).
   const plan::DistanceMap& truth_map() const { return *truth_map_; }
 
-  // A new planning map (the LiDAR's, map_source lidar): the search starts over on
-  // it, and a path ahead it blocks is given up (map_changed → plan).
-  void UpdateMap(std::shared_ptr<plan::DistanceMap> map, double t) {
-    static_map_ = std::move(map);
+  // The planning map follows the world model's static layer: on a new one the
+  // search starts over, and a path ahead it blocks is given up (map_changed → plan).
+  void SyncMap(const world::Snapshot& snapshot, double t) {
+    if (!snapshot.static_map || snapshot.static_map == planned_on_) return;
+    planned_on_ = snapshot.static_map;
+    static_map_ = PlanningMap(*snapshot.static_map, c_.loop.map_source == "lidar");
     search_ = std::make_unique<plan::SearchWithFallback>(search_options_, fine_options_, plan_car_, static_map_);
     const MissionState state = machine_.state();
     if (!tracker_ || (state != MissionState::kDrive && state != MissionState::kWait)) return;
@@ -175,33 +121,32 @@ class Machine {
       }
   }
 
-  plan::Command Step(double t, const plan::Pose& pose, double speed, double steer,
-                     const std::vector<sim::AgentTruth>& agents) {
+  plan::Command Step(double t, const plan::Pose& pose, double speed, double steer, const Perceived& seen) {
     if (machine_.Final()) return {};
     // The emergency check first: it overrides whatever the machine is doing.
-    if (const std::string what = Imminent(pose, speed, agents); !what.empty()) {
+    if (const std::string what = Imminent(pose, speed, seen.obstacles); !what.empty()) {
       Handle(MissionEvent::kCollisionImminent, t, what);
       estop_clear_since_ = -1;
       return {};
     }
     switch (machine_.state()) {
       case MissionState::kPlan:
-        return Plan(t, pose, agents, false);
+        return Plan(t, pose, seen.tracks, false);
       case MissionState::kDrive:
         if (tracker_->finished()) return GoalReached(t, pose);
-        if (const std::string who = Blocking(pose, speed, agents); !who.empty()) {
+        if (const std::string who = Blocking(pose, speed, seen.tracks); !who.empty()) {
           Handle(MissionEvent::kAgentInWay, t, who + " in the way");
           blocked_since_ = t, clear_since_ = -1;
           return {};
         }
-        return Limited(tracker_->Update(pose, speed, steer), pose, speed, agents);
+        return Limited(tracker_->Update(pose, speed, steer), pose, speed, seen.tracks);
       case MissionState::kWait:
-        if (Blocking(pose, speed, agents).empty()) {
+        if (Blocking(pose, speed, seen.tracks).empty()) {
           if (clear_since_ < 0) clear_since_ = t;
           if (t - clear_since_ >= c_.loop.clear_s) Handle(MissionEvent::kWayClear, t, "the way is clear");
         } else {
           clear_since_ = -1;
-          if (t - blocked_since_ > c_.loop.replan_after_s) return Plan(t, pose, agents, true);
+          if (t - blocked_since_ > c_.loop.replan_after_s) return Plan(t, pose, seen.tracks, true);
         }
         return {};
       case MissionState::kEmergencyStop:
@@ -217,18 +162,18 @@ class Machine {
   void Handle(MissionEvent event, double t, const std::string& reason) { machine_.Handle(event, t, reason); }
 
  private:
-  plan::Command Plan(double t, const plan::Pose& pose, const std::vector<sim::AgentTruth>& agents, bool around_agents) {
+  plan::Command Plan(double t, const plan::Pose& pose, const std::vector<SeenObject>& tracks, bool around_agents) {
     const Goal& goal = mission_[goal_];
     std::shared_ptr<plan::DistanceMap> map = static_map_;
     std::unique_ptr<plan::HybridAStar> local;  // around agents: the default search on a map with them
     if (around_agents) {                       // the blocking agents become obstacles, inflated by their margins
       cv::Mat obstacles = static_map_->obstacles().clone();
-      for (const auto& a : agents) {
-        Box b = AgentBox(a);
-        const double m = a.cls == sim::AgentClass::kPedestrian ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
+      for (const auto& a : tracks) {
+        Box b = a.box;
+        const double m = Margin(a);
         b.hl += m, b.hw += m;
         std::vector<cv::Point> poly;
-        for (const auto& p : Corners(b))
+        for (const auto& p : internal::Corners(b))
           poly.push_back(
               {static_cast<int>((p.x - map->origin_x()) / 0.1), static_cast<int>((p.y - map->origin_y()) / 0.1)});
         cv::fillConvexPoly(obstacles, poly, cv::Scalar(1));
@@ -302,7 +247,7 @@ class Machine {
   // length + its margin + follow_gap_m, so the path check (which stops the car at
   // a gap a little short of that) rarely has to.
   plan::Command Limited(plan::Command cmd, const plan::Pose& pose, double speed,
-                        const std::vector<sim::AgentTruth>& agents) {
+                        const std::vector<SeenObject>& tracks) {
     const auto& points = tracker_->path().points;
     const int direction = cmd.speed_mps < 0 ? -1 : 1;
     std::vector<std::pair<plan::Pose, double>> ahead = {{pose, 0.0}};  // path poses and their distance along
@@ -316,24 +261,24 @@ class Machine {
     const double front = c_.car.length_m - c_.car.rear_overhang_m;
     double limit = INFINITY;
     const char* kind = nullptr;  // the decision that sets the limit
-    for (const auto& a : agents) {
-      const double vx = a.speed_mps * std::cos(a.pose.yaw_rad), vy = a.speed_mps * std::sin(a.pose.yaw_rad);
-      if (a.cls == sim::AgentClass::kPedestrian) {
+    for (const auto& a : tracks) {
+      const double x = a.box.x, y = a.box.y, vx = a.vx_mps, vy = a.vy_mps;
+      if (a.cls == "pedestrian") {
         for (double dt = 0; dt <= c_.loop.prediction_s + 1e-9; dt += 0.5)
           for (const auto& [q, s] : ahead)
-            if (std::hypot(a.pose.x + vx * dt - q.x, a.pose.y + vy * dt - q.y) < c_.loop.pedestrian_slow_radius_m &&
+            if (std::hypot(x + vx * dt - q.x, y + vy * dt - q.y) < c_.loop.pedestrian_slow_radius_m &&
                 c_.loop.pedestrian_slow_speed_mps < limit)
               limit = c_.loop.pedestrian_slow_speed_mps, kind = "slow";
         continue;
       }
-      const double cos_rel = std::cos(a.pose.yaw_rad - heading);
-      if (cos_rel < std::cos(M_PI / 4) || a.speed_mps * cos_rel < 0.3) continue;
-      const double reach = c_.car.width_m / 2 + a.width_m / 2 + c_.loop.agent_margin_m;
+      const double a_speed = std::hypot(vx, vy), cos_rel = std::cos(std::atan2(vy, vx) - heading);
+      if (cos_rel < std::cos(M_PI / 4) || a_speed * cos_rel < 0.3) continue;
+      const double reach = c_.car.width_m / 2 + a.box.hw + c_.loop.agent_margin_m;
       for (const auto& [q, s] : ahead) {
-        if (std::hypot(a.pose.x - q.x, a.pose.y - q.y) > reach) continue;
-        const double wanted = speed * speed / (2 * c_.car.max_accel_mps2) + 1.5 + front + a.length_m / 2 +
+        if (std::hypot(x - q.x, y - q.y) > reach) continue;
+        const double wanted = speed * speed / (2 * c_.car.max_accel_mps2) + 1.5 + front + a.box.hl +
                               c_.loop.agent_margin_m + c_.loop.follow_gap_m;
-        const double v = std::max(0.0, a.speed_mps * cos_rel + c_.loop.follow_gain * (s - wanted));
+        const double v = std::max(0.0, a_speed * cos_rel + c_.loop.follow_gain * (s - wanted));
         if (v < limit) limit = v, kind = "follow";
         break;
       }
@@ -347,55 +292,58 @@ class Machine {
 
   // The emergency check, independent of the path, the planner and the margins:
   // the car's box stretched in its direction of travel by the braking distance
-  // v²/(2 a) + emergency_buffer_m, against the agents' true boxes now. Returns
-  // what it would hit ("" when nothing). A stopped car needs no check.
-  std::string Imminent(const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) const {
+  // v²/(2 a) + emergency_buffer_m, against the obstacles of perception's latest
+  // frame (not the tracks). Returns what it would hit ("" when nothing). A stopped
+  // car needs no check.
+  std::string Imminent(const plan::Pose& pose, double speed, const std::vector<SeenObject>& obstacles) const {
     if (std::abs(speed) < c_.tracker.stop_speed_mps) return "";
     const double reach = speed * speed / (2 * c_.car.max_accel_mps2) + c_.loop.emergency_buffer_m;
-    Box box = CarBox(c_.car, pose);
+    Box box = internal::CarBox(c_.car, pose);
     const double shift = (speed > 0 ? 1 : -1) * reach / 2;
     box.x += shift * std::cos(pose.theta), box.y += shift * std::sin(pose.theta), box.hl += reach / 2;
-    for (const auto& a : agents)
-      if (BoxToBox(box, AgentBox(a)) <= 0)
-        return std::string("emergency stop: ") + sim::Name(a.cls) + " " + std::to_string(a.id) +
-               " within the stopping distance";
+    for (const auto& o : obstacles)
+      if (internal::BoxToBox(box, o.box) <= 0) return "emergency stop: " + o.Name() + " within the stopping distance";
     return "";
   }
 
   // The independent check: the car's box at the path poses within the stopping
-  // distance (+ 1.5 m), and where it stands, against the agents' true boxes now
-  // and predicted at constant velocity.
-  // Returns the first agent in the way ("" when none).
-  std::string Blocking(const plan::Pose& pose, double speed, const std::vector<sim::AgentTruth>& agents) const {
+  // distance (+ 1.5 m), and where it stands, against the tracks' boxes now and
+  // predicted at constant velocity. Returns the first track in the way ("" when none).
+  std::string Blocking(const plan::Pose& pose, double speed, const std::vector<SeenObject>& tracks) const {
     const auto& points = tracker_->path().points;
     const double reach = speed * speed / (2 * c_.car.max_accel_mps2) + 1.5;
-    std::vector<Box> swept = {CarBox(c_.car, pose)};
+    std::vector<Box> swept = {internal::CarBox(c_.car, pose)};
     double along = 0;
     for (size_t i = tracker_->progress_index() + 1; i < points.size() && along < reach; ++i) {
       along += std::hypot(points[i].pose.x - points[i - 1].pose.x, points[i].pose.y - points[i - 1].pose.y);
-      swept.push_back(CarBox(c_.car, points[i].pose));
+      swept.push_back(internal::CarBox(c_.car, points[i].pose));
     }
-    for (const auto& a : agents) {
-      const double margin =
-          a.cls == sim::AgentClass::kPedestrian ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
-      // The agent where it is and where it would be, going straight on, over the
+    for (const auto& a : tracks) {
+      const double margin = Margin(a);
+      // The track where it is and where it would be, going straight on, over the
       // prediction horizon: a cyclist about to cross counts before it arrives.
       for (double dt = 0; dt <= c_.loop.prediction_s + 1e-9; dt += 0.5) {
-        Box b = AgentBox(a);
-        b.x += a.speed_mps * std::cos(a.pose.yaw_rad) * dt, b.y += a.speed_mps * std::sin(a.pose.yaw_rad) * dt;
+        Box b = a.box;
+        b.x += a.vx_mps * dt, b.y += a.vy_mps * dt;
         if (std::hypot(b.x - pose.x, b.y - pose.y) > reach + c_.car.length_m + margin + 5) continue;
         for (const auto& box : swept)
-          if (BoxToBox(box, b) < margin) return std::string(sim::Name(a.cls)) + " " + std::to_string(a.id);
+          if (internal::BoxToBox(box, b) < margin) return a.Name();
       }
     }
     return "";
+  }
+
+  // The clearance kept from a road user: pedestrians pedestrian_margin_m, others agent_margin_m.
+  double Margin(const SeenObject& a) const {
+    return a.cls == "pedestrian" ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
   }
 
   const sim::Scenario& s_;
   const ClosedLoopConfig& c_;
   const std::vector<Goal>& mission_;
   ClosedLoopResult& r_;
-  std::shared_ptr<plan::DistanceMap> truth_map_, static_map_;  // scored against, planned on
+  std::shared_ptr<plan::DistanceMap> truth_map_, static_map_;          // scored against, planned on
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> planned_on_;  // the static layer static_map_ is of
   plan::CarOptions plan_car_;  // the car the planner sees (the LiDAR map's extra margin)
   plan::HybridAStarOptions search_options_, fine_options_;
   std::unique_ptr<plan::SearchWithFallback> search_;
@@ -428,27 +376,86 @@ plan::CarOptions ScenarioCar(const sim::Scenario& s, plan::CarOptions car) {
   return car;
 }
 
+namespace {
+
+// Scores one simulator step against the truth: contacts with the true static map or
+// an agent while moving (counted once per contact), clearances.
+class ContactScore {
+ public:
+  ContactScore(const sim::Scenario& s, const ClosedLoopConfig& c, const plan::DistanceMap& truth)
+      : s_(s), c_(c), truth_(truth) {}
+
+  void Step(const sim::Simulator& sim, ClosedLoopResult& r) {
+    const auto& e = sim.ego();
+    const Box car = internal::CarBox(c_.car, EgoRearAxle(s_, e.pose));
+    const bool moving = std::abs(e.speed_mps) > 0.05;
+    const double clearance = internal::OutlineClearance(truth_, car);
+    r.min_clearance_m = std::min(r.min_clearance_m, clearance);
+    std::string what = clearance <= 0 ? "static obstacle" : "";
+    for (const auto& a : sim.agents()) {
+      const double d = internal::BoxToBox(car, AgentBox(a));
+      if (moving && a.cls == sim::AgentClass::kPedestrian) r.min_pedestrian_m = std::min(r.min_pedestrian_m, d);
+      if (moving && d <= 0) what = std::string(sim::Name(a.cls)) + " " + std::to_string(a.id);
+    }
+    const bool contact = !what.empty();
+    if (contact && !touching_) {
+      ++r.collisions;
+      char buf[96];
+      std::snprintf(buf, sizeof(buf), "%.2f s: %s", sim.time_s(), what.c_str());
+      r.collision_events.push_back(buf);
+    }
+    touching_ = contact;
+  }
+
+ private:
+  const sim::Scenario& s_;
+  const ClosedLoopConfig& c_;
+  const plan::DistanceMap& truth_;
+  bool touching_ = false;
+};
+
+}  // namespace
+
+std::string ClosedLoopOptions::Stack() const {
+  if (localization == "truth" && perception == "truth") return "truth";
+  if (localization != "truth" && perception != "truth") return "full";
+  return "mixed";
+}
+
 ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, const std::vector<Goal>& mission,
-                               const ClosedLoopConfig& config,
-                               const std::function<void(double, const std::string&, const plan::Pose&)>& on_step) {
+                               const ClosedLoopConfig& config, const std::function<void(const LoopStep&)>& on_step) {
   if (mission.empty()) throw InputError("closed loop: the mission has no goals");
+  const ClosedLoopOptions& loop = config.loop;
   ClosedLoopResult r;
   sim::Simulator sim(scenario, seed);
+  world::WorldModel world(config.world);
+  LoopSlamConfig slam_config = config.slam;
+  slam_config.survey_spacing_m = loop.survey_spacing_m;
+  internal::LoopLocalization where(loop.localization, scenario, slam_config,
+                                   {loop.kidnap_at_s, loop.kidnap_m, loop.kidnap_deg});
+  internal::LoopPerception perceive(loop.perception, loop.control_hz, config.detection, config.tracking,
+                                    loop.perception_match_m, seed, world);
   Machine machine(scenario, config, mission, r);
-  const int substeps =
-      std::max(1, static_cast<int>(std::lround(1.0 / (config.loop.control_hz * sim::Simulator::kStepS))));
+  ContactScore contacts(scenario, config, machine.truth_map());
+  const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (loop.control_hz * sim::Simulator::kStepS))));
   std::optional<LidarMap> lidar;
-  if (config.loop.map_source == "lidar") {
-    lidar.emplace(machine.truth_map());
-    machine.UpdateMap(lidar->TakeUpdate(), 0.0);  // nothing seen yet
-  }
-  const auto on_observation = [&](Stamp, const mrpt::obs::CObservation::Ptr& obs) {
-    if (!lidar) return;
-    if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
-      lidar->Insert(*scan, sim.ego().pose, sim.agents());
+  if (loop.map_source == "lidar")
+    lidar.emplace(machine.truth_map());  // nothing seen yet
+  else                                   // a prior map of the site: the scenario's true grid
+    world.SetStaticMap(sim::World(scenario).TrueGrid(0.1), sim.stamp());
+  perceive.Step(sim, where.Believed(sim));
+  // Scans reach SLAM and the LiDAR map without their returns on tracked road users:
+  // a car driving ahead along a street whose walls leave the scan matcher free along
+  // it would carry the car's believed pose with it.
+  const auto on_observation = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
+    const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
+    if (!scan) return where.Observe(t, obs);
+    const auto tracks = internal::PerceivedFrom(*world.snapshot()).tracks;
+    const auto kept = internal::WithoutReturnsOn(*scan, where.Believed(sim), tracks);
+    where.Observe(t, kept);
+    if (lidar) lidar->Insert(*kept, where.AtLatestScan(sim));
   };
   double map_updated_s = -INFINITY;
-  bool touching = false;
   while (!machine.Final()) {
     const double t = sim.time_s();
     if (InterruptRequested()) {  // stop at this control step; what was driven is the result
@@ -456,47 +463,37 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
       r.failure = "interrupted by " + InterruptName() + " at " + std::to_string(t) + " s";
       break;
     }
-    if (t > config.loop.time_limit_s) {
-      r.failure = "time limit of " + std::to_string(config.loop.time_limit_s) + " s";
+    if (t > loop.time_limit_s) {
+      r.failure = "time limit of " + std::to_string(loop.time_limit_s) + " s";
       machine.Handle(MissionEvent::kTimeLimit, t, r.failure);
       break;
     }
-    if (lidar && t - map_updated_s >= 1.0 / config.loop.map_update_hz - 1e-9) {
-      if (auto map = lidar->TakeUpdate()) machine.UpdateMap(std::move(map), t);
+    if (lidar && t - map_updated_s >= 1.0 / loop.map_update_hz - 1e-9) {
+      if (lidar->TakeChanged()) world.SetStaticMap(lidar->grid(), sim.stamp());
       map_updated_s = t;
     }
+    const auto snapshot = world.snapshot();
+    machine.SyncMap(*snapshot, t);
+    where.Score(sim);
     const auto& ego = sim.ego();
-    const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
-    const auto agents = sim.agents();
-    const plan::Command cmd = machine.Step(t, pose, ego.speed_mps, ego.steer_rad, agents);
+    const plan::Pose believed = EgoRearAxle(scenario, where.Believed(sim));
+    const Perceived seen = internal::PerceivedFrom(*snapshot);
+    const plan::Command cmd = machine.Step(t, believed, ego.speed_mps, ego.steer_rad, seen);
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
+    const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     r.trajectory.push_back(pose);
-    if (on_step) on_step(t, decide::Name(machine.state()), pose);
+    if (on_step) on_step({t, decide::Name(machine.state()), pose, believed, static_cast<int>(seen.tracks.size())});
     for (int k = 0; k < substeps; ++k) {
       sim.Step(on_observation);
-      const auto& e = sim.ego();
-      const Box car = CarBox(config.car, EgoRearAxle(scenario, e.pose));
-      const bool moving = std::abs(e.speed_mps) > 0.05;
-      const double clearance = OutlineClearance(machine.truth_map(), car);
-      r.min_clearance_m = std::min(r.min_clearance_m, clearance);
-      std::string what = clearance <= 0 ? "static obstacle" : "";
-      for (const auto& a : sim.agents()) {
-        const double d = BoxToBox(car, AgentBox(a));
-        if (moving && a.cls == sim::AgentClass::kPedestrian) r.min_pedestrian_m = std::min(r.min_pedestrian_m, d);
-        if (moving && d <= 0) what = std::string(sim::Name(a.cls)) + " " + std::to_string(a.id);
-      }
-      const bool contact = !what.empty();
-      if (contact && !touching) {  // count contacts, not the steps they last
-        ++r.collisions;
-        char buf[96];
-        std::snprintf(buf, sizeof(buf), "%.2f s: %s", sim.time_s(), what.c_str());
-        r.collision_events.push_back(buf);
-      }
-      touching = contact;
+      perceive.Step(sim, where.Believed(sim));
+      contacts.Step(sim, r);
     }
   }
   r.time_s = sim.time_s();
   r.transitions = machine.transitions();
+  r.stack = loop.Stack();
+  r.localization = where.ToJson();
+  r.perception = perceive.ToJson();
   return r;
 }
 
@@ -513,6 +510,9 @@ nlohmann::json ClosedLoopResult::ToJson() const {
   }
   return {{"success", success},
           {"failure", failure},
+          {"stack", stack},
+          {"localization", localization},
+          {"perception", perception},
           {"interrupted", interrupted},
           {"collisions", collisions},
           {"collision_events", collision_events},

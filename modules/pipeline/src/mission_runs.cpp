@@ -7,7 +7,10 @@
 // collisions, clearances, parking error, time, planning times, states visited and every transition) and the totals.
 #include "specht/pipeline/mission_runs.h"
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
+#include <map>
 
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
@@ -22,6 +25,39 @@
 #include "specht/sim/world.h"
 
 namespace specht::pipeline {
+namespace {
+
+// Over every run: the median mission time, the worst localisation errors and
+// perception's recall and precision per class, pooled over the frames.
+nlohmann::json LoopTotals(const nlohmann::json& runs) {
+  std::vector<double> times;
+  double ate_rmse = 0, ate_max = 0, heading_max = 0;
+  std::map<std::string, std::array<long, 4>> pooled;  // found, in view, right, reported
+  for (const auto& r : runs) {
+    times.push_back(r["time_s"].get<double>());
+    const auto& l = r["localization"];
+    ate_rmse = std::max(ate_rmse, l["ate_rmse_m"].get<double>());
+    ate_max = std::max(ate_max, l["ate_max_m"].get<double>());
+    heading_max = std::max(heading_max, l["heading_error_max_deg"].get<double>());
+    for (const auto& [cls, c] : r["perception"]["by_class"].items()) {
+      auto& p = pooled[cls];
+      p[0] += c["found"].get<long>(), p[1] += c["in_view"].get<long>();
+      p[2] += c["right"].get<long>(), p[3] += c["reported"].get<long>();
+    }
+  }
+  std::sort(times.begin(), times.end());
+  nlohmann::json perception = nlohmann::json::object();
+  const auto ratio = [](long a, long b) { return b ? nlohmann::json(static_cast<double>(a) / b) : nlohmann::json(); };
+  for (const auto& [cls, p] : pooled)
+    perception[cls] = {{"recall", ratio(p[0], p[1])}, {"precision", ratio(p[2], p[3])}};
+  return {{"median_time_s", times.empty() ? 0.0 : times[times.size() / 2]},
+          {"localization_ate_rmse_m_worst", ate_rmse},
+          {"localization_ate_max_m", ate_max},
+          {"localization_heading_error_max_deg", heading_max},
+          {"perception", perception}};
+}
+
+}  // namespace
 
 int RunMissions(const params::Params& params, const MissionRunInputs& a, const std::string& out, bool quiet) {
   const sim::Scenario scenario = sim::LoadScenario(a.scenario);
@@ -32,6 +68,12 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   config.smoother = params.Get<plan::SmootherOptions>("smoother");
   config.tracker = params.Get<plan::TrackerOptions>("tracker");
   config.loop = params.Get<ClosedLoopOptions>("closed_loop");
+  config.slam = {params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
+                 params.Get<slam::LoopClosureOptions>("loop_closure"),
+                 params.Get<slam::PoseGraphOptions>("pose_graph")};
+  config.detection = params.Get<sim::SyntheticDetectionOptions>("synthetic_detections");
+  config.tracking = params.Get<track::TrackerOptions>("track");
+  config.world = params.Get<world::WorldModelOptions>("world");
   const std::vector<decide::Goal> mission = a.mission.empty()
                                                 ? decide::DefaultMission(MissionSiteOf(scenario), config.car)
                                                 : decide::LoadMission(a.mission, MissionSiteOf(scenario), config.car);
@@ -46,14 +88,15 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   ProgressLine progress("run", "runs", !quiet, 0.0);
   for (uint64_t seed = first; seed <= last; ++seed) {
     std::string steps;
-    const ClosedLoopResult r =
-        RunClosedLoop(scenario, seed, mission, config, [&](double t, const std::string& state, const plan::Pose& p) {
-          char line[160];
-          std::snprintf(line, sizeof(line),
-                        "{\"t_s\":%.2f,\"state\":\"%s\",\"x_m\":%.3f,\"y_m\":%.3f,\"theta_rad\":%.4f}\n", t,
-                        state.c_str(), p.x, p.y, p.theta);
-          steps += line;
-        });
+    const ClosedLoopResult r = RunClosedLoop(scenario, seed, mission, config, [&](const LoopStep& k) {
+      char line[256];
+      std::snprintf(line, sizeof(line),
+                    "{\"t_s\":%.2f,\"state\":\"%s\",\"x_m\":%.3f,\"y_m\":%.3f,\"theta_rad\":%.4f,"
+                    "\"believed\":[%.3f,%.3f,%.4f],\"tracks\":%d}\n",
+                    k.t_s, k.state.c_str(), k.pose.x, k.pose.y, k.pose.theta, k.believed.x, k.believed.y,
+                    k.believed.theta, k.tracks);
+      steps += line;
+    });
     io::WriteTextAtomically(out + "/steps-" + std::to_string(seed) + ".jsonl", steps);
     std::string paths;
     for (size_t k = 0; k < r.paths.size(); ++k) {
@@ -97,14 +140,17 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
       {"min_pedestrian_distance_m", min_pedestrian > 1e8 ? nlohmann::json() : nlohmann::json(min_pedestrian)},
       {"pedestrian_margin_m", config.loop.pedestrian_margin_m},
       {"max_park_error_m", max_park_m},
-      {"max_park_error_deg", max_park_deg}};
+      {"max_park_error_deg", max_park_deg},
+      {"stack", config.loop.Stack()}};
+  j["metrics"].update(LoopTotals(runs));
   j["runs"] = runs;
   report.Write(out);
   std::printf(
-      "run %s: %d/%d missions completed, %d collisions, min clearance %.2f m, closest pedestrian %s, "
-      "worst parking %.3f m / %.1f°\n",
-      scenario.name.c_str(), successes, n, collisions, min_clearance,
-      min_pedestrian > 1e8 ? "none near" : (std::to_string(min_pedestrian) + " m").c_str(), max_park_m, max_park_deg);
+      "run %s (stack %s): %d/%d missions completed, %d collisions, min clearance %.2f m, closest pedestrian %s, "
+      "worst parking %.3f m / %.1f°, median %.1f s, localisation error max %.3f m\n",
+      scenario.name.c_str(), config.loop.Stack().c_str(), successes, n, collisions, min_clearance,
+      min_pedestrian > 1e8 ? "none near" : (std::to_string(min_pedestrian) + " m").c_str(), max_park_m, max_park_deg,
+      j["metrics"]["median_time_s"].get<double>(), j["metrics"]["localization_ate_max_m"].get<double>());
   for (const auto& run : runs)
     if (!run["success"].get<bool>())
       std::printf("  seed %llu: %s\n", static_cast<unsigned long long>(run["seed"].get<uint64_t>()),

@@ -58,6 +58,7 @@ std::vector<types::Obstacle> SyntheticDetector::Detect(const sim::Simulator& sim
     add(a.pose.x, a.pose.y, cls, options_.position_sigma_m + options_.range_sigma_fraction * d,
         0.5 + 0.5 * uniform(rng_));
     out.back().radius_m = std::max(a.length_m, a.width_m) / 2;
+    out.back().length_m = a.length_m, out.back().width_m = a.width_m, out.back().yaw_rad = a.pose.yaw_rad;
   }
   std::poisson_distribution<int> false_alarms(options_.false_alarms_per_frame);
   const int n = options_.false_alarms_per_frame > 0 ? false_alarms(rng_) : 0;

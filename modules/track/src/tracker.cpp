@@ -61,6 +61,7 @@ struct Tracker::Entry {
   std::unique_ptr<MotionFilter> filter;
   std::map<std::string, double> votes;
   std::string cls;
+  double length_m = 0, width_m = 0, yaw_rad = 0;  // the latest detection's box
   Stamp last_seen;
   int cycles = 0, hits = 0;
   std::deque<types::TrackPoint> history;
@@ -68,6 +69,9 @@ struct Tracker::Entry {
   void Vote(const types::Obstacle& d) {
     votes[d.cls] += std::max(d.score, 1e-3);
     cls = std::max_element(votes.begin(), votes.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+    const bool box = d.length_m > 0 && d.width_m > 0;
+    length_m = box ? d.length_m : 2 * d.radius_m, width_m = box ? d.width_m : 2 * d.radius_m;
+    yaw_rad = box ? d.yaw_rad : 0;
   }
 };
 
@@ -206,6 +210,7 @@ std::vector<types::Track> Tracker::Tracks() const {
     Mat4 p;
     t->filter->Cartesian(x, p);
     w.x_m = x(0), w.y_m = x(1), w.vx_mps = x(2), w.vy_mps = x(3);
+    w.length_m = t->length_m, w.width_m = t->width_m, w.yaw_rad = t->yaw_rad;
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c) w.covariance(r, c) = p(r, c);
     w.state = t->state == TrackState::kConfirmed ? "confirmed" : "coasting";

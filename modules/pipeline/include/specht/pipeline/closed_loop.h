@@ -19,12 +19,20 @@
 //   collision_imminent  the emergency check, whatever the state
 //   collision_cleared   the emergency check has been clear for clear_s
 //   time_limit          time_limit_s passed
+// What the machine reads about the world is a world-model snapshot (world/
+// world_model.h): the static layer, the tracks and the latest perception frame's
+// obstacles, written by perception (closed_loop.perception: the simulator's agents
+// as they are, or its noisy detections through the multi-object tracker); it
+// drives on the pose localisation believes (closed_loop.localization: the
+// simulator's, or graph SLAM on the simulated LiDAR and odometry). The simulator's
+// truth only scores the run: collisions, clearances, parking error, localisation
+// error and perception's recall and precision.
 // The path check does not use the planner's data: it tests the car's rectangle at
-// the path poses within the stopping distance (+ 1.5 m) against the agents' true
-// boxes, now and every 0.5 s up to prediction_s ahead at constant velocity, as a
-// safety layer below the planner would. The emergency check uses neither path nor
+// the path poses within the stopping distance (+ 1.5 m) against the tracks' boxes,
+// now and every 0.5 s up to prediction_s ahead at constant velocity, as a safety
+// layer below the planner would. The emergency check uses neither path, tracks nor
 // margins: the car's box stretched along its motion by the braking distance +
-// emergency_buffer_m against the agents' boxes now.
+// emergency_buffer_m against the obstacles of perception's latest frame.
 //
 // Planning budget: a search on the car must end in time, but a replay whose paths
 // depend on how fast the machine is would not be one (a sanitizer build or a busy
@@ -32,13 +40,13 @@
 // expansions) the searches here stop at their max_expansions only; the time each
 // call took is still reported.
 //
-// Localisation is ground truth here; the static map is the scenario's true grid at
-// 0.1 m, or (map_source lidar) the occupancy grid the car's simulated LiDAR builds
-// as it drives (agents' returns removed, unknown cells free), rebuilt at
-// map_update_hz — when it blocks the path ahead, map_changed sends the machine back
-// to plan. Agents are seen as they are. The car is the scenario's ego; the
-// simulator reports its box centre, the planner and tracker work on its rear axle
-// (the point it turns about, ego.rear_overhang_m from the rear bumper).
+// The static layer is the scenario's true grid at 0.1 m (a prior map of the site),
+// or (map_source lidar) the occupancy grid the car's simulated LiDAR builds as it
+// drives, at the believed poses, returns on tracks removed, unknown cells free,
+// rebuilt at map_update_hz — when it blocks the path ahead, map_changed sends the
+// machine back to plan. The car is the scenario's ego; the simulator reports its
+// box centre, the planner and tracker work on its rear axle (the point it turns
+// about, ego.rear_overhang_m from the rear bumper).
 #pragma once
 
 #include <functional>
@@ -52,7 +60,11 @@
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/smoother.h"
 #include "specht/plan/tracker.h"
+#include "specht/sim/detections.h"
 #include "specht/sim/scenario.h"
+#include "specht/slam/graph_slam.h"
+#include "specht/track/tracker.h"
+#include "specht/world/world_model.h"
 
 namespace specht::pipeline {
 
@@ -79,6 +91,13 @@ struct ClosedLoopOptions {
   double map_update_hz = 2.0;
   double map_margin_m = 0.2;
   std::string planning_budget = "expansions";
+  std::string localization = "truth";
+  std::string perception = "truth";
+  double perception_match_m = 1.0;
+  double survey_spacing_m = 4.0;
+  double kidnap_at_s = -1;
+  double kidnap_m = 2.0;
+  double kidnap_deg = 20.0;
 
   template <class V>
   void Visit(V& v) {
@@ -124,7 +143,24 @@ struct ClosedLoopOptions {
     v.Choice("planning_budget", planning_budget, {"expansions", "time"},
              "searches stop at max_expansions alone, so a run's outcome does not depend on the machine's speed, "
              "or also at time_budget_ms, as on the car");
+    v.Choice("localization", localization, {"truth", "slam", "map"},
+             "where the car believes it is: the simulator's pose, graph SLAM on its LiDAR and odometry (mapping "
+             "from scratch), or its LiDAR and odometry matched against a prior map of the site");
+    v.Param("survey_spacing_m", survey_spacing_m,
+            "localization map: the prior map is surveyed with a 360° scan this far apart over the free space",
+            Range::Of(0.5, 50.0));
+    v.Choice("perception", perception, {"truth", "detections"},
+             "the road users it plans around: the simulator's agents, or noisy detections (section "
+             "synthetic_detections) through the tracker (section track) into the world model");
+    v.Param("perception_match_m", perception_match_m,
+            "in-loop scoring: a track within this of an agent counts as seeing it", Range::Of(0.1, 10.0));
+    v.Param("kidnap_at_s", kidnap_at_s, "a fault: from this time on the believed pose is off (< 0: never)",
+            Range::Of(-1.0, 36000.0));
+    v.Param("kidnap_m", kidnap_m, "…by this much ahead of the car", Range::Of(-50.0, 50.0));
+    v.Param("kidnap_deg", kidnap_deg, "…and this much in heading", Range::Of(-180.0, 180.0));
   }
+  // "truth" (both oracles), "full" (SLAM and perceived tracks) or "mixed".
+  std::string Stack() const;
 };
 
 struct ClosedLoopResult {
@@ -143,7 +179,19 @@ struct ClosedLoopResult {
   std::vector<decide::Transition> transitions;
   std::vector<plan::Pose> trajectory;  // at the control rate
   std::vector<plan::Path> paths;       // every plan made
+  std::string stack;                   // ClosedLoopOptions::Stack()
+  nlohmann::json localization;         // mode and trajectory error against the truth
+  nlohmann::json perception;           // mode, frames, recall and precision per class
   nlohmann::json ToJson() const;
+};
+
+// The SLAM sections localisation in the loop runs with.
+struct LoopSlamConfig {
+  slam::SlamOptions slam;
+  slam::ScanMatchingOptions matching;
+  slam::LoopClosureOptions loops;
+  slam::PoseGraphOptions graph;
+  double survey_spacing_m = 4.0;  // closed_loop.survey_spacing_m
 };
 
 struct ClosedLoopConfig {
@@ -153,13 +201,26 @@ struct ClosedLoopConfig {
   plan::SmootherOptions smoother;
   plan::TrackerOptions tracker;
   ClosedLoopOptions loop;
+  // What localisation and perception in the loop use (loop.localization, loop.perception).
+  LoopSlamConfig slam;
+  sim::SyntheticDetectionOptions detection;
+  track::TrackerOptions tracking;
+  world::WorldModelOptions world;
 };
 
-// Runs the mission; `on_step(t_s, state, pose)` (optional) after every control step.
-ClosedLoopResult RunClosedLoop(
-    const sim::Scenario& scenario, uint64_t seed, const std::vector<decide::Goal>& mission,
-    const ClosedLoopConfig& config,
-    const std::function<void(double, const std::string&, const plan::Pose&)>& on_step = nullptr);
+// One control step as it happened: the state, the true pose and the believed one
+// (rear axle), the number of tracks the machine saw.
+struct LoopStep {
+  double t_s = 0;
+  std::string state;
+  plan::Pose pose, believed;
+  int tracks = 0;
+};
+
+// Runs the mission; `on_step` (optional) after every control step.
+ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, const std::vector<decide::Goal>& mission,
+                               const ClosedLoopConfig& config,
+                               const std::function<void(const LoopStep&)>& on_step = nullptr);
 
 // The car the closed loop drives: the scenario's ego dimensions, rear overhang and
 // limits over `base` (steering rate, reverse speed, margins).

@@ -16,6 +16,9 @@ struct Obstacle {
   Stamp stamp;                       // when it was seen
   double x_m = 0, y_m = 0, z_m = 0;  // map frame, centre
   double radius_m = 0.5;             // half the larger horizontal extent
+  // The oriented box when the sensor measures one (a LiDAR box fit, the simulator):
+  // length along yaw_rad, width across it; 0 = only radius_m is known.
+  double length_m = 0, width_m = 0, yaw_rad = 0;
   cv::Matx22d covariance_xy = cv::Matx22d::eye() * 0.01;
   double score = 0;
   double range_m = 0;  // distance from the camera along its optical axis (0: unknown)

@@ -28,7 +28,10 @@ struct Track {
   std::string cls;  // the score-weighted vote of its detections' classes
   Stamp stamp;
   double x_m = 0, y_m = 0, vx_mps = 0, vy_mps = 0;
-  cv::Matx44d covariance = cv::Matx44d::eye();        // over (x, y, vx, vy)
+  cv::Matx44d covariance = cv::Matx44d::eye();  // over (x, y, vx, vy)
+  // Extent: the latest detection's box (types::Obstacle), length along yaw_rad; 0 =
+  // none seen (readers take their class's size).
+  double length_m = 0, width_m = 0, yaw_rad = 0;
   std::string state;                                  // "confirmed" or "coasting" (not seen at its stamp)
   std::string motion_model;                           // "cv" or "ct"
   std::vector<TrackPoint> history;                    // filtered positions, oldest first

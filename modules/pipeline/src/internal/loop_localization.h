@@ -1,0 +1,63 @@
+// Where the car believes it is in the closed loop (its box centre in the map frame):
+//   truth  the simulator's pose (the oracle, for side-by-side runs)
+//   slam   graph SLAM (slam/graph_slam.h) on the simulated LiDAR, odometry and IMU,
+//          mapping from scratch; its frame starts at the first scan, which is taken
+//          at the scenario's start pose (the car is told where it starts on the
+//          site's map). Between scans: the latest scan's pose carried forward by the
+//          odometry since that scan.
+//   map    localisation on a prior map of the site (slam/localizer.h: ICP against
+//          the map's points, seeded by odometry, starting at the scenario's start
+//          pose): the map is a survey of the static world — 360° scans taken every
+//          survey_spacing_m over its free space — as a mapping drive would leave.
+// A kidnap (kidnap_at_s ≥ 0) adds (kidnap_m ahead, kidnap_deg) to every pose
+// believed from that time on, as a wrong relocalisation would.
+// Scored against the simulator at every control step (never fed back): absolute
+// trajectory error of the position (RMSE, p90, max) and of the heading (max).
+#pragma once
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "specht/pipeline/closed_loop.h"
+#include "specht/sim/simulator.h"
+#include "specht/slam/graph_slam.h"
+#include "specht/slam/localizer.h"
+
+namespace specht::pipeline::internal {
+
+struct Kidnap {
+  double at_s = -1, ahead_m = 0, yaw_deg = 0;
+};
+
+class LoopLocalization {
+ public:
+  LoopLocalization(const std::string& mode, const sim::Scenario& scenario, const LoopSlamConfig& config, Kidnap kidnap);
+  ~LoopLocalization();
+  // Every observation the simulator makes, in order.
+  void Observe(Stamp t, const mrpt::obs::CObservation::Ptr& observation);
+  // The believed pose now (`sim` only for the truth mode and the kidnap's clock).
+  sim::Pose2 Believed(const sim::Simulator& sim) const;
+  // The believed pose at the latest scan (where the LiDAR map inserts it).
+  sim::Pose2 AtLatestScan(const sim::Simulator& sim) const;
+  // Records the error of the believed pose against the truth.
+  void Score(const sim::Simulator& sim);
+  nlohmann::json ToJson() const;
+
+ private:
+  sim::Pose2 Kidnapped(const sim::Pose2& p, double t_s) const;
+  std::string mode_;
+  sim::Pose2 start_;
+  Kidnap kidnap_;
+  std::unique_ptr<slam::GraphSlam> slam_;
+  std::unique_ptr<slam::Localizer> localizer_;
+  long scans_ = 0;
+  mrpt::poses::CPose2D at_scan_;                      // the pose of the latest scan (SLAM's frame or the map's)
+  mrpt::poses::CPose2D odometry_, odometry_at_scan_;  // the odometry pose, now and at that scan
+  Stamp scan_stamp_;
+  std::vector<double> position_error_m_;
+  double max_heading_error_deg_ = 0;
+};
+
+}  // namespace specht::pipeline::internal

@@ -1,0 +1,83 @@
+// What the car perceives in the closed loop, written into the world model — the only
+// thing the mission state machine reads about other road users.
+//   truth       the oracle, for side-by-side runs: at every control step each agent
+//               the simulator has started becomes a confirmed track and an obstacle
+//               with its true box and its velocity along its heading
+//   detections  the simulator's noisy detections (sim/detections.h: range, line of
+//               sight, misses, false alarms, class errors) at their rate, taken
+//               from the true car and placed in the map frame at the car's *believed*
+//               pose (a localisation error moves what it sees with it) → the
+//               multi-object tracker (track/tracker.h) → the track layer, and the
+//               frame's detections → the obstacle layer
+// In-loop scoring against the simulator's truth (never fed back): at each perception
+// frame, an agent in view counts as found when a reported track lies within
+// match_m of it (recall, by the agent's class), and a track is right when an agent
+// lies within match_m of it (precision, by the track's class).
+#pragma once
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "internal/loop_geometry.h"
+#include "specht/sim/detections.h"
+#include "specht/sim/simulator.h"
+#include "specht/track/tracker.h"
+#include "specht/world/world_model.h"
+
+namespace specht::pipeline::internal {
+
+// A perceived road user as the closed loop's checks see it.
+struct SeenObject {
+  long id = 0;
+  std::string cls;
+  Box box{};
+  double vx_mps = 0, vy_mps = 0;
+  std::string Name() const { return cls + " " + std::to_string(id); }
+};
+
+// The tracks and the latest frame's obstacles of a world-model snapshot.
+struct Perceived {
+  std::vector<SeenObject> tracks, obstacles;
+};
+Perceived PerceivedFrom(const world::Snapshot& snapshot);
+
+// A copy of `scan`, taken at the believed box-centre pose `at`, with every return
+// within 0.3 m of a track's box marked invalid: what tells road users from the
+// static world before scans reach SLAM and the map.
+mrpt::obs::CObservation2DRangeScan::Ptr WithoutReturnsOn(const mrpt::obs::CObservation2DRangeScan& scan,
+                                                         const sim::Pose2& at, const std::vector<SeenObject>& tracks);
+
+struct PerceptionCounts {
+  long found = 0, in_view = 0;   // recall
+  long right = 0, reported = 0;  // precision
+};
+
+class LoopPerception {
+ public:
+  LoopPerception(const std::string& mode, double control_hz, const sim::SyntheticDetectionOptions& detection,
+                 const track::TrackerOptions& tracking, double match_m, uint64_t seed, world::WorldModel& world);
+  // After every simulator step (and once before the first): writes the world model
+  // when a frame is due. `believed` is where the car thinks its box centre is.
+  void Step(const sim::Simulator& sim, const sim::Pose2& believed);
+  nlohmann::json ToJson() const;  // recall and precision per class, frames, detections
+
+ private:
+  void Score(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,
+             const std::vector<types::Track>& tracks);
+  std::string mode_;
+  int truth_every_;  // simulator steps per truth frame
+  double match_m_;
+  world::WorldModel& world_;
+  std::optional<sim::SyntheticDetector> detector_;
+  std::optional<track::Tracker> tracker_;
+  std::map<std::string, PerceptionCounts> by_class_;
+  long frames_ = 0, detections_ = 0;
+};
+
+}  // namespace specht::pipeline::internal

@@ -1,0 +1,124 @@
+#include "internal/loop_localization.h"
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "specht/core/error.h"
+
+namespace specht::pipeline::internal {
+namespace {
+
+sim::Pose2 Compose(const sim::Pose2& a, const mrpt::poses::CPose2D& b) {
+  const double c = std::cos(a.yaw_rad), s = std::sin(a.yaw_rad);
+  return {a.x + c * b.x() - s * b.y(), a.y + s * b.x() + c * b.y(), std::remainder(a.yaw_rad + b.phi(), 2 * M_PI)};
+}
+
+// The survey: 360° scans of the static world from every free point of a grid.
+std::vector<slam::Keyframe> Survey(const sim::Scenario& scenario, double spacing_m) {
+  const sim::World world(scenario);
+  const auto grid = world.TrueGrid(0.1);
+  constexpr int kBeams = 720;
+  constexpr double kRange = 30;
+  std::vector<slam::Keyframe> keyframes;
+  for (double y = grid.getYMin() + spacing_m / 2; y < grid.getYMax(); y += spacing_m)
+    for (double x = grid.getXMin() + spacing_m / 2; x < grid.getXMax(); x += spacing_m) {
+      if (world.Blocked({x, y})) continue;
+      auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+      scan->aperture = static_cast<float>(2 * M_PI * (kBeams - 1) / kBeams);
+      scan->rightToLeft = true;
+      scan->maxRange = kRange;
+      scan->resizeScan(kBeams);
+      for (int i = 0; i < kBeams; ++i) {
+        const double a = -scan->aperture / 2 + scan->aperture * i / (kBeams - 1);
+        const double r = world.RayCast({x, y}, a, kRange, {});
+        scan->setScanRange(i, static_cast<float>(std::isfinite(r) ? r : kRange));
+        scan->setScanRangeValidity(i, std::isfinite(r));
+      }
+      keyframes.push_back({keyframes.size(), Stamp{}, mrpt::poses::CPose2D(x, y, 0), scan});
+    }
+  return keyframes;
+}
+
+}  // namespace
+
+LoopLocalization::LoopLocalization(const std::string& mode, const sim::Scenario& scenario, const LoopSlamConfig& c,
+                                   Kidnap kidnap)
+    : mode_(mode), start_(scenario.ego.start), kidnap_(kidnap) {
+  if (mode == "slam") {
+    slam_ = std::make_unique<slam::GraphSlam>(c.slam, c.matching, c.loops, c.graph, nullptr, "base_link");
+  } else if (mode == "map") {
+    slam::LocalizationOptions options;
+    options.initial_pose = {start_.x, start_.y, start_.yaw_rad * 180 / M_PI};
+    localizer_ = std::make_unique<slam::Localizer>(Survey(scenario, c.survey_spacing_m), options, c.matching, nullptr,
+                                                   "base_link");
+    at_scan_ = mrpt::poses::CPose2D(start_.x, start_.y, start_.yaw_rad);  // until the first scan is placed
+    start_ = {};                                                          // its poses are in the map frame already
+  } else if (mode != "truth")
+    throw InputError("closed_loop.localization: unknown mode '" + mode + "'");
+}
+LoopLocalization::~LoopLocalization() = default;
+
+void LoopLocalization::Observe(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
+  if (!slam_ && !localizer_) return;
+  if (const auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
+    odometry_ = odo->odometry;
+    if (t == scan_stamp_) odometry_at_scan_ = odometry_;  // the odometry of the scan's own instant
+  }
+  if (slam_) slam_->Add(t, o);
+  if (localizer_) localizer_->Add(t, o);
+  const long scans = slam_ ? slam_->front_end_stats().scans : static_cast<long>(localizer_->trajectory().size());
+  if (scans > scans_) {
+    scans_ = scans;
+    const auto& p = slam_ ? slam_->LatestPose()->pose : localizer_->trajectory().back().pose;
+    at_scan_ = mrpt::poses::CPose2D(p.x(), p.y(), p.yaw());
+    odometry_at_scan_ = odometry_, scan_stamp_ = t;
+  }
+}
+
+sim::Pose2 LoopLocalization::Kidnapped(const sim::Pose2& p, double t_s) const {
+  if (kidnap_.at_s < 0 || t_s < kidnap_.at_s) return p;
+  return Compose(p, mrpt::poses::CPose2D(kidnap_.ahead_m, 0, kidnap_.yaw_deg * M_PI / 180));
+}
+
+sim::Pose2 LoopLocalization::Believed(const sim::Simulator& sim) const {
+  if (!slam_ && !localizer_) return Kidnapped(sim.ego().pose, sim.time_s());
+  return Kidnapped(Compose(start_, at_scan_ + (odometry_ - odometry_at_scan_)), sim.time_s());
+}
+
+sim::Pose2 LoopLocalization::AtLatestScan(const sim::Simulator& sim) const {
+  if (!slam_ && !localizer_) return Kidnapped(sim.ego().pose, sim.time_s());
+  return Kidnapped(Compose(start_, at_scan_), sim.time_s());
+}
+
+void LoopLocalization::Score(const sim::Simulator& sim) {
+  const sim::Pose2 b = Believed(sim), t = sim.ego().pose;
+  position_error_m_.push_back(std::hypot(b.x - t.x, b.y - t.y));
+  max_heading_error_deg_ =
+      std::max(max_heading_error_deg_, std::abs(std::remainder(b.yaw_rad - t.yaw_rad, 2 * M_PI)) * 180 / M_PI);
+}
+
+nlohmann::json LoopLocalization::ToJson() const {
+  std::vector<double> e = position_error_m_;
+  std::sort(e.begin(), e.end());
+  double sq = 0;
+  for (double v : e) sq += v * v;
+  const auto q = [&](double p) {
+    return e.empty() ? 0.0 : e[std::min(e.size() - 1, static_cast<size_t>(p * e.size()))];
+  };
+  nlohmann::json j = {{"mode", mode_},
+                      {"ate_rmse_m", e.empty() ? 0.0 : std::sqrt(sq / e.size())},
+                      {"ate_p90_m", q(0.9)},
+                      {"ate_max_m", e.empty() ? 0.0 : e.back()},
+                      {"heading_error_max_deg", max_heading_error_deg_}};
+  if (localizer_) j["scans"] = scans_;
+  if (slam_) {
+    j["scans"] = scans_;
+    j["loops_accepted"] = slam_->stats().loops_accepted;
+  }
+  return j;
+}
+
+}  // namespace specht::pipeline::internal

@@ -1,0 +1,148 @@
+#include "internal/loop_perception.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "specht/core/error.h"
+
+namespace specht::pipeline::internal {
+namespace {
+
+Box BoxOf(double x, double y, double yaw, double length, double width, double radius) {
+  if (length <= 0 || width <= 0) length = width = 2 * std::max(radius, 0.5);
+  return {x, y, yaw, length / 2, width / 2};
+}
+
+// A point seen from the true pose, placed at the believed one.
+cv::Point2d Believed(const sim::Pose2& truth, const sim::Pose2& believed, double x, double y) {
+  const double dx = x - truth.x, dy = y - truth.y, c = std::cos(truth.yaw_rad), s = std::sin(truth.yaw_rad);
+  const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
+  const double cb = std::cos(believed.yaw_rad), sb = std::sin(believed.yaw_rad);
+  return {believed.x + cb * lx - sb * ly, believed.y + sb * lx + cb * ly};
+}
+
+}  // namespace
+
+Perceived PerceivedFrom(const world::Snapshot& s) {
+  Perceived p;
+  for (const auto& t : s.tracks)
+    p.tracks.push_back({t.id, t.cls, BoxOf(t.x_m, t.y_m, t.yaw_rad, t.length_m, t.width_m, 0.5), t.vx_mps, t.vy_mps});
+  // The latest frame only: the layer keeps obstacles for their lifetime, and a moving
+  // agent's older positions are places it has left.
+  for (const auto& o : s.obstacles)
+    if (o.stamp == s.obstacles_stamp)
+      p.obstacles.push_back({o.id, o.cls, BoxOf(o.x_m, o.y_m, o.yaw_rad, o.length_m, o.width_m, o.radius_m), 0, 0});
+  return p;
+}
+
+mrpt::obs::CObservation2DRangeScan::Ptr WithoutReturnsOn(const mrpt::obs::CObservation2DRangeScan& in,
+                                                         const sim::Pose2& at, const std::vector<SeenObject>& tracks) {
+  auto scan = mrpt::obs::CObservation2DRangeScan::Create(in);
+  if (tracks.empty()) return scan;
+  const double c = std::cos(at.yaw_rad), s = std::sin(at.yaw_rad);
+  const double sx = at.x + c * scan->sensorPose.x() - s * scan->sensorPose.y();
+  const double sy = at.y + s * scan->sensorPose.x() + c * scan->sensorPose.y();
+  const double yaw = at.yaw_rad + scan->sensorPose.yaw();
+  const size_t n = scan->getScanSize();
+  for (size_t i = 0; i < n; ++i) {
+    if (!scan->getScanRangeValidity(i)) continue;
+    const double a = yaw - scan->aperture / 2 + scan->aperture * static_cast<double>(i) / (n - 1);
+    const double r = scan->getScanRange(i);
+    const cv::Point2d hit{sx + r * std::cos(a), sy + r * std::sin(a)};
+    for (const auto& t : tracks)
+      if (PointToBox(hit, t.box) < 0.3) {
+        scan->setScanRangeValidity(i, false);
+        break;
+      }
+  }
+  return scan;
+}
+
+LoopPerception::LoopPerception(const std::string& mode, double control_hz,
+                               const sim::SyntheticDetectionOptions& detection, const track::TrackerOptions& tracking,
+                               double match_m, uint64_t seed, world::WorldModel& world)
+    : mode_(mode),
+      truth_every_(std::max(1, static_cast<int>(std::lround(1.0 / (control_hz * sim::Simulator::kStepS))))),
+      match_m_(match_m),
+      world_(world) {
+  if (mode == "detections") {
+    detector_.emplace(detection, seed);
+    tracker_.emplace(tracking);
+  } else if (mode != "truth") {
+    throw InputError("closed_loop.perception: unknown mode '" + mode + "'");
+  }
+}
+
+void LoopPerception::Step(const sim::Simulator& sim, const sim::Pose2& believed) {
+  const sim::Pose2 truth = sim.ego().pose;
+  world::WorldUpdate u;
+  u.stamp = sim.stamp();
+  std::vector<types::Track> tracks;
+  std::vector<types::Obstacle> obstacles;
+  const std::vector<sim::AgentTruth> agents = sim.agents();
+  if (!detector_) {
+    if (std::llround(sim.time_s() / sim::Simulator::kStepS) % truth_every_ != 0) return;
+    for (const auto& a : agents) {
+      types::Track t;
+      t.id = a.id, t.cls = sim::Name(a.cls), t.stamp = sim.stamp(), t.state = "confirmed";
+      t.x_m = a.pose.x, t.y_m = a.pose.y, t.yaw_rad = a.pose.yaw_rad;
+      t.vx_mps = a.speed_mps * std::cos(a.pose.yaw_rad), t.vy_mps = a.speed_mps * std::sin(a.pose.yaw_rad);
+      t.length_m = a.length_m, t.width_m = a.width_m;
+      tracks.push_back(t);
+      types::Obstacle o;
+      o.id = a.id, o.cls = t.cls, o.stamp = t.stamp, o.x_m = t.x_m, o.y_m = t.y_m;
+      o.length_m = a.length_m, o.width_m = a.width_m, o.yaw_rad = a.pose.yaw_rad;
+      o.radius_m = std::max(a.length_m, a.width_m) / 2, o.score = 1;
+      obstacles.push_back(o);
+    }
+    Score(agents, agents, tracks);
+  } else {
+    if (!detector_->Due(sim)) return;
+    obstacles = detector_->Detect(sim);
+    for (auto& o : obstacles) {
+      const cv::Point2d p = Believed(truth, believed, o.x_m, o.y_m);
+      o.x_m = p.x, o.y_m = p.y, o.yaw_rad += believed.yaw_rad - truth.yaw_rad;
+    }
+    tracker_->Update(obstacles, sim.stamp());
+    tracks = tracker_->Tracks();
+    detections_ += static_cast<long>(obstacles.size());
+    Score(detector_->visible(), agents, tracks);
+  }
+  ++frames_;
+  u.tracks = std::move(tracks);
+  u.obstacles = std::move(obstacles);
+  world_.Apply(u);
+}
+
+void LoopPerception::Score(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,
+                           const std::vector<types::Track>& tracks) {
+  const auto near = [&](double x, double y, double ax, double ay) { return std::hypot(x - ax, y - ay) <= match_m_; };
+  for (const auto& a : in_view) {
+    auto& c = by_class_[sim::Name(a.cls)];
+    ++c.in_view;
+    c.found += std::any_of(tracks.begin(), tracks.end(),
+                           [&](const types::Track& t) { return near(t.x_m, t.y_m, a.pose.x, a.pose.y); });
+  }
+  for (const auto& t : tracks) {
+    auto& c = by_class_[t.cls];
+    ++c.reported;
+    c.right += std::any_of(all.begin(), all.end(),
+                           [&](const sim::AgentTruth& a) { return near(t.x_m, t.y_m, a.pose.x, a.pose.y); });
+  }
+}
+
+nlohmann::json LoopPerception::ToJson() const {
+  nlohmann::json classes = nlohmann::json::object();
+  for (const auto& [cls, c] : by_class_)
+    classes[cls] = {
+        {"recall", c.in_view ? nlohmann::json(static_cast<double>(c.found) / c.in_view) : nlohmann::json()},
+        {"precision", c.reported ? nlohmann::json(static_cast<double>(c.right) / c.reported) : nlohmann::json()},
+        {"in_view", c.in_view},
+        {"found", c.found},
+        {"reported", c.reported},
+        {"right", c.right}};
+  return {
+      {"mode", mode_}, {"frames", frames_}, {"detections", detections_}, {"match_m", match_m_}, {"by_class", classes}};
+}
+
+}  // namespace specht::pipeline::internal
