@@ -213,7 +213,7 @@ class Machine {
     const Goal& goal = mission_[goal_];
     const double e_m = std::hypot(pose.x - goal.pose.x, pose.y - goal.pose.y);
     const double e_deg = std::abs(std::remainder(pose.theta - goal.pose.theta, 2 * M_PI)) * 180 / M_PI;
-    if (goal.park) r_.park_error_m = e_m, r_.park_error_deg = e_deg;
+    if (goal.park) r_.believed_park_error_m = e_m, r_.believed_park_error_deg = e_deg;
     const bool ok = goal.park ? e_m <= c_.loop.park_tolerance_m && e_deg <= c_.loop.park_tolerance_deg
                               : e_m <= c_.loop.waypoint_tolerance_m;
     char note[128];
@@ -414,6 +414,23 @@ class ContactScore {
   bool touching_ = false;
 };
 
+// The parking error against the truth: the machine judged its goals on the pose it
+// believed, so a mission it completed on a wrong belief fails here.
+void ScoreParking(const ClosedLoopConfig& c, const std::vector<Goal>& mission, const plan::Pose& truth,
+                  ClosedLoopResult& r) {
+  if (r.believed_park_error_m < 0 || !mission.back().park) return;
+  const plan::Pose& goal = mission.back().pose;
+  r.park_error_m = std::hypot(truth.x - goal.x, truth.y - goal.y);
+  r.park_error_deg = std::abs(std::remainder(truth.theta - goal.theta, 2 * M_PI)) * 180 / M_PI;
+  if (!r.success || (r.park_error_m <= c.loop.park_tolerance_m && r.park_error_deg <= c.loop.park_tolerance_deg))
+    return;
+  r.success = false;
+  char note[160];
+  std::snprintf(note, sizeof(note), "parked %.3f m, %.1f° off by the truth (%.3f m, %.1f° as believed)", r.park_error_m,
+                r.park_error_deg, r.believed_park_error_m, r.believed_park_error_deg);
+  r.failure = note;
+}
+
 }  // namespace
 
 std::string ClosedLoopOptions::Stack() const {
@@ -491,6 +508,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   }
   r.time_s = sim.time_s();
   r.transitions = machine.transitions();
+  ScoreParking(config, mission, EgoRearAxle(scenario, sim.ego().pose), r);
   r.stack = loop.Stack();
   r.localization = where.ToJson();
   r.perception = perceive.ToJson();
@@ -521,6 +539,8 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"time_s", time_s},
           {"park_error_m", park_error_m},
           {"park_error_deg", park_error_deg},
+          {"believed_park_error_m", believed_park_error_m},
+          {"believed_park_error_deg", believed_park_error_deg},
           {"planning_ms", {{"count", t.size()}, {"p50", q(0.5)}, {"p90", q(0.9)}, {"max", t.empty() ? 0.0 : t.back()}}},
           {"speed_limited_s", limited_s},
           {"map_replans", map_replans},

@@ -172,7 +172,8 @@ struct ClosedLoopResult {
   double min_clearance_m = 1e9;               // footprint to static obstacles
   double min_pedestrian_m = 1e9;              // footprint to pedestrian boxes while moving
   double time_s = 0;
-  double park_error_m = -1, park_error_deg = -1;  // of the last parking goal
+  double park_error_m = -1, park_error_deg = -1;                    // of the last parking goal, by the truth
+  double believed_park_error_m = -1, believed_park_error_deg = -1;  // …as the car believed it
   std::vector<double> plan_ms;
   std::map<std::string, double> limited_s;  // time driven below the tracker's speed, by decision (slow, follow)
   int map_replans = 0;                      // paths given up because the map changed under them
