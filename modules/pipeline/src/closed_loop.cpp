@@ -33,8 +33,8 @@ Box AgentBox(const sim::AgentTruth& a) { return {a.pose.x, a.pose.y, a.pose.yaw_
 
 // The static map as the car's LiDAR sees it (map_source lidar): an MRPT occupancy
 // grid over the scenario's extent, every scan inserted at the pose the car believes
-// it had then, with the returns on perceived tracks removed. Unknown cells count as free for planning (a car explores
-// optimistically and replans when a wall appears).
+// it had then, with the returns on perceived tracks removed. Unknown cells count as
+// free for planning (a car explores optimistically and replans when a wall appears).
 class LidarMap {
  public:
   explicit LidarMap(const plan::DistanceMap& extent)
@@ -82,9 +82,10 @@ plan::HybridAStarOptions Budgeted(const plan::HybridAStarOptions& o, const Close
 
 class Machine {
  public:
-  Machine(const sim::Scenario& s, const ClosedLoopConfig& c, const std::vector<Goal>& mission, ClosedLoopResult& r)
-      : s_(s), c_(c), mission_(mission), r_(r) {
-    truth_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(sim::World(s).TrueGrid(0.1)));
+  Machine(const mrpt::maps::COccupancyGridMap2D& true_grid, const ClosedLoopConfig& c, const std::vector<Goal>& mission,
+          ClosedLoopResult& r)
+      : c_(c), mission_(mission), r_(r) {
+    truth_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(true_grid));
     // Paths on a map still being drawn (map_source lidar) keep map_margin_m more
     // clearance than the check that gives them up needs: a wall's outline firming up
     // by a cell as the car comes closer must not send it back to plan at every update.
@@ -338,7 +339,6 @@ class Machine {
     return a.cls == "pedestrian" ? c_.loop.pedestrian_margin_m : c_.loop.agent_margin_m;
   }
 
-  const sim::Scenario& s_;
   const ClosedLoopConfig& c_;
   const std::vector<Goal>& mission_;
   ClosedLoopResult& r_;
@@ -452,14 +452,15 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
                                    {loop.kidnap_at_s, loop.kidnap_m, loop.kidnap_deg});
   internal::LoopPerception perceive(loop.perception, loop.control_hz, config.detection, config.tracking,
                                     loop.perception_match_m, seed, world);
-  Machine machine(scenario, config, mission, r);
+  const mrpt::maps::COccupancyGridMap2D true_grid = sim::World(scenario).TrueGrid(0.1);
+  Machine machine(true_grid, config, mission, r);
   ContactScore contacts(scenario, config, machine.truth_map());
   const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (loop.control_hz * sim::Simulator::kStepS))));
   std::optional<LidarMap> lidar;
   if (loop.map_source == "lidar")
     lidar.emplace(machine.truth_map());  // nothing seen yet
   else                                   // a prior map of the site: the scenario's true grid
-    world.SetStaticMap(sim::World(scenario).TrueGrid(0.1), sim.stamp());
+    world.SetStaticMap(true_grid, sim.stamp());
   perceive.Step(sim, where.Believed(sim));
   // Scans reach SLAM and the LiDAR map without their returns on tracked road users:
   // a car driving ahead along a street whose walls leave the scan matcher free along
@@ -467,6 +468,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   const auto on_observation = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
     const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
     if (!scan) return where.Observe(t, obs);
+    if (!lidar && !where.UsesObservations()) return;  // nothing reads the scan
     const auto tracks = internal::PerceivedFrom(*world.snapshot()).tracks;
     const auto kept = internal::WithoutReturnsOn(*scan, where.Believed(sim), tracks);
     where.Observe(t, kept);

@@ -62,7 +62,7 @@ LoopLocalization::LoopLocalization(const std::string& mode, const sim::Scenario&
 LoopLocalization::~LoopLocalization() = default;
 
 void LoopLocalization::Observe(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
-  if (!slam_ && !localizer_) return;
+  if (!UsesObservations()) return;
   if (const auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
     odometry_ = odo->odometry;
     if (t == scan_stamp_) odometry_at_scan_ = odometry_;  // the odometry of the scan's own instant
@@ -84,12 +84,12 @@ sim::Pose2 LoopLocalization::Kidnapped(const sim::Pose2& p, double t_s) const {
 }
 
 sim::Pose2 LoopLocalization::Believed(const sim::Simulator& sim) const {
-  if (!slam_ && !localizer_) return Kidnapped(sim.ego().pose, sim.time_s());
+  if (!UsesObservations()) return Kidnapped(sim.ego().pose, sim.time_s());
   return Kidnapped(Compose(start_, at_scan_ + (odometry_ - odometry_at_scan_)), sim.time_s());
 }
 
 sim::Pose2 LoopLocalization::AtLatestScan(const sim::Simulator& sim) const {
-  if (!slam_ && !localizer_) return Kidnapped(sim.ego().pose, sim.time_s());
+  if (!UsesObservations()) return Kidnapped(sim.ego().pose, sim.time_s());
   return Kidnapped(Compose(start_, at_scan_), sim.time_s());
 }
 

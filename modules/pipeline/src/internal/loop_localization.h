@@ -35,6 +35,8 @@ class LoopLocalization {
  public:
   LoopLocalization(const std::string& mode, const sim::Scenario& scenario, const LoopSlamConfig& config, Kidnap kidnap);
   ~LoopLocalization();
+  // Whether Observe uses what it is given (not in the truth mode).
+  bool UsesObservations() const { return slam_ || localizer_; }
   // Every observation the simulator makes, in order.
   void Observe(Stamp t, const mrpt::obs::CObservation::Ptr& observation);
   // The believed pose now (`sim` only for the truth mode and the kidnap's clock).
