@@ -194,6 +194,13 @@ TEST(ParamsTest, ShippedPresetsLoad) {
   const auto matching = app::AllOptions().Load(noisy).Get<slam::ScanMatchingOptions>("scan_matching");
   EXPECT_TRUE(matching.fuse_odometry);
   EXPECT_DOUBLE_EQ(matching.point_sigma_m, 0.3);
+  // good-odometry.yaml is slam::GoodOdometry, which the closed loop uses, over the defaults.
+  ParamTree good;
+  good.MergeFile(testing::SourceDir() + "/params/good-odometry.yaml");
+  EXPECT_EQ(params::ToYaml(app::AllOptions().Load(good).Get<slam::ScanMatchingOptions>("scan_matching")),
+            params::ToYaml(slam::GoodOdometry(slam::ScanMatchingOptions{})));
+  EXPECT_NE(params::ToYaml(slam::GoodOdometry(slam::ScanMatchingOptions{})),
+            params::ToYaml(slam::ScanMatchingOptions{}));
   // ais-360 is ais.yaml (the AIS defaults) with two values changed.
   ParamTree ais360;
   ais360.MergeFile(testing::SourceDir() + "/params/ais-360.yaml");

@@ -7,10 +7,12 @@
 
 #include <cmath>
 #include <functional>
+#include <random>
 #include <vector>
 
 #include "specht/eval/map_quality.h"
 #include "specht/io/dataset.h"
+#include "specht/slam/correlative_matcher.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/icp.h"
 #include "test_support.h"
@@ -143,6 +145,45 @@ TEST(IcpTest, CorridorScanIsNotDraggedAlongTheWallsByAPersonWalking) {
   EXPECT_LT(std::abs(refined.x()), 0.01);
   EXPECT_LT(std::abs(refined.y()), 0.01);
   EXPECT_LT(std::abs(mrpt::RAD2DEG(refined.phi())), 0.1);
+}
+
+// Walls at y = ±3 m from x0 to x1, sampled every `step` metres with noise of
+// `sigma_m` across them: `scans` copies, as a submap stacks the scans of many keyframes.
+mrpt::maps::CSimplePointsMap NoisyCorridor(double x0, double x1, double step, double sigma_m, int scans,
+                                           unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma_m);
+  std::uniform_real_distribution<double> jitter(0.0, step);
+  mrpt::maps::CSimplePointsMap points;
+  for (int s = 0; s < scans; ++s) {
+    const double offset = jitter(rng);
+    for (double x = x0 + offset; x <= x1; x += step) {
+      points.insertPoint(static_cast<float>(x), static_cast<float>(-3.0 + noise(rng)), 0);
+      points.insertPoint(static_cast<float>(x), static_cast<float>(3.0 + noise(rng)), 0);
+    }
+  }
+  return points;
+}
+
+// A submap stacked from 40 noisy scans of a corridor is dense along its walls (a few
+// millimetres) but noisy across them (1.5 cm): the five points nearest a scan point lie
+// across the wall, and the "lines" fitted through them have normals along it, which
+// tie the pose along the corridor to the noise. The odometry's prior holds it there;
+// lines fitted to the submap's 5 cm cell means are lines again.
+TEST(IcpTest, AStackedCorridorSubmapLeavesThePoseAlongTheWallsToTheOdometry) {
+  const auto map = NoisyCorridor(-15.0, 15.0, 0.08, 0.015, 40, 7);
+  const auto scan = NoisyCorridor(-12.0, 12.0, 0.08, 0.015, 1, 8);  // taken at the map's origin
+  const CPose2D guess(0.03, 0.0, 0.0);                              // the odometry, 3 cm ahead
+  const IndexedPoints reference(map), means(CellMeans(map, 0.05));
+  IcpPrior prior{guess, Eigen::Vector3d(1 / (0.01 * 0.01), 1 / (0.01 * 0.01), 1 / (0.01 * 0.01)).asDiagonal(), 0.015};
+  IcpAligner icp(IcpOptions{});
+  const CPose2D alone = icp.Align(reference, scan, guess).pose;
+  const CPose2D held = icp.Align(reference, scan, guess, &prior, &means).pose;
+  // Without the prior nothing holds the pose along the corridor where the guess put it.
+  EXPECT_GT(std::abs(alone.x() - guess.x()), 0.01) << "the scan alone pins x: the test lost its point";
+  EXPECT_NEAR(held.x(), guess.x(), 0.005);
+  EXPECT_NEAR(held.y(), 0.0, 0.003);
+  EXPECT_NEAR(mrpt::RAD2DEG(held.phi()), 0.0, 0.05);
 }
 
 TEST(ScanMatchingTest, RecoversAKnownMotionWithinOneCentimetreDespiteOdometryError) {

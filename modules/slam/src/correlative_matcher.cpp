@@ -2,12 +2,14 @@
 
 #include <mrpt/math/wrap2pi.h>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <stdexcept>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace specht::slam {
@@ -299,6 +301,13 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
                            best.score / (255.0 * n)};
 }
 
+namespace {
+uint64_t CellKey(float x, float y, double cell_m) {
+  const auto cx = static_cast<int32_t>(std::floor(x / cell_m)), cy = static_cast<int32_t>(std::floor(y / cell_m));
+  return (static_cast<uint64_t>(static_cast<uint32_t>(cx)) << 32) | static_cast<uint32_t>(cy);
+}
+}  // namespace
+
 mrpt::maps::CSimplePointsMap Decimate(const mrpt::maps::CSimplePointsMap& points, double cell_m) {
   mrpt::maps::CSimplePointsMap out;
   const auto& xs = points.getPointsBufferRef_x();
@@ -306,11 +315,25 @@ mrpt::maps::CSimplePointsMap Decimate(const mrpt::maps::CSimplePointsMap& points
   std::unordered_set<uint64_t> seen;
   seen.reserve(xs.size());
   for (size_t i = 0; i < xs.size(); ++i) {
-    const auto cx = static_cast<int32_t>(std::floor(xs[i] / cell_m)),
-               cy = static_cast<int32_t>(std::floor(ys[i] / cell_m));
-    const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(cx)) << 32) | static_cast<uint32_t>(cy);
-    if (seen.insert(key).second) out.insertPoint(xs[i], ys[i], 0);
+    if (seen.insert(CellKey(xs[i], ys[i], cell_m)).second) out.insertPoint(xs[i], ys[i], 0);
   }
+  return out;
+}
+
+mrpt::maps::CSimplePointsMap CellMeans(const mrpt::maps::CSimplePointsMap& points, double cell_m) {
+  const auto& xs = points.getPointsBufferRef_x();
+  const auto& ys = points.getPointsBufferRef_y();
+  std::unordered_map<uint64_t, size_t> index;  // cell → its slot, in the order cells were first met
+  index.reserve(xs.size());
+  std::vector<Eigen::Vector3d> sums;  // x, y, count
+  for (size_t i = 0; i < xs.size(); ++i) {
+    const auto [it, fresh] = index.try_emplace(CellKey(xs[i], ys[i], cell_m), sums.size());
+    if (fresh) sums.emplace_back(0, 0, 0);
+    sums[it->second] += Eigen::Vector3d(xs[i], ys[i], 1);
+  }
+  mrpt::maps::CSimplePointsMap out;
+  out.reserve(sums.size());
+  for (const auto& s : sums) out.insertPoint(static_cast<float>(s.x() / s.z()), static_cast<float>(s.y() / s.z()), 0);
   return out;
 }
 

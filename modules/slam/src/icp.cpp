@@ -74,7 +74,7 @@ struct LineFit {
 // computes the cost at the pose returned (only needed to compare two refinements);
 // without it the cost is that of the pose before the last step.
 LineFit RefinePointToLine(const IndexedPoints& reference, const mrpt::maps::CSimplePointsMap& scan,
-                          mrpt::poses::CPose2D pose, const IcpOptions& o, bool score,
+                          mrpt::poses::CPose2D pose, const IcpOptions& o, bool score, const IcpPrior* prior,
                           std::vector<IndexedPoints::Neighbour>& near) {
   LineFit fit;
   const int passes = o.point_to_line_iterations + (score ? 1 : 0);
@@ -102,6 +102,14 @@ LineFit RefinePointToLine(const IndexedPoints& reference, const mrpt::maps::CSim
       h += w * j * j.transpose();
       g += w * r * j;
       ++fit.pairs;
+    }
+    if (prior) {
+      const Eigen::Matrix3d w = prior->point_sigma_m * prior->point_sigma_m * prior->information;
+      const Eigen::Vector3d e(pose.x() - prior->pose.x(), pose.y() - prior->pose.y(),
+                              mrpt::math::wrapToPi(pose.phi() - prior->pose.phi()));
+      h += w;
+      g += w * e;
+      fit.cost += e.dot(w * e);
     }
     // With `score`, the last pass only scores the pose the steps before it reached.
     if (it == o.point_to_line_iterations || fit.pairs < kMinLinePairs) break;
@@ -137,20 +145,21 @@ IcpAligner::IcpAligner(const IcpOptions& options) : impl_(std::make_unique<Impl>
 IcpAligner::~IcpAligner() = default;
 
 IcpResult IcpAligner::Align(const IndexedPoints& reference, const mrpt::maps::CSimplePointsMap& scan,
-                            const mrpt::poses::CPose2D& guess) {
+                            const mrpt::poses::CPose2D& guess, const IcpPrior* prior, const IndexedPoints* lines) {
   mrpt::slam::CICP::TReturnInfo info;
   const auto pdf = impl_->icp.Align(&reference.AsIcpReference(), &scan, guess, info);
   mrpt::poses::CPose2D pose = pdf->getMeanVal();
   const auto& o = impl_->options;
-  if (o.point_to_line_iterations > 0 && reference.size() >= static_cast<size_t>(o.point_to_line_neighbours)) {
+  const IndexedPoints& fitted = lines ? *lines : reference;
+  if (o.point_to_line_iterations > 0 && fitted.size() >= static_cast<size_t>(o.point_to_line_neighbours)) {
     // Refine from ICP's pose and, unless ICP ended so near the guess that both would
     // settle in one basin, from the guess too; the lower cost wins, the guess on a tie.
     const mrpt::poses::CPose2D moved = pose - guess;
     const bool two_starts = moved.norm() > 0.5 * o.point_to_line_gate_m || std::abs(moved.phi()) > kSameBasinRad;
-    const LineFit from_icp = RefinePointToLine(reference, scan, pose, o, two_starts, impl_->neighbours);
+    const LineFit from_icp = RefinePointToLine(fitted, scan, pose, o, two_starts, prior, impl_->neighbours);
     pose = from_icp.pose;
     if (two_starts) {
-      const LineFit from_guess = RefinePointToLine(reference, scan, guess, o, true, impl_->neighbours);
+      const LineFit from_guess = RefinePointToLine(fitted, scan, guess, o, true, prior, impl_->neighbours);
       if (!(from_icp.cost < from_guess.cost)) pose = from_guess.pose;
     }
   }

@@ -35,7 +35,8 @@ struct Localizer::Impl {
   const TransformTree* frames;
   std::string base_frame;
   IcpAligner icp;
-  IndexedPoints map;  // every keyframe's points, map frame
+  IndexedPoints map;                   // every keyframe's points, map frame
+  std::optional<IndexedPoints> lines;  // their cell means (scan_matching.submap_resolution_m)
   internal::MotionPrior motion;
 };
 
@@ -48,6 +49,7 @@ Localizer::Localizer(const std::vector<Keyframe>& map, const LocalizationOptions
     all.insertAnotherMap(&points, mrpt::poses::CPose3D(kf.pose));
   }
   impl_->map = IndexedPoints(Decimate(all, 0.02));
+  if (matching.submap_resolution_m > 0) impl_->lines.emplace(CellMeans(all, matching.submap_resolution_m));
 }
 
 Localizer::~Localizer() = default;
@@ -87,7 +89,10 @@ void Localizer::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation
       }
     }
   }
-  const CPose2D pose = internal::MatchWithRecovery(m.icp, m.map, points, guess, m.matching, stats_).pose;
+  internal::MatchContext context;
+  context.lines = m.lines ? &*m.lines : nullptr;
+  if (m.motion.predicted_from_odometry()) context.odometry_step = m.motion.predicted_step();
+  const CPose2D pose = internal::MatchWithRecovery(m.icp, m.map, points, guess, m.matching, stats_, context).pose;
   if (!trajectory_.empty()) m.motion.SetLastStep(pose - last);
   ++stats_.scans;
   trajectory_.push_back({stamp, mrpt::poses::CPose3D(pose)});

@@ -36,6 +36,7 @@ struct ScanMatchingMapper::Impl {
   IcpAligner icp;
   CSimplePointsMap submap_points;                // the keyframes' points in the map frame
   std::optional<IndexedPoints> submap;           // their tree, built when the next scan needs it
+  std::optional<IndexedPoints> submap_lines;     // their cell means (submap_resolution_m), likewise
   std::deque<CSimplePointsMap> keyframe_points;  // the last submap_keyframes, base frame
   std::deque<size_t> keyframe_poses;             // their indices into keyframes_
   internal::MotionPrior motion;
@@ -88,15 +89,12 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   if (!m.keyframe_points.empty() && !points.empty()) {
     const bool weak = !m.motion.predicted_from_odometry();
     searched = weak && options_.search_without_odometry;
+    internal::MatchContext context{weak, last, std::nullopt, SubmapLines()};
+    if (m.motion.predicted_from_odometry()) context.odometry_step = m.motion.predicted_step();
     const internal::MatchResult match =
-        internal::MatchWithRecovery(m.icp, Submap(), points, guess, options_, stats_, weak, last);
+        internal::MatchWithRecovery(m.icp, Submap(), points, guess, options_, stats_, context);
     pose = match.pose;
     matched = match.source != internal::MatchSource::kGuess;
-    // Where the scan leaves a direction unconstrained (a corridor), the odometry decides it.
-    if (options_.fuse_odometry && match.source == internal::MatchSource::kIcp && m.motion.predicted_from_odometry()) {
-      pose = internal::FuseWithPrior(pose, internal::MatchInformation(points, pose, options_.point_sigma_m), guess,
-                                     internal::PriorInformation(m.motion.predicted_step(), options_));
-    }
   }
   // An unmatched scan says nothing about the velocity: do not carry the guess on.
   const bool follows_placed = last_placed_ && *last_placed_ + 1 == scans_.size();
@@ -235,11 +233,26 @@ void ScanMatchingMapper::RebuildSubmap() {
   // An optimisation often rebuilds the points again before any scan is matched:
   // the tree waits for the next scan.
   m.submap.reset();
+  m.submap_lines.reset();
 }
 
 const IndexedPoints& ScanMatchingMapper::Submap() {
   if (!impl_->submap) impl_->submap.emplace(impl_->submap_points);
   return *impl_->submap;
+}
+
+const IndexedPoints* ScanMatchingMapper::SubmapLines() {
+  if (options_.submap_resolution_m <= 0) return nullptr;
+  if (!impl_->submap_lines) impl_->submap_lines.emplace(CellMeans(impl_->submap_points, options_.submap_resolution_m));
+  return &*impl_->submap_lines;
+}
+
+ScanMatchingOptions GoodOdometry(ScanMatchingOptions options) {
+  options.fuse_odometry = true;
+  options.prior_fraction = 0.03;
+  options.prior_min_m = 0.005;
+  options.submap_resolution_m = 0.08;
+  return options;
 }
 
 mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes, const GridOptions& options) {

@@ -121,17 +121,19 @@ class Searcher {
 
 MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, const CSimplePointsMap& points,
                               const CPose2D& guess, const ScanMatchingOptions& options, MappingStats& stats,
-                              bool guess_is_weak, const std::optional<CPose2D>& last) {
-  const bool recovery = options.recovery_window_m > 0;
+                              const MatchContext& context) {
+  const bool recovery =
+      options.recovery_window_m > 0 && points.size() >= static_cast<size_t>(options.recovery_min_points);
+  const auto& last = context.last;
   // A guess no odometry backs (constant velocity) may be off by a whole step:
   // search around it before ICP, which would settle in the nearest minimum.
-  const bool search_first = recovery && guess_is_weak && options.search_without_odometry;
+  const bool search_first = recovery && context.guess_is_weak && options.search_without_odometry;
   // Without odometry, only what a wheeled robot can do tells a step from its aliases.
-  DrivePrior prior;
-  if (guess_is_weak && last) {
-    prior = {*last, options.search_drive_penalty, options.search_drive_slack_m, options.search_drive_reverse};
+  DrivePrior drive;
+  if (context.guess_is_weak && last) {
+    drive = {*last, options.search_drive_penalty, options.search_drive_slack_m, options.search_drive_reverse};
   }
-  Searcher search(icp, reference, points, options, stats, prior);
+  Searcher search(icp, reference, points, options, stats, drive);
   if (search_first) {
     std::vector<CPose2D> centres = {guess};
     const bool guess_moved = last && (guess.distanceTo(*last) > 0 || guess.phi() != last->phi());
@@ -142,8 +144,18 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, c
       return {found->pose, MatchSource::kRecovered};
     }
   }
-  const IcpResult match = icp.Align(reference, points, guess);
+  // Where the scan leaves a direction unconstrained (a corridor), the odometry decides it.
+  std::optional<IcpPrior> prior;
+  if (options.fuse_odometry && context.odometry_step) {
+    prior = IcpPrior{guess, PriorInformation(*context.odometry_step, options), options.point_sigma_m};
+  }
+  const bool prior_in_icp = prior && options.icp.point_to_line_iterations > 0;
+  IcpResult match = icp.Align(reference, points, guess, prior_in_icp ? &*prior : nullptr, context.lines);
   stats.icp_iterations += match.iterations;
+  if (prior && !prior_in_icp) {
+    match.pose = FuseWithPrior(match.pose, MatchInformation(points, match.pose, options.point_sigma_m), guess,
+                               prior->information);
+  }
   const bool icp_bounded = WithinCorrectionBounds(match.pose, guess, options);
   if (icp_bounded && match.goodness >= options.min_goodness) return {match.pose, MatchSource::kIcp};
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
@@ -217,12 +229,20 @@ bool MotionPrior::Consume(Stamp stamp, const mrpt::obs::CObservation::Ptr& obser
   return false;
 }
 
+// Odometry that moved on fewer scans than this is not yet trusted to report a stop.
+constexpr long kMinMovedScans = 10;
+
 CPose2D MotionPrior::Predict(const CPose2D& last, bool use_odometry, bool use_imu) {
   CPose2D step = odom_now_ - odom_at_last_scan_;
   odom_at_last_scan_ = odom_now_;
-  // Without odometry (or when it reports no motion at all), keep the last velocity.
+  // Without odometry, keep the last velocity. Odometry that reports no motion is a
+  // stop when it moved on at least half of the scans so far (and on kMinMovedScans);
+  // else it is taken as absent (a log whose odometry lines hold zeros, or a few jumps).
   const bool moved = have_odometry_ && (step.norm() > 0 || step.phi() != 0);
-  from_odometry_ = use_odometry && moved;
+  ++scans_;
+  moved_scans_ += moved;
+  const bool live = moved_scans_ >= kMinMovedScans && 2 * moved_scans_ >= scans_;
+  from_odometry_ = use_odometry && have_odometry_ && (moved || live);
   if (!from_odometry_) step = last_step_;
   if (use_imu && gyro_samples_ > 0) step = CPose2D(step.x(), step.y(), gyro_yaw_);
   gyro_yaw_ = 0;

@@ -31,19 +31,31 @@ struct MatchResult {
   MatchSource source = MatchSource::kGuess;
 };
 
+// What a match knows besides the scan: whether the guess is weak (no odometry behind
+// it), where the car was, and the odometry step the guess came from.
+struct MatchContext {
+  bool guess_is_weak = false;
+  std::optional<mrpt::poses::CPose2D> last;
+  std::optional<mrpt::poses::CPose2D> odometry_step;
+  const IndexedPoints* lines = nullptr;  // what the point-to-line refinement fits lines to (icp.h)
+};
+
 // ICP from the guess. A match pairing fewer than min_goodness of the points is
 // doubted: when recovery is on, the correlative matcher searches around the guess and
 // its refined pose competes with ICP's on the same likelihood score; otherwise (or
 // when nothing scores) ICP's pose stands if at least half min_goodness paired, else
-// the guess. A weak guess (no odometry behind it) is searched around first when
-// `search_without_odometry` is on, and so is `last` (where the car was: without
-// odometry it may have stopped or turned on the spot); the better score wins. Those
-// searches score with the drive prior from `last` (options search_drive_*;
-// correlative_matcher.h's DrivePrior). Counts into `stats`.
+// the guess. A weak guess is searched around first when `search_without_odometry` is
+// on, and so is `last` (where the car was: without odometry it may have stopped or
+// turned on the spot); the better score wins. Those searches score with the drive
+// prior from `last` (options search_drive_*; correlative_matcher.h's DrivePrior).
+// With `fuse_odometry` and an odometry step, the guess is a prior of the step's
+// information (PriorInformation): inside ICP's point-to-line refinement (icp.h), or,
+// with the refinement off, fused with ICP's pose after it (FuseWithPrior). Counts
+// into `stats`.
 MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference,
                               const mrpt::maps::CSimplePointsMap& points, const mrpt::poses::CPose2D& guess,
-                              const ScanMatchingOptions& options, MappingStats& stats, bool guess_is_weak = false,
-                              const std::optional<mrpt::poses::CPose2D>& last = std::nullopt);
+                              const ScanMatchingOptions& options, MappingStats& stats,
+                              const MatchContext& context = {});
 
 // The information of a scan alignment, point to line: with n_i the normal of the
 // surface at scan point p_i (from its beam neighbours) turned into the map frame,
@@ -58,7 +70,8 @@ mrpt::poses::CPose2D FuseWithPrior(const mrpt::poses::CPose2D& match, const Eige
                                    const mrpt::poses::CPose2D& prior, const Eigen::Matrix3d& prior_information);
 
 // Motion between scans: the wheel-odometry increment since the last scan when the
-// odometry moved, else the last matched step (constant velocity); when a gyro
+// odometry moved (or reported a stop: no motion from odometry that moved on at least
+// half of the scans so far), else the last matched step (constant velocity); when a gyro
 // reported since the last scan, its integrated yaw rate replaces the step's rotation:
 //   Δθ = Σ ½ (ω_k + ω_{k−1}) (t_k − t_{k−1})   over the IMU samples since the last scan.
 class MotionPrior {
@@ -80,6 +93,7 @@ class MotionPrior {
   double gyro_yaw_ = 0;                                // integrated since the last scan
   int gyro_samples_ = 0;
   bool from_odometry_ = false;
+  long scans_ = 0, moved_scans_ = 0;  // predictions made, and those the odometry moved in
   mrpt::poses::CPose2D predicted_step_;
 };
 

@@ -101,4 +101,9 @@ class CorrelativeMatcher {
 // Keeps at most one point per cell of `cell_m` (the first), for fast scoring.
 mrpt::maps::CSimplePointsMap Decimate(const mrpt::maps::CSimplePointsMap& points, double cell_m);
 
+// One point per cell of `cell_m`: the mean of the points in it (a voxel filter). A
+// submap stacked from many scans is dense along a wall far beyond its noise across it;
+// the means keep the wall's line and bound the density.
+mrpt::maps::CSimplePointsMap CellMeans(const mrpt::maps::CSimplePointsMap& points, double cell_m);
+
 }  // namespace specht::slam

@@ -23,12 +23,23 @@
 // over all scan points (a point with no line near costs gate²) wins, the guess's on
 // a tie: where the lines pin one direction only (a corridor), point-to-point ICP
 // slides along it after whatever its pairs pull at (clutter, a person walking).
+//
+// With a prior (the odometry's guess μ and its information Ω, map frame x y θ) the
+// refinement minimises
+//   Σ ρ(r_i)² + σ² (x ⊟ μ)ᵀ Ω (x ⊟ μ),   σ = IcpPrior::point_sigma_m,
+// i.e. the residuals of points known to σ against the prior, both as information:
+// H += σ² Ω, g += σ² Ω (x ⊟ μ), and the two starts are compared with the prior's term
+// in their cost. Along a corridor the lines carry no information, so there the prior
+// holds the pose where the odometry put it instead of letting the step drift with the
+// noise (and with the points at the scan's far end that find no line yet, which would
+// otherwise favour a pose short of the true one); across it the lines outweigh it.
 #pragma once
 
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include <Eigen/Core>
 #include <memory>
 
 #include "specht/core/params.h"
@@ -66,6 +77,12 @@ struct IcpOptions {
   }
 };
 
+struct IcpPrior {
+  mrpt::poses::CPose2D pose;                              // μ, in the reference's frame
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  // Ω, x y θ
+  double point_sigma_m = 0.03;                            // σ of one scan point against its line
+};
+
 struct IcpResult {
   mrpt::poses::CPose2D pose;  // of the scan's frame in the reference's frame
   double goodness = 0;        // fraction of scan points that found a partner
@@ -79,9 +96,12 @@ class IcpAligner {
   IcpAligner(const IcpAligner&) = delete;
   IcpAligner& operator=(const IcpAligner&) = delete;
 
-  // The pose of `scan` in `reference`'s frame, from `guess`.
+  // The pose of `scan` in `reference`'s frame, from `guess`; the point-to-line
+  // refinement holds it to `prior` and fits its lines to `lines` (the same frame),
+  // when given, else to `reference`.
   IcpResult Align(const IndexedPoints& reference, const mrpt::maps::CSimplePointsMap& scan,
-                  const mrpt::poses::CPose2D& guess);
+                  const mrpt::poses::CPose2D& guess, const IcpPrior* prior = nullptr,
+                  const IndexedPoints* lines = nullptr);
 
  private:
   struct Impl;

@@ -7,12 +7,21 @@
 //                                                       its rotation from the gyro's
 //                                                       yaw rate when an IMU reports)
 //             = pose_{k-1} ⊕ (pose_{k-2} ⊖ pose_{k-1})^-1 (constant velocity, when the
-//                                                       odometry reports no motion)
-//   pose_k    = ICP(local submap, scan_k, guess_k)          (MRPT CICP, point-to-point)
+//                                                       odometry reports no motion and
+//                                                       has not moved on half the scans:
+//                                                       absent, not a stop)
+//   pose_k    = ICP(local submap, scan_k, guess_k)          (MRPT CICP, point-to-point,
+//                                                       then point-to-line held to the
+//                                                       odometry step's prior when
+//                                                       `fuse_odometry`; icp.h)
 // A constant-velocity guess may be off by a whole step: when `search_without_odometry`
 // is on, the correlative matcher (below) searches around it first and ICP refines.
 // The local submap holds the points of the last `submap_keyframes` keyframes in the
-// map frame. A match is rejected (pose_k = guess_k) when fewer than `min_goodness`
+// map frame. The point-to-line refinement (icp.h) fits its lines to the submap's
+// cell means at `submap_resolution_m` when that is set: stacked from many scans a wall
+// is dense along it far beyond its noise across it, and the k points nearest a scan
+// point then lie across the wall, fitting a "line" normal to it that ties the pose
+// along the wall to the noise. A match is rejected (pose_k = guess_k) when fewer than `min_goodness`
 // of the scan's points found a partner or when the correction exceeds
 // `max_correction_m` / `max_correction_deg`. A scan becomes a keyframe when the car
 // moved `keyframe_translation_m` or turned `keyframe_rotation_deg` since the last one;
@@ -21,7 +30,9 @@
 // Recovery: when ICP is rejected and `recovery_window_m` > 0, the scan is matched by
 // the correlative matcher (branch and bound, correlative_matcher.h) against the local
 // submap within ±recovery_window_m and ±recovery_window_deg of the guess, then refined
-// by ICP. This carries logs with poor or no odometry. Without odometry, an unmatched
+// by ICP. This carries logs with poor or no odometry. A scan of fewer than
+// `recovery_min_points` points is not searched: a few returns (the car beside a truck
+// that hides the walls) fit many poses in the window as well as the true one. Without odometry, an unmatched
 // scan (pose_k = guess_k) neither becomes a keyframe, nor sets the velocity, nor is
 // the next scan predicted from it (the last matched pose is): an unverified pose
 // would blur the submap and be carried on to the next guess. And without odometry a
@@ -73,6 +84,7 @@ struct ScanMatchingOptions {
   double keyframe_translation_m = 0.3;
   double keyframe_rotation_deg = 10.0;
   int submap_keyframes = 60;
+  double submap_resolution_m = 0.0;
   double min_goodness = 0.6;
   double max_correction_m = 1.0;
   double max_correction_deg = 20.0;
@@ -80,6 +92,7 @@ struct ScanMatchingOptions {
   double recovery_window_deg = 75.0;
   double recovery_resolution_m = 0.1;
   double recovery_min_score = 0.5;
+  int recovery_min_points = 100;
   double refine_max_loss = 0.1;
   bool search_without_odometry = true;
   double search_min_score = 0.3;
@@ -111,6 +124,10 @@ struct ScanMatchingOptions {
             Range::Of(1.0, 90.0).Log());
     v.Param("submap_keyframes", submap_keyframes, "keyframes in the local submap scans are matched against",
             Range::Of(1, 500));
+    v.Param("submap_resolution_m", submap_resolution_m,
+            "the point-to-line refinement fits its lines to the mean of the submap's (or localisation map's) "
+            "points in each cell of this size; 0 = to every point",
+            Range::Of(0.0, 0.5));
     v.Param("min_goodness", min_goodness, "reject a match when fewer than this fraction of points paired",
             Range::Of(0.0, 1.0));
     v.Param("max_correction_m", max_correction_m, "reject a match that moves the guess further than this",
@@ -126,6 +143,8 @@ struct ScanMatchingOptions {
             Range::Of(0.02, 0.5).Log());
     v.Param("recovery_min_score", recovery_min_score, "accept a recovery match from this mean likelihood",
             Range::Of(0.1, 0.95));
+    v.Param("recovery_min_points", recovery_min_points,
+            "search only scans with at least this many points (fewer score high at aliases too)", Range::Of(0, 2000));
     v.Param("refine_max_loss", refine_max_loss,
             "searches: keep the searched pose when ICP's refinement of it scores less than (1 − this) of its "
             "score on the search grid; 1 = always take ICP's",
@@ -161,8 +180,8 @@ struct ScanMatchingOptions {
             "this below where it is (the group is torn by a later step, whose own check will find it)",
             Range::Of(0.0, 1.0));
     v.Param("fuse_odometry", fuse_odometry,
-            "fuse each ICP match with the odometry step by their information (corridors: odometry decides "
-            "the direction the scan cannot)");
+            "hold each ICP match to the odometry step by its information, inside the point-to-line refinement "
+            "(corridors: odometry decides the direction the scan cannot; GoodOdometry)");
     v.Param("point_sigma_m", point_sigma_m, "std. dev. of a scan point against its surface (match information)",
             Range::Of(0.005, 0.5).Log());
     v.Param("prior_fraction", prior_fraction, "odometry std. dev. as a fraction of the step",
@@ -173,6 +192,16 @@ struct ScanMatchingOptions {
   }
   std::vector<std::string> Relations() const;
 };
+
+// The settings for a car whose wheel odometry is good to a few percent of a step (the
+// simulator's, a typical small car's): the odometry step is a prior inside ICP
+// (`fuse_odometry`) at 3 % of the step with a 5 mm floor, and the lines are fitted to
+// the submap's 8 cm cell means. On a straight street the stacked submap otherwise
+// lets the pose slide with the noise along the walls. Not the defaults: on logs whose
+// odometry drifts tens of metres so tight a prior breaks loops, and on thinned logs the
+// cell means are coarser than the submap itself (docs/slam-experiments.md,
+// 2026-12-03). params/good-odometry.yaml holds the same values (a test checks).
+ScanMatchingOptions GoodOdometry(ScanMatchingOptions options);
 
 // Section "grid": the occupancy grid built from keyframes (MRPT COccupancyGridMap2D).
 struct GridOptions {
@@ -256,7 +285,8 @@ class ScanMatchingMapper {
   void RebuildSubmap();
   void RecheckSearchedSteps();
   bool RecheckStep(size_t k);
-  const IndexedPoints& Submap();  // the submap's tree, built on first use after a rebuild
+  const IndexedPoints& Submap();       // the submap's tree, built on first use after a rebuild
+  const IndexedPoints* SubmapLines();  // its cell means for the point-to-line refinement (null: off)
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
