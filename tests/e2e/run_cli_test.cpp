@@ -94,6 +94,24 @@ TEST(RunCliTest, TheFullStackDrivesOnSlamAndPerceivedTracks) {
   EXPECT_EQ(truth["metrics"]["perception"]["pedestrian"]["recall"].get<double>(), 1.0);
 }
 
+// The emergency check on the LiDAR's raw returns needs neither map nor pose nor
+// tracks. On parking-lot seed 103 the full stack's car, turning towards its bay after
+// waiting for a car, cuts past the corner of a parked car (0.01 m localisation error:
+// the path tracker's offset, not the pose); the returns stop it and it replans.
+TEST(RunCliTest, TheLidarStopHaltsTheCarBeforeTheParkedCarItsTurnCutsPast) {
+  const std::string dir = testing::TempDir("run_cli_lidar_stop");
+  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
+  testing::RunSpecht("run '" + scenario + "' --seeds 103 --stack full -q -o '" + dir +
+                     "/off' --set closed_loop.lidar_stop=false");
+  const auto off = nlohmann::json::parse(testing::ReadFile(dir + "/off/report.json"));
+  EXPECT_GT(off["metrics"]["collisions"].get<int>(), 0) << "no contact without the check: the test lost its point";
+  const auto on = RunParked("parking-lot.yaml", "103", dir + "/on", "--stack full")["runs"][0];
+  bool stopped = false;
+  for (const auto& t : on["transitions"])
+    stopped |= t["reason"].get<std::string>().find("a LiDAR return") != std::string::npos;
+  EXPECT_TRUE(stopped);
+}
+
 // A run is a replay: the same seed gives the same report figures and per-step poses
 // (all but the planners' wall-clock times).
 TEST(RunCliTest, TheSameSeedDrivesTheSameRun) {

@@ -122,10 +122,12 @@ class Machine {
       }
   }
 
-  plan::Command Step(double t, const plan::Pose& pose, double speed, double steer, const Perceived& seen) {
+  // `returns`: the latest LiDAR scan's returns in the car's rear-axle frame.
+  plan::Command Step(double t, const plan::Pose& pose, double speed, double steer, const Perceived& seen,
+                     const std::vector<cv::Point2d>& returns) {
     if (machine_.Final()) return {};
     // The emergency check first: it overrides whatever the machine is doing.
-    if (const std::string what = Imminent(pose, speed, seen.obstacles); !what.empty()) {
+    if (const std::string what = Imminent(pose, speed, seen.obstacles, returns); !what.empty()) {
       Handle(MissionEvent::kCollisionImminent, t, what);
       estop_clear_since_ = -1;
       return {};
@@ -294,17 +296,34 @@ class Machine {
   // The emergency check, independent of the path, the planner and the margins:
   // the car's box stretched in its direction of travel by the braking distance
   // v²/(2 a) + emergency_buffer_m, against the obstacles of perception's latest
-  // frame (not the tracks). Returns what it would hit ("" when nothing). A stopped
-  // car needs no check.
-  std::string Imminent(const plan::Pose& pose, double speed, const std::vector<SeenObject>& obstacles) const {
+  // frame (not the tracks), and stretched by v²/(2 a) + lidar_stop_buffer_m against
+  // the LiDAR's raw returns in the car's frame. Returns what it would hit ("" when
+  // nothing). A stopped car needs no check.
+  std::string Imminent(const plan::Pose& pose, double speed, const std::vector<SeenObject>& obstacles,
+                       const std::vector<cv::Point2d>& returns) const {
     if (std::abs(speed) < c_.tracker.stop_speed_mps) return "";
-    const double reach = speed * speed / (2 * c_.car.max_accel_mps2) + c_.loop.emergency_buffer_m;
+    const double braking = speed * speed / (2 * c_.car.max_accel_mps2);
+    const Box box = Stretched(pose, speed, braking + c_.loop.emergency_buffer_m);
+    for (const auto& o : obstacles)
+      if (internal::BoxToBox(box, o.box) <= 0) return "emergency stop: " + o.Name() + " within the stopping distance";
+    if (!c_.loop.lidar_stop) return "";
+    const Box own = Stretched({0, 0, 0}, speed, braking + c_.loop.lidar_stop_buffer_m);
+    for (const auto& p : returns)
+      if (internal::PointToBox(p, own) <= 0) {
+        char what[96];
+        std::snprintf(what, sizeof(what), "emergency stop: a LiDAR return %.2f m %s within the stopping distance",
+                      std::hypot(p.x, p.y), p.x >= 0 ? "ahead" : "behind");
+        return what;
+      }
+    return "";
+  }
+
+  // The car's box at `pose` stretched by `reach` in its direction of travel.
+  Box Stretched(const plan::Pose& pose, double speed, double reach) const {
     Box box = internal::CarBox(c_.car, pose);
     const double shift = (speed > 0 ? 1 : -1) * reach / 2;
     box.x += shift * std::cos(pose.theta), box.y += shift * std::sin(pose.theta), box.hl += reach / 2;
-    for (const auto& o : obstacles)
-      if (internal::BoxToBox(box, o.box) <= 0) return "emergency stop: " + o.Name() + " within the stopping distance";
-    return "";
+    return box;
   }
 
   // The independent check: the car's box at the path poses within the stopping
@@ -448,6 +467,9 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   world::WorldModel world(config.world);
   LoopSlamConfig slam_config = config.slam;
   slam_config.survey_spacing_m = loop.survey_spacing_m;
+  // The simulated car's odometry is good to about 1 % of a step (sensors.odometry); the
+  // scan_matching defaults are sized for logs whose odometry drifts tens of metres.
+  if (loop.good_odometry) slam_config.matching = slam::GoodOdometry(slam_config.matching);
   internal::LoopLocalization where(loop.localization, scenario, slam_config,
                                    {loop.kidnap_at_s, loop.kidnap_m, loop.kidnap_deg});
   internal::LoopPerception perceive(loop.perception, loop.control_hz, config.detection, config.tracking,
@@ -465,9 +487,13 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   // Scans reach SLAM and the LiDAR map without their returns on tracked road users:
   // a car driving ahead along a street whose walls leave the scan matcher free along
   // it would carry the car's believed pose with it.
+  std::vector<cv::Point2d> returns;  // the latest scan's, rear-axle frame (the emergency check's)
+  const sim::Pose2 centre_from_axle{scenario.ego.model.PivotAhead(), 0, 0};
   const auto on_observation = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
     const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
     if (!scan) return where.Observe(t, obs);
+    returns.clear();
+    internal::ForEachReturn(*scan, centre_from_axle, [&](size_t, const cv::Point2d& p) { returns.push_back(p); });
     if (!lidar && !where.UsesObservations()) return;  // nothing reads the scan
     const auto tracks = internal::PerceivedFrom(*world.snapshot()).tracks;
     const auto kept = internal::WithoutReturnsOn(*scan, where.Believed(sim), tracks);
@@ -497,7 +523,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     const auto& ego = sim.ego();
     const plan::Pose believed = EgoRearAxle(scenario, where.Believed(sim));
     const Perceived seen = internal::PerceivedFrom(*snapshot);
-    const plan::Command cmd = machine.Step(t, believed, ego.speed_mps, ego.steer_rad, seen);
+    const plan::Command cmd = machine.Step(t, believed, ego.speed_mps, ego.steer_rad, seen, returns);
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     r.trajectory.push_back(pose);

@@ -72,7 +72,7 @@ void LoopLocalization::Observe(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
   const long scans = slam_ ? slam_->front_end_stats().scans : static_cast<long>(localizer_->trajectory().size());
   if (scans > scans_) {
     scans_ = scans;
-    const auto& p = slam_ ? slam_->LatestPose()->pose : localizer_->trajectory().back().pose;
+    const mrpt::poses::CPose3D p = slam_ ? slam_->LatestPose()->pose : localizer_->trajectory().back().pose;
     at_scan_ = mrpt::poses::CPose2D(p.x(), p.y(), p.yaw());
     odometry_at_scan_ = odometry_, scan_stamp_ = t;
   }

@@ -35,26 +35,32 @@ Perceived PerceivedFrom(const world::Snapshot& s) {
   return p;
 }
 
+void ForEachReturn(const mrpt::obs::CObservation2DRangeScan& scan, const sim::Pose2& at,
+                   const std::function<void(size_t, const cv::Point2d&)>& visit) {
+  const double c = std::cos(at.yaw_rad), s = std::sin(at.yaw_rad);
+  const double sx = at.x + c * scan.sensorPose.x() - s * scan.sensorPose.y();
+  const double sy = at.y + s * scan.sensorPose.x() + c * scan.sensorPose.y();
+  const double yaw = at.yaw_rad + scan.sensorPose.yaw();
+  const size_t n = scan.getScanSize();
+  for (size_t i = 0; i < n; ++i) {
+    if (!scan.getScanRangeValidity(i)) continue;
+    const double a = yaw - scan.aperture / 2 + scan.aperture * static_cast<double>(i) / (n - 1);
+    const double r = scan.getScanRange(i);
+    visit(i, {sx + r * std::cos(a), sy + r * std::sin(a)});
+  }
+}
+
 mrpt::obs::CObservation2DRangeScan::Ptr WithoutReturnsOn(const mrpt::obs::CObservation2DRangeScan& in,
                                                          const sim::Pose2& at, const std::vector<SeenObject>& tracks) {
   auto scan = mrpt::obs::CObservation2DRangeScan::Create(in);
   if (tracks.empty()) return scan;
-  const double c = std::cos(at.yaw_rad), s = std::sin(at.yaw_rad);
-  const double sx = at.x + c * scan->sensorPose.x() - s * scan->sensorPose.y();
-  const double sy = at.y + s * scan->sensorPose.x() + c * scan->sensorPose.y();
-  const double yaw = at.yaw_rad + scan->sensorPose.yaw();
-  const size_t n = scan->getScanSize();
-  for (size_t i = 0; i < n; ++i) {
-    if (!scan->getScanRangeValidity(i)) continue;
-    const double a = yaw - scan->aperture / 2 + scan->aperture * static_cast<double>(i) / (n - 1);
-    const double r = scan->getScanRange(i);
-    const cv::Point2d hit{sx + r * std::cos(a), sy + r * std::sin(a)};
+  ForEachReturn(in, at, [&](size_t i, const cv::Point2d& hit) {
     for (const auto& t : tracks)
       if (PointToBox(hit, t.box) < 0.3) {
         scan->setScanRangeValidity(i, false);
         break;
       }
-  }
+  });
   return scan;
 }
 

@@ -17,6 +17,7 @@
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -46,6 +47,11 @@ struct Perceived {
   std::vector<SeenObject> tracks, obstacles;
 };
 Perceived PerceivedFrom(const world::Snapshot& snapshot);
+
+// Each valid return of `scan` as a point, the scan taken with the car's box centre at
+// `at`: visit(beam index, point in `at`'s frame).
+void ForEachReturn(const mrpt::obs::CObservation2DRangeScan& scan, const sim::Pose2& at,
+                   const std::function<void(size_t, const cv::Point2d&)>& visit);
 
 // A copy of `scan`, taken at the believed box-centre pose `at`, with every return
 // within 0.3 m of a track's box marked invalid: what tells road users from the

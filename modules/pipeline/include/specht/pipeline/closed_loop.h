@@ -32,7 +32,10 @@
 // now and every 0.5 s up to prediction_s ahead at constant velocity, as a safety
 // layer below the planner would. The emergency check uses neither path, tracks nor
 // margins: the car's box stretched along its motion by the braking distance +
-// emergency_buffer_m against the obstacles of perception's latest frame.
+// emergency_buffer_m against the obstacles of perception's latest frame, and (with
+// `lidar_stop`) stretched by the braking distance + lidar_stop_buffer_m against the
+// raw returns of the latest LiDAR scan in the car's own frame, so that it needs
+// neither the map nor the believed pose (Nav2's collision monitor works so).
 //
 // Planning budget: a search on the car must end in time, but a replay whose paths
 // depend on how fast the machine is would not be one (a sanitizer build or a busy
@@ -82,6 +85,8 @@ struct ClosedLoopOptions {
   double waypoint_tolerance_m = 0.5;
   int max_corrections = 3;
   double emergency_buffer_m = 0.3;
+  bool lidar_stop = true;
+  double lidar_stop_buffer_m = 0.1;
   double pedestrian_slow_radius_m = 4.0;
   double pedestrian_slow_speed_mps = 1.0;
   double look_ahead_m = 15.0;
@@ -95,6 +100,7 @@ struct ClosedLoopOptions {
   std::string perception = "truth";
   double perception_match_m = 1.0;
   double survey_spacing_m = 4.0;
+  bool good_odometry = true;
   double kidnap_at_s = -1;
   double kidnap_m = 2.0;
   double kidnap_deg = 20.0;
@@ -119,6 +125,11 @@ struct ClosedLoopOptions {
             Range::Of(0, 100));
     v.Param("emergency_buffer_m", emergency_buffer_m,
             "emergency stop when an agent is within the braking distance plus this", Range::Of(0.0, 10.0));
+    v.Param("lidar_stop", lidar_stop,
+            "emergency stop also when a raw return of the latest LiDAR scan lies in the car's box stretched by "
+            "the braking distance plus lidar_stop_buffer_m (car frame: no map, no pose)");
+    v.Param("lidar_stop_buffer_m", lidar_stop_buffer_m, "…the stretch beyond the braking distance",
+            Range::Of(0.0, 5.0));
     v.Param("pedestrian_slow_radius_m", pedestrian_slow_radius_m,
             "slow down when a pedestrian is (or walks within prediction_s) this close to the path ahead "
             "(about the margin + the braking distance from 3 m/s)",
@@ -149,6 +160,9 @@ struct ClosedLoopOptions {
     v.Param("survey_spacing_m", survey_spacing_m,
             "localization map: the prior map is surveyed with a 360° scan this far apart over the free space",
             Range::Of(0.5, 50.0));
+    v.Param("good_odometry", good_odometry,
+            "SLAM in the loop takes the simulated car's odometry as good (slam::GoodOdometry, the values of "
+            "params/good-odometry.yaml over scan_matching); off: scan_matching as given");
     v.Choice("perception", perception, {"truth", "detections"},
              "the road users it plans around: the simulator's agents, or noisy detections (section "
              "synthetic_detections) through the tracker (section track) into the world model");
