@@ -493,7 +493,8 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
     if (!scan) return where.Observe(t, obs);
     returns.clear();
-    internal::ForEachReturn(*scan, centre_from_axle, [&](size_t, const cv::Point2d& p) { returns.push_back(p); });
+    if (loop.lidar_stop)
+      internal::ForEachReturn(*scan, centre_from_axle, [&](size_t, const cv::Point2d& p) { returns.push_back(p); });
     if (!lidar && !where.UsesObservations()) return;  // nothing reads the scan
     const auto tracks = internal::PerceivedFrom(*world.snapshot()).tracks;
     const auto kept = internal::WithoutReturnsOn(*scan, where.Believed(sim), tracks);

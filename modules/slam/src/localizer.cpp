@@ -91,7 +91,7 @@ void Localizer::Add(Stamp stamp, const mrpt::obs::CObservation::Ptr& observation
   }
   internal::MatchContext context;
   context.lines = m.lines ? &*m.lines : nullptr;
-  if (m.motion.predicted_from_odometry()) context.odometry_step = m.motion.predicted_step();
+  context.odometry_step = m.motion.odometry_step();
   const CPose2D pose = internal::MatchWithRecovery(m.icp, m.map, points, guess, m.matching, stats_, context).pose;
   if (!trajectory_.empty()) m.motion.SetLastStep(pose - last);
   ++stats_.scans;

@@ -89,8 +89,7 @@ void ScanMatchingMapper::AddScan(Stamp stamp, const CObservation2DRangeScan& raw
   if (!m.keyframe_points.empty() && !points.empty()) {
     const bool weak = !m.motion.predicted_from_odometry();
     searched = weak && options_.search_without_odometry;
-    internal::MatchContext context{weak, last, std::nullopt, SubmapLines()};
-    if (m.motion.predicted_from_odometry()) context.odometry_step = m.motion.predicted_step();
+    const internal::MatchContext context{weak, last, m.motion.odometry_step(), SubmapLines()};
     const internal::MatchResult match =
         internal::MatchWithRecovery(m.icp, Submap(), points, guess, options_, stats_, context);
     pose = match.pose;

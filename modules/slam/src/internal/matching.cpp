@@ -150,14 +150,17 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, c
     prior = IcpPrior{guess, PriorInformation(*context.odometry_step, options), options.point_sigma_m};
   }
   const bool prior_in_icp = prior && options.icp.point_to_line_iterations > 0;
-  IcpResult match = icp.Align(reference, points, guess, prior_in_icp ? &*prior : nullptr, context.lines);
+  const IcpResult match = icp.Align(reference, points, guess, prior_in_icp ? &*prior : nullptr, context.lines);
   stats.icp_iterations += match.iterations;
-  if (prior && !prior_in_icp) {
-    match.pose = FuseWithPrior(match.pose, MatchInformation(points, match.pose, options.point_sigma_m), guess,
-                               prior->information);
-  }
+  // An accepted ICP pose; with the refinement off the prior is fused with it here.
+  const auto accepted = [&]() -> MatchResult {
+    if (!prior || prior_in_icp) return {match.pose, MatchSource::kIcp};
+    return {FuseWithPrior(match.pose, MatchInformation(points, match.pose, options.point_sigma_m), guess,
+                          prior->information),
+            MatchSource::kIcp};
+  };
   const bool icp_bounded = WithinCorrectionBounds(match.pose, guess, options);
-  if (icp_bounded && match.goodness >= options.min_goodness) return {match.pose, MatchSource::kIcp};
+  if (icp_bounded && match.goodness >= options.min_goodness) return accepted();
   const bool icp_weak_ok = icp_bounded && match.goodness >= options.min_goodness / 2;
   // (After a search first, searching again from the same guess would find the same.)
   if (recovery && !search_first) {
@@ -167,7 +170,7 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, c
       return {found->pose, MatchSource::kRecovered};
     }
   }
-  if (icp_weak_ok) return {match.pose, MatchSource::kIcp};
+  if (icp_weak_ok) return accepted();
   ++stats.rejected_matches;
   return {guess, MatchSource::kGuess};
 }
@@ -242,7 +245,7 @@ CPose2D MotionPrior::Predict(const CPose2D& last, bool use_odometry, bool use_im
   ++scans_;
   moved_scans_ += moved;
   const bool live = moved_scans_ >= kMinMovedScans && 2 * moved_scans_ >= scans_;
-  from_odometry_ = use_odometry && have_odometry_ && (moved || live);
+  from_odometry_ = use_odometry && (moved || live);  // live: it moved, so there is odometry
   if (!from_odometry_) step = last_step_;
   if (use_imu && gyro_samples_ > 0) step = CPose2D(step.x(), step.y(), gyro_yaw_);
   gyro_yaw_ = 0;

@@ -85,6 +85,10 @@ class MotionPrior {
   // Whether the last prediction came from wheel odometry, and the step it predicted.
   bool predicted_from_odometry() const { return from_odometry_; }
   const mrpt::poses::CPose2D& predicted_step() const { return predicted_step_; }
+  // The odometry step the last prediction came from (none: constant velocity).
+  std::optional<mrpt::poses::CPose2D> odometry_step() const {
+    return from_odometry_ ? std::optional(predicted_step_) : std::nullopt;
+  }
 
  private:
   bool have_odometry_ = false;
