@@ -16,6 +16,7 @@
 #include "specht/sim/detections.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/localizer.h"
+#include "specht/slam/pose_check.h"
 #include "specht/slam/pose_graph_optimizer.h"
 #include "specht/slam/scan_matching.h"
 #include "specht/stereo/point_cloud.h"
@@ -36,6 +37,7 @@ const params::Registry& AllOptions() {
     r.Add<slam::GridOptions>("grid", "occupancy grid built from keyframes");
     r.Add<slam::PoseGraphOptions>("pose_graph", "pose-graph back end (Ceres)");
     r.Add<slam::LocalizationOptions>("localization", "localization on a saved map (--map)");
+    r.Add<slam::PoseCheckOptions>("pose_check", "the believed pose against a prior map: lost, relocalised");
     r.Add<stereo::SgmOptions>("stereo", "stereo matching: semi-global matcher, guidance, OpenCV baseline");
     r.Add<stereo::CloudOptions>("stereo_cloud", "stereo depth to points and OctoMap");
     r.Add<detect::DetectorOptions>("detect", "CNN detector (cv::dnn): model, input, thresholds, class map");
@@ -71,7 +73,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
   static const std::vector<DefaultsFile> files = {
       {"core.yaml", {"frames"}},
       {"io.yaml", {"replay"}},
-      {"slam.yaml", {"slam", "scan_matching", "loop_closure", "pose_graph", "grid", "localization"}},
+      {"slam.yaml", {"slam", "scan_matching", "loop_closure", "pose_graph", "grid", "localization", "pose_check"}},
       {"stereo.yaml", {"stereo", "stereo_cloud"}},
       {"detect.yaml", {"detect", "fusion"}},
       {"world.yaml", {"world"}},

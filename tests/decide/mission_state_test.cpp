@@ -1,7 +1,8 @@
 // The mission state machine, transition by transition: every (state, event) pair
 // against the table of mission_state.h — the expected next state is written out
 // here independently, so a changed row fails; the emergency stop overrides every
-// state but the final ones; final states absorb everything; only changes are
+// state but the final ones and a lost localisation; a lost localisation stops the
+// car until it is relocalised; final states absorb everything; only changes are
 // logged.
 #include "specht/decide/mission_state.h"
 
@@ -16,10 +17,13 @@ namespace {
 using S = MissionState;
 using E = MissionEvent;
 
-const std::vector<S> kStates = {S::kPlan, S::kDrive, S::kWait, S::kEmergencyStop, S::kDone, S::kFailed};
-const std::vector<E> kEvents = {E::kPathFound,         E::kNoPath,           E::kAgentInWay,      E::kWayClear,
-                                E::kGoalReached,       E::kGoalMissed,       E::kGoalMissedFinal, E::kMissionComplete,
-                                E::kCollisionImminent, E::kCollisionCleared, E::kTimeLimit,       E::kMapChanged};
+const std::vector<S> kStates = {S::kPlan,  S::kDrive, S::kWait,  S::kEmergencyStop, S::kLocalizationLost,
+                                S::kBlind, S::kDone,  S::kFailed};
+const std::vector<E> kEvents = {
+    E::kPathFound,   E::kNoPath,          E::kAgentInWay,       E::kWayClear,          E::kGoalReached,
+    E::kGoalMissed,  E::kGoalMissedFinal, E::kMissionComplete,  E::kCollisionImminent, E::kCollisionCleared,
+    E::kTimeLimit,   E::kMapChanged,      E::kLocalizationLost, E::kRelocalized,       E::kRelocalizationFailed,
+    E::kSensorBlind, E::kSensorRestored};
 
 // Events → states, the table as the header documents it; pairs not listed keep
 // their state.
@@ -36,14 +40,30 @@ const std::map<std::pair<S, E>, S> kExpected = {
     {{S::kDrive, E::kMapChanged}, S::kPlan},
     {{S::kWait, E::kMapChanged}, S::kPlan},
     {{S::kEmergencyStop, E::kCollisionCleared}, S::kPlan},
-    // the emergency stop and the time limit, from every state that is not final
+    {{S::kLocalizationLost, E::kRelocalized}, S::kPlan},
+    {{S::kLocalizationLost, E::kRelocalizationFailed}, S::kFailed},
+    {{S::kBlind, E::kSensorRestored}, S::kPlan},
+    {{S::kPlan, E::kSensorBlind}, S::kBlind},
+    {{S::kDrive, E::kSensorBlind}, S::kBlind},
+    {{S::kWait, E::kSensorBlind}, S::kBlind},
+    // the emergency stop, from every state that is not final but a lost localisation
     {{S::kPlan, E::kCollisionImminent}, S::kEmergencyStop},
     {{S::kDrive, E::kCollisionImminent}, S::kEmergencyStop},
     {{S::kWait, E::kCollisionImminent}, S::kEmergencyStop},
+    {{S::kBlind, E::kCollisionImminent}, S::kEmergencyStop},
+    // a lost localisation, from every state that is not final
+    {{S::kPlan, E::kLocalizationLost}, S::kLocalizationLost},
+    {{S::kDrive, E::kLocalizationLost}, S::kLocalizationLost},
+    {{S::kWait, E::kLocalizationLost}, S::kLocalizationLost},
+    {{S::kEmergencyStop, E::kLocalizationLost}, S::kLocalizationLost},
+    {{S::kBlind, E::kLocalizationLost}, S::kLocalizationLost},
+    // the time limit, from every state that is not final
     {{S::kPlan, E::kTimeLimit}, S::kFailed},
     {{S::kDrive, E::kTimeLimit}, S::kFailed},
     {{S::kWait, E::kTimeLimit}, S::kFailed},
     {{S::kEmergencyStop, E::kTimeLimit}, S::kFailed},
+    {{S::kLocalizationLost, E::kTimeLimit}, S::kFailed},
+    {{S::kBlind, E::kTimeLimit}, S::kFailed},
 };
 
 TEST(MissionStateTest, EveryStateAndEventFollowsTheTable) {
@@ -56,16 +76,32 @@ TEST(MissionStateTest, EveryStateAndEventFollowsTheTable) {
     }
 }
 
-TEST(MissionStateTest, EmergencyStopOverridesEveryStateButTheFinalOnes) {
+TEST(MissionStateTest, EmergencyStopOverridesEveryStateButTheFinalOnesAndALostPose) {
   for (const S s : kStates) {
-    const bool final = s == S::kDone || s == S::kFailed;
-    EXPECT_EQ(NextState(s, E::kCollisionImminent), final ? s : S::kEmergencyStop) << Name(s);
+    const bool keeps = s == S::kDone || s == S::kFailed || s == S::kLocalizationLost;
+    EXPECT_EQ(NextState(s, E::kCollisionImminent), keeps ? s : S::kEmergencyStop) << Name(s);
   }
-  // In the emergency stop nothing but the all-clear (or the time limit) moves on.
+  // In the emergency stop nothing but the all-clear, a lost pose or the time limit moves on.
   for (const E e : kEvents) {
-    if (e == E::kCollisionCleared || e == E::kTimeLimit) continue;
+    if (e == E::kCollisionCleared || e == E::kTimeLimit || e == E::kLocalizationLost) continue;
     EXPECT_EQ(NextState(S::kEmergencyStop, e), S::kEmergencyStop) << Name(e);
   }
+}
+
+TEST(MissionStateTest, ALostPoseStopsTheCarUntilRelocalised) {
+  MissionStateMachine m;
+  EXPECT_TRUE(m.Handle(E::kPathFound, 0.0, "path to bay-a"));
+  EXPECT_TRUE(m.Handle(E::kLocalizationLost, 3.0, "5 scans in a row disagree with the map"));
+  // The emergency stop's all-clear would replan from the wrong pose: neither moves it.
+  EXPECT_FALSE(m.Handle(E::kCollisionImminent, 3.1, "a LiDAR return within the stopping distance"));
+  EXPECT_FALSE(m.Handle(E::kCollisionCleared, 4.2, "clear"));
+  EXPECT_FALSE(m.Handle(E::kPathFound, 4.3, "a stale plan"));
+  EXPECT_EQ(m.state(), S::kLocalizationLost);
+  EXPECT_TRUE(m.Handle(E::kRelocalized, 5.0, "relocalised 2.1 m, 19° away"));
+  EXPECT_EQ(m.state(), S::kPlan);
+  EXPECT_TRUE(m.Handle(E::kLocalizationLost, 9.0, "lost again"));
+  EXPECT_TRUE(m.Handle(E::kRelocalizationFailed, 39.0, "no pose on the map within 8 m"));
+  EXPECT_EQ(m.state(), S::kFailed);
 }
 
 TEST(MissionStateTest, AMissionRunLogsEachChangeWithItsReason) {

@@ -1,8 +1,10 @@
 // `specht run`: the closed loop on the shipped scenarios — the mission state
 // machine plans, waits for agents, corrects and parks; checked against the
 // scenario's ground truth (bay pose, agents' boxes, static map).
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "test_support.h"
 
@@ -110,6 +112,71 @@ TEST(RunCliTest, TheLidarStopHaltsTheCarBeforeTheParkedCarItsTurnCutsPast) {
   for (const auto& t : on["transitions"])
     stopped |= t["reason"].get<std::string>().find("a LiDAR return") != std::string::npos;
   EXPECT_TRUE(stopped);
+}
+
+// A kidnapped pose (2 m ahead and 20° off from 4 s on, as a wrong relocalisation)
+// is noticed by the pose check against the prior map: the car stops, relocalises on
+// the map and parks within tolerance by the truth. Measured on seed 1: noticed 0.5 s
+// after the kidnap, relocalised 0.1 s later to 0.05 m / 0.1° of the true pose.
+TEST(RunCliTest, AKidnappedPoseIsNoticedTheCarStopsRelocalisesAndParks) {
+  const auto report = RunParked("parking-lot.yaml", "1", testing::TempDir("run_cli_kidnap") + "/out",
+                                "--stack full --set closed_loop.kidnap_at_s=4");
+  const auto& run = report["runs"][0];
+  const auto& check = run["localization"]["pose_check"];
+  EXPECT_GE(check["lost"].get<int>(), 1);
+  EXPECT_GE(check["relocalized"].get<int>(), 1);
+  double lost_at = -1, relocalized_at = -1;
+  for (const auto& t : run["transitions"]) {
+    if (t["to"] == "localization_lost" && lost_at < 0) lost_at = t["t_s"].get<double>();
+    if (t["from"] == "localization_lost" && t["to"] == "plan" && relocalized_at < 0)
+      relocalized_at = t["t_s"].get<double>();
+  }
+  EXPECT_GE(lost_at, 4.0);
+  EXPECT_LE(lost_at, 5.0);  // five scans at 10 Hz
+  EXPECT_GE(relocalized_at, lost_at);
+  EXPECT_LE(relocalized_at, lost_at + 1.0);
+  // After the relocalisation the believed pose is back within the parking tolerance.
+  double worst_after = 0;
+  std::istringstream steps(testing::ReadFile(testing::TempDir("run_cli_kidnap") + "/out/steps-1.jsonl"));
+  for (std::string line; std::getline(steps, line);) {
+    const auto k = nlohmann::json::parse(line);
+    if (k["t_s"].get<double>() < relocalized_at + 0.2) continue;
+    const auto& b = k["believed"];
+    worst_after = std::max(worst_after, std::hypot(k["x_m"].get<double>() - b[0].get<double>(),
+                                                   k["y_m"].get<double>() - b[1].get<double>()));
+  }
+  EXPECT_LT(worst_after, 0.1);
+  // Without the check the car drives on the wrong pose.
+  const std::string off = testing::TempDir("run_cli_kidnap") + "/off";
+  testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml' --seeds 1 -q -o '" + off +
+                     "' --stack full --set closed_loop.kidnap_at_s=4 --set pose_check.enabled=false --set "
+                     "closed_loop.time_limit_s=60");
+  const auto unchecked = nlohmann::json::parse(testing::ReadFile(off + "/report.json"))["runs"][0];
+  EXPECT_FALSE(unchecked["success"].get<bool>()) << "the kidnap did no harm unnoticed: the test lost its point";
+}
+
+// A blind camera (no perception frame from 4 s for 3 s): the car slows once the
+// latest frame is blind_slow_s old, stops as blind after blind_stop_s, and drives on
+// when frames come again.
+TEST(RunCliTest, ABlindSensorSlowsThenStopsTheCarUntilFramesReturn) {
+  const auto report = RunParked("parking-lot.yaml", "1", testing::TempDir("run_cli_blind") + "/out",
+                                "--stack full --set closed_loop.blind_at_s=4 --set closed_loop.blind_for_s=3");
+  const auto& run = report["runs"][0];
+  double blind_at = -1, restored_at = -1;
+  for (const auto& t : run["transitions"]) {
+    if (t["to"] == "blind" && blind_at < 0) blind_at = t["t_s"].get<double>();
+    if (t["from"] == "blind" && restored_at < 0) restored_at = t["t_s"].get<double>();
+  }
+  EXPECT_NEAR(blind_at, 4.0 + 1.5, 0.11);  // blind_stop_s after the last frame
+  EXPECT_NEAR(restored_at, 7.0, 0.11);     // the first frame after the fault
+  // While frames were late but not yet missing long enough to stop, the car slowed
+  // (it waits for a cyclist at the start of seed 1, so it may not have been moving).
+  std::istringstream steps(testing::ReadFile(testing::TempDir("run_cli_blind") + "/out/steps-1.jsonl"));
+  for (std::string line; std::getline(steps, line);) {
+    const auto k = nlohmann::json::parse(line);
+    const double t = k["t_s"].get<double>();
+    if (t > blind_at + 0.5 && t < restored_at) EXPECT_EQ(k["state"], "blind") << t;
+  }
 }
 
 // A run is a replay: the same seed gives the same report figures and per-step poses

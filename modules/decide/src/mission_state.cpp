@@ -16,7 +16,7 @@ struct Row {
 };
 
 // The header's table, row for row (the "any" rows are handled in NextState).
-constexpr std::array<Row, 12> kTable = {{
+constexpr std::array<Row, 18> kTable = {{
     {S::kPlan, E::kPathFound, S::kDrive},
     {S::kPlan, E::kNoPath, S::kFailed},
     {S::kDrive, E::kAgentInWay, S::kWait},
@@ -29,6 +29,12 @@ constexpr std::array<Row, 12> kTable = {{
     {S::kDrive, E::kMapChanged, S::kPlan},
     {S::kWait, E::kMapChanged, S::kPlan},
     {S::kEmergencyStop, E::kCollisionCleared, S::kPlan},
+    {S::kLocalizationLost, E::kRelocalized, S::kPlan},
+    {S::kLocalizationLost, E::kRelocalizationFailed, S::kFailed},
+    {S::kBlind, E::kSensorRestored, S::kPlan},
+    {S::kPlan, E::kSensorBlind, S::kBlind},
+    {S::kDrive, E::kSensorBlind, S::kBlind},
+    {S::kWait, E::kSensorBlind, S::kBlind},
 }};
 
 }  // namespace
@@ -43,6 +49,10 @@ const char* Name(MissionState s) {
       return "wait";
     case S::kEmergencyStop:
       return "emergency_stop";
+    case S::kLocalizationLost:
+      return "localization_lost";
+    case S::kBlind:
+      return "blind";
     case S::kDone:
       return "done";
     case S::kFailed:
@@ -77,14 +87,26 @@ const char* Name(MissionEvent e) {
       return "time_limit";
     case E::kMapChanged:
       return "map_changed";
+    case E::kLocalizationLost:
+      return "localization_lost";
+    case E::kRelocalized:
+      return "relocalized";
+    case E::kRelocalizationFailed:
+      return "relocalization_failed";
+    case E::kSensorBlind:
+      return "sensor_blind";
+    case E::kSensorRestored:
+      return "sensor_restored";
   }
   return "?";
 }
 
 MissionState NextState(MissionState state, MissionEvent event) {
   if (state == S::kDone || state == S::kFailed) return state;
-  if (event == E::kCollisionImminent) return S::kEmergencyStop;
   if (event == E::kTimeLimit) return S::kFailed;
+  if (state == S::kLocalizationLost && (event == E::kCollisionImminent || event == E::kLocalizationLost)) return state;
+  if (event == E::kCollisionImminent) return S::kEmergencyStop;
+  if (event == E::kLocalizationLost) return S::kLocalizationLost;
   for (const Row& row : kTable)
     if (row.from == state && row.event == event) return row.to;
   return state;

@@ -122,10 +122,29 @@ class Machine {
       }
   }
 
-  // `returns`: the latest LiDAR scan's returns in the car's rear-axle frame.
+  // `returns`: the latest LiDAR scan's returns in the car's rear-axle frame;
+  // `perception_age_s`: how old perception's latest frame (the track layer) is.
   plan::Command Step(double t, const plan::Pose& pose, double speed, double steer, const Perceived& seen,
-                     const std::vector<cv::Point2d>& returns) {
+                     const std::vector<cv::Point2d>& returns, double perception_age_s) {
     if (machine_.Final()) return {};
+    if (machine_.state() == MissionState::kLocalizationLost) {  // stopped until relocalised (or given up)
+      if (lost_since_ < 0) lost_since_ = t;
+      if (t - lost_since_ > c_.loop.relocalize_timeout_s) {
+        r_.failure = "localisation lost and not found on the map within " +
+                     std::to_string(static_cast<int>(c_.loop.relocalize_timeout_s)) + " s";
+        Handle(MissionEvent::kRelocalizationFailed, t, r_.failure);
+      }
+      return {};
+    }
+    lost_since_ = -1;
+    perception_late_ = perception_age_s > c_.loop.blind_slow_s;
+    if (perception_age_s > c_.loop.blind_stop_s) {
+      char reason[96];
+      std::snprintf(reason, sizeof(reason), "no perception frame for %.2f s", perception_age_s);
+      Handle(MissionEvent::kSensorBlind, t, reason);
+    } else if (!perception_late_ && machine_.state() == MissionState::kBlind) {
+      Handle(MissionEvent::kSensorRestored, t, "perception frames again");
+    }
     // The emergency check first: it overrides whatever the machine is doing.
     if (const std::string what = Imminent(pose, speed, seen.obstacles, returns); !what.empty()) {
       Handle(MissionEvent::kCollisionImminent, t, what);
@@ -241,7 +260,8 @@ class Machine {
     return {};
   }
 
-  // Class-dependent speed below the tracker's: near a pedestrian (now or where it
+  // Class-dependent speed below the tracker's: while perception's frames are late,
+  // at most blind_slow_speed_mps; near a pedestrian (now or where it
   // walks within prediction_s, closer than pedestrian_slow_radius_m to the path
   // ahead) at most pedestrian_slow_speed_mps — they turn without warning, and a
   // slow car stops within the margin; behind a cyclist or car going our way
@@ -264,6 +284,7 @@ class Machine {
     const double front = c_.car.length_m - c_.car.rear_overhang_m;
     double limit = INFINITY;
     const char* kind = nullptr;  // the decision that sets the limit
+    if (perception_late_) limit = c_.loop.blind_slow_speed_mps, kind = "blind";
     for (const auto& a : tracks) {
       const double x = a.box.x, y = a.box.y, vx = a.vx_mps, vy = a.vy_mps;
       if (a.cls == "pedestrian") {
@@ -370,7 +391,8 @@ class Machine {
   MissionStateMachine machine_;
   size_t goal_ = 0;
   int corrections_ = 0;
-  double blocked_since_ = 0, clear_since_ = -1, estop_clear_since_ = -1;
+  double blocked_since_ = 0, clear_since_ = -1, estop_clear_since_ = -1, lost_since_ = -1;
+  bool perception_late_ = false;  // perception's latest frame older than blind_slow_s
 };
 
 }  // namespace
@@ -450,7 +472,66 @@ void ScoreParking(const ClosedLoopConfig& c, const std::vector<Goal>& mission, c
   r.failure = note;
 }
 
+// The believed pose against the prior map (slam/pose_check.h): every scan, its
+// returns on tracks removed, scored where the car believes it took it; lost after
+// lost_after_scans disagreeing scans in a row, then searched for on the map at every
+// scan until found.
+class LoopPoseCheck {
+ public:
+  LoopPoseCheck(std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> prior_map, const slam::PoseCheckOptions& options)
+      : prior_map_(std::move(prior_map)), check_(*prior_map_, options), monitor_(options) {}
+
+  // `scan` (returns on tracks removed) taken at the believed box-centre pose `at`.
+  void Observe(const mrpt::obs::CObservation2DRangeScan& scan, double t, internal::LoopLocalization& where,
+               const sim::Simulator& sim, Machine& machine) {
+    mrpt::maps::CSimplePointsMap points;
+    internal::ForEachReturn(scan, {0, 0, 0},
+                            [&](size_t, const cv::Point2d& p) { points.insertPointFast(p.x, p.y, 0); });
+    const sim::Pose2 at = where.AtLatestScan(sim);
+    const mrpt::poses::CPose2D believed(at.x, at.y, at.yaw_rad);
+    if (machine.state() == MissionState::kLocalizationLost) {
+      const auto found = check_.Relocalize(points, believed);
+      if (!found) return;
+      where.Relocalize(sim, {found->pose.x(), found->pose.y(), found->pose.phi()});
+      monitor_.Reset();
+      ++relocalized_;
+      char reason[128];
+      std::snprintf(reason, sizeof(reason), "relocalised %.2f m, %.1f° from the lost pose (score %.2f)",
+                    std::hypot(found->pose.x() - at.x, found->pose.y() - at.y),
+                    std::abs(std::remainder(found->pose.phi() - at.yaw_rad, 2 * M_PI)) * 180 / M_PI, found->score);
+      machine.Handle(MissionEvent::kRelocalized, t, reason);
+      return;
+    }
+    const std::optional<double> score = check_.Score(points, believed);
+    if (!monitor_.Add(score) || machine.Final()) return;
+    ++lost_;
+    char reason[128];
+    std::snprintf(reason, sizeof(reason), "%d scans in a row disagree with the map at the believed pose (score %.2f)",
+                  check_.options().lost_after_scans, *score);
+    machine.Handle(MissionEvent::kLocalizationLost, t, reason);
+  }
+
+  nlohmann::json ToJson() const {
+    return {{"scans_scored", monitor_.scored()},
+            {"scans_disagreeing", monitor_.disagreeing_total()},
+            {"lowest_score", monitor_.lowest()},
+            {"lost", lost_},
+            {"relocalized", relocalized_}};
+  }
+
+ private:
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> prior_map_;  // the check reads it
+  slam::PoseCheck check_;
+  slam::PoseMonitor monitor_;
+  int lost_ = 0, relocalized_ = 0;
+};
+
 }  // namespace
+
+std::vector<std::string> ClosedLoopOptions::Relations() const {
+  if (blind_stop_s <= blind_slow_s) return {"blind_stop_s must be above blind_slow_s"};
+  return {};
+}
 
 std::string ClosedLoopOptions::Stack() const {
   if (localization == "truth" && perception == "truth") return "truth";
@@ -473,7 +554,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   internal::LoopLocalization where(loop.localization, scenario, slam_config,
                                    {loop.kidnap_at_s, loop.kidnap_m, loop.kidnap_deg});
   internal::LoopPerception perceive(loop.perception, loop.control_hz, config.detection, config.tracking,
-                                    loop.perception_match_m, seed, world);
+                                    loop.perception_match_m, seed, world, {loop.blind_at_s, loop.blind_for_s});
   const mrpt::maps::COccupancyGridMap2D true_grid = sim::World(scenario).TrueGrid(0.1);
   Machine machine(true_grid, config, mission, r);
   ContactScore contacts(scenario, config, machine.truth_map());
@@ -483,6 +564,10 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     lidar.emplace(machine.truth_map());  // nothing seen yet
   else                                   // a prior map of the site: the scenario's true grid
     world.SetStaticMap(true_grid, sim.stamp());
+  // The pose check needs a prior map, and a pose that can be wrong.
+  std::optional<LoopPoseCheck> pose_check;
+  if (config.pose_check.enabled && !lidar && (loop.localization != "truth" || loop.kidnap_at_s >= 0))
+    pose_check.emplace(world.snapshot()->static_map, config.pose_check);
   perceive.Step(sim, where.Believed(sim));
   // Scans reach SLAM and the LiDAR map without their returns on tracked road users:
   // a car driving ahead along a street whose walls leave the scan matcher free along
@@ -495,11 +580,12 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     returns.clear();
     if (loop.lidar_stop)
       internal::ForEachReturn(*scan, centre_from_axle, [&](size_t, const cv::Point2d& p) { returns.push_back(p); });
-    if (!lidar && !where.UsesObservations()) return;  // nothing reads the scan
+    if (!lidar && !where.UsesObservations() && !pose_check) return;  // nothing reads the scan
     const auto tracks = internal::PerceivedFrom(*world.snapshot()).tracks;
     const auto kept = internal::WithoutReturnsOn(*scan, where.Believed(sim), tracks);
     where.Observe(t, kept);
     if (lidar) lidar->Insert(*kept, where.AtLatestScan(sim));
+    if (pose_check) pose_check->Observe(*kept, sim.time_s(), where, sim, machine);
   };
   double map_updated_s = -INFINITY;
   while (!machine.Final()) {
@@ -520,11 +606,13 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     }
     const auto snapshot = world.snapshot();
     machine.SyncMap(*snapshot, t);
+    where.Tick(sim);
     where.Score(sim);
     const auto& ego = sim.ego();
     const plan::Pose believed = EgoRearAxle(scenario, where.Believed(sim));
     const Perceived seen = internal::PerceivedFrom(*snapshot);
-    const plan::Command cmd = machine.Step(t, believed, ego.speed_mps, ego.steer_rad, seen, returns);
+    const double perception_age_s = SecondsBetween(snapshot->tracks_stamp, sim.stamp());
+    const plan::Command cmd = machine.Step(t, believed, ego.speed_mps, ego.steer_rad, seen, returns, perception_age_s);
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     r.trajectory.push_back(pose);
@@ -540,6 +628,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   ScoreParking(config, mission, EgoRearAxle(scenario, sim.ego().pose), r);
   r.stack = loop.Stack();
   r.localization = where.ToJson();
+  if (pose_check) r.localization["pose_check"] = pose_check->ToJson();
   r.perception = perceive.ToJson();
   return r;
 }

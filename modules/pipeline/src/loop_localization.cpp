@@ -11,9 +11,13 @@
 namespace specht::pipeline::internal {
 namespace {
 
-sim::Pose2 Compose(const sim::Pose2& a, const mrpt::poses::CPose2D& b) {
-  const double c = std::cos(a.yaw_rad), s = std::sin(a.yaw_rad);
-  return {a.x + c * b.x() - s * b.y(), a.y + s * b.x() + c * b.y(), std::remainder(a.yaw_rad + b.phi(), 2 * M_PI)};
+using mrpt::poses::CPose2D;
+
+CPose2D ToMrpt(const sim::Pose2& p) { return CPose2D(p.x, p.y, p.yaw_rad); }
+sim::Pose2 FromMrpt(const CPose2D& p) { return {p.x(), p.y(), p.phi()}; }
+CPose2D Inverse(CPose2D p) {
+  p.inverse();
+  return p;
 }
 
 // The survey: 360° scans of the static world from every free point of a grid.
@@ -46,16 +50,16 @@ std::vector<slam::Keyframe> Survey(const sim::Scenario& scenario, double spacing
 
 LoopLocalization::LoopLocalization(const std::string& mode, const sim::Scenario& scenario, const LoopSlamConfig& c,
                                    Kidnap kidnap)
-    : mode_(mode), start_(scenario.ego.start), kidnap_(kidnap) {
+    : mode_(mode), start_(ToMrpt(scenario.ego.start)), kidnap_(kidnap) {
   if (mode == "slam") {
     slam_ = std::make_unique<slam::GraphSlam>(c.slam, c.matching, c.loops, c.graph, nullptr, "base_link");
   } else if (mode == "map") {
     slam::LocalizationOptions options;
-    options.initial_pose = {start_.x, start_.y, start_.yaw_rad * 180 / M_PI};
+    options.initial_pose = {start_.x(), start_.y(), start_.phi() * 180 / M_PI};
     localizer_ = std::make_unique<slam::Localizer>(Survey(scenario, c.survey_spacing_m), options, c.matching, nullptr,
                                                    "base_link");
-    at_scan_ = mrpt::poses::CPose2D(start_.x, start_.y, start_.yaw_rad);  // until the first scan is placed
-    start_ = {};                                                          // its poses are in the map frame already
+    at_scan_ = start_;  // until the first scan is placed
+    start_ = {};        // its poses are in the map frame already
   } else if (mode != "truth")
     throw InputError("closed_loop.localization: unknown mode '" + mode + "'");
 }
@@ -78,19 +82,33 @@ void LoopLocalization::Observe(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
   }
 }
 
-sim::Pose2 LoopLocalization::Kidnapped(const sim::Pose2& p, double t_s) const {
-  if (kidnap_.at_s < 0 || t_s < kidnap_.at_s) return p;
-  return Compose(p, mrpt::poses::CPose2D(kidnap_.ahead_m, 0, kidnap_.yaw_deg * M_PI / 180));
+CPose2D LoopLocalization::Estimate(const sim::Simulator& sim) const {
+  if (!UsesObservations()) return ToMrpt(sim.ego().pose);
+  return start_ + at_scan_ + (odometry_ - odometry_at_scan_);
 }
 
-sim::Pose2 LoopLocalization::Believed(const sim::Simulator& sim) const {
-  if (!UsesObservations()) return Kidnapped(sim.ego().pose, sim.time_s());
-  return Kidnapped(Compose(start_, at_scan_ + (odometry_ - odometry_at_scan_)), sim.time_s());
+CPose2D LoopLocalization::EstimateAtScan(const sim::Simulator& sim) const {
+  if (!UsesObservations()) return ToMrpt(sim.ego().pose);
+  return start_ + at_scan_;
 }
+
+void LoopLocalization::Tick(const sim::Simulator& sim) {
+  if (kidnapped_ || kidnap_.at_s < 0 || sim.time_s() < kidnap_.at_s) return;
+  kidnapped_ = true;
+  // correction' ⊕ estimate = believed ⊕ offset
+  const CPose2D believed = correction_ + Estimate(sim);
+  correction_ = believed + CPose2D(kidnap_.ahead_m, 0, kidnap_.yaw_deg * M_PI / 180) + Inverse(Estimate(sim));
+}
+
+void LoopLocalization::Relocalize(const sim::Simulator& sim, const sim::Pose2& found) {
+  correction_ = ToMrpt(found) + Inverse(EstimateAtScan(sim));  // correction' ⊕ estimate at the scan = found
+  ++relocalizations_;
+}
+
+sim::Pose2 LoopLocalization::Believed(const sim::Simulator& sim) const { return FromMrpt(correction_ + Estimate(sim)); }
 
 sim::Pose2 LoopLocalization::AtLatestScan(const sim::Simulator& sim) const {
-  if (!UsesObservations()) return Kidnapped(sim.ego().pose, sim.time_s());
-  return Kidnapped(Compose(start_, at_scan_), sim.time_s());
+  return FromMrpt(correction_ + EstimateAtScan(sim));
 }
 
 void LoopLocalization::Score(const sim::Simulator& sim) {
@@ -112,7 +130,8 @@ nlohmann::json LoopLocalization::ToJson() const {
                       {"ate_rmse_m", e.empty() ? 0.0 : std::sqrt(sq / e.size())},
                       {"ate_p90_m", q(0.9)},
                       {"ate_max_m", e.empty() ? 0.0 : e.back()},
-                      {"heading_error_max_deg", max_heading_error_deg_}};
+                      {"heading_error_max_deg", max_heading_error_deg_},
+                      {"relocalizations", relocalizations_}};
   if (localizer_) j["scans"] = scans_;
   if (slam_) {
     j["scans"] = scans_;

@@ -66,8 +66,9 @@ mrpt::obs::CObservation2DRangeScan::Ptr WithoutReturnsOn(const mrpt::obs::CObser
 
 LoopPerception::LoopPerception(const std::string& mode, double control_hz,
                                const sim::SyntheticDetectionOptions& detection, const track::TrackerOptions& tracking,
-                               double match_m, uint64_t seed, world::WorldModel& world)
+                               double match_m, uint64_t seed, world::WorldModel& world, Blindness blind)
     : mode_(mode),
+      blind_(blind),
       truth_every_(std::max(1, static_cast<int>(std::lround(1.0 / (control_hz * sim::Simulator::kStepS))))),
       match_m_(match_m),
       world_(world) {
@@ -80,6 +81,7 @@ LoopPerception::LoopPerception(const std::string& mode, double control_hz,
 }
 
 void LoopPerception::Step(const sim::Simulator& sim, const sim::Pose2& believed) {
+  if (blind_.Covers(sim.time_s())) return;
   const sim::Pose2 truth = sim.ego().pose;
   world::WorldUpdate u;
   u.stamp = sim.stamp();

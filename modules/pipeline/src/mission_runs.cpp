@@ -71,6 +71,7 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   config.slam = {params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
                  params.Get<slam::LoopClosureOptions>("loop_closure"),
                  params.Get<slam::PoseGraphOptions>("pose_graph")};
+  config.pose_check = params.Get<slam::PoseCheckOptions>("pose_check");
   config.detection = params.Get<sim::SyntheticDetectionOptions>("synthetic_detections");
   config.tracking = params.Get<track::TrackerOptions>("track");
   config.world = params.Get<world::WorldModelOptions>("world");

@@ -9,8 +9,11 @@
 //          the map's points, seeded by odometry, starting at the scenario's start
 //          pose): the map is a survey of the static world — 360° scans taken every
 //          survey_spacing_m over its free space — as a mapping drive would leave.
-// A kidnap (kidnap_at_s ≥ 0) adds (kidnap_m ahead, kidnap_deg) to every pose
-// believed from that time on, as a wrong relocalisation would.
+// Whatever the mode, the believed pose is correction ⊕ the estimate: the correction
+// (map ← the estimator's frame, identity at the start) is what a relocalisation on the
+// prior map sets (Relocalize), and what a kidnap corrupts: at kidnap_at_s (≥ 0) the
+// believed pose jumps by (kidnap_m ahead, kidnap_deg) and moves on from there with the
+// estimate, as after a wrong relocalisation.
 // Scored against the simulator at every control step (never fed back): absolute
 // trajectory error of the position (RMSE, p90, max) and of the heading (max).
 #pragma once
@@ -39,6 +42,11 @@ class LoopLocalization {
   bool UsesObservations() const { return slam_ || localizer_; }
   // Every observation the simulator makes, in order.
   void Observe(Stamp t, const mrpt::obs::CObservation::Ptr& observation);
+  // Once per control step, before the pose is read: applies the kidnap when it is due.
+  void Tick(const sim::Simulator& sim);
+  // The scan of the latest pose (AtLatestScan) lies at `found` on the prior map: from
+  // now on the believed pose follows the estimate from there.
+  void Relocalize(const sim::Simulator& sim, const sim::Pose2& found);
   // The believed pose now (`sim` only for the truth mode and the kidnap's clock).
   sim::Pose2 Believed(const sim::Simulator& sim) const;
   // The believed pose at the latest scan (where the LiDAR map inserts it).
@@ -48,10 +56,15 @@ class LoopLocalization {
   nlohmann::json ToJson() const;
 
  private:
-  sim::Pose2 Kidnapped(const sim::Pose2& p, double t_s) const;
+  // The estimate, before the correction: now, and at the latest scan.
+  mrpt::poses::CPose2D Estimate(const sim::Simulator& sim) const;
+  mrpt::poses::CPose2D EstimateAtScan(const sim::Simulator& sim) const;
   std::string mode_;
-  sim::Pose2 start_;
+  mrpt::poses::CPose2D start_;
   Kidnap kidnap_;
+  bool kidnapped_ = false;
+  mrpt::poses::CPose2D correction_;  // map ← the estimator's frame
+  int relocalizations_ = 0;
   std::unique_ptr<slam::GraphSlam> slam_;
   std::unique_ptr<slam::Localizer> localizer_;
   long scans_ = 0;

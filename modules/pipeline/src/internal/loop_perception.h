@@ -64,10 +64,17 @@ struct PerceptionCounts {
   long right = 0, reported = 0;  // precision
 };
 
+// A fault: from at_s (≥ 0) for for_s, perception delivers no frame (a blind camera).
+struct Blindness {
+  double at_s = -1, for_s = 0;
+  bool Covers(double t_s) const { return at_s >= 0 && t_s >= at_s && t_s < at_s + for_s; }
+};
+
 class LoopPerception {
  public:
   LoopPerception(const std::string& mode, double control_hz, const sim::SyntheticDetectionOptions& detection,
-                 const track::TrackerOptions& tracking, double match_m, uint64_t seed, world::WorldModel& world);
+                 const track::TrackerOptions& tracking, double match_m, uint64_t seed, world::WorldModel& world,
+                 Blindness blind = {});
   // After every simulator step (and once before the first): writes the world model
   // when a frame is due. `believed` is where the car thinks its box centre is.
   void Step(const sim::Simulator& sim, const sim::Pose2& believed);
@@ -77,6 +84,7 @@ class LoopPerception {
   void Score(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,
              const std::vector<types::Track>& tracks);
   std::string mode_;
+  Blindness blind_;
   int truth_every_;  // simulator steps per truth frame
   double match_m_;
   world::WorldModel& world_;

@@ -15,13 +15,23 @@
 //   drive           map_changed           plan       (the map now blocks the path ahead)
 //   wait            map_changed           plan
 //   emergency_stop  collision_cleared     plan       (the old path may be stale)
-//   any but done, failed:
+//   localization_lost relocalized         plan       (the path was planned from a wrong pose)
+//   localization_lost relocalization_failed failed
+//   blind           sensor_restored       plan
+//   any but done, failed, localization_lost:
 //                   collision_imminent    emergency_stop
+//                   localization_lost     localization_lost
+//   plan, drive, wait:
+//                   sensor_blind          blind
+//   any but done, failed:
 //                   time_limit            failed
-// The emergency stop overrides every other state: the independent collision check
-// raises collision_imminent whatever the machine is doing. done and failed are
-// final. An event with no row for the current state changes nothing (and is not
-// logged).
+// The emergency stop overrides every other state but a lost localisation: the
+// independent collision check raises collision_imminent whatever the machine is
+// doing. A lost pose (localisation_lost) stops the car until it is relocalised; the
+// emergency stop's way out (collision_cleared → plan) would plan from the wrong pose,
+// so it does not take the car out of that state. A blind sensor (perception's frames
+// stopped coming) stops the car until they come again. done and failed are final. An event with no row for the current
+// state changes nothing (and is not logged).
 #pragma once
 
 #include <string>
@@ -29,7 +39,7 @@
 
 namespace specht::decide {
 
-enum class MissionState { kPlan, kDrive, kWait, kEmergencyStop, kDone, kFailed };
+enum class MissionState { kPlan, kDrive, kWait, kEmergencyStop, kLocalizationLost, kBlind, kDone, kFailed };
 enum class MissionEvent {
   kPathFound,
   kNoPath,
@@ -43,6 +53,11 @@ enum class MissionEvent {
   kCollisionCleared,
   kTimeLimit,
   kMapChanged,
+  kLocalizationLost,
+  kRelocalized,
+  kRelocalizationFailed,
+  kSensorBlind,
+  kSensorRestored,
 };
 
 const char* Name(MissionState state);

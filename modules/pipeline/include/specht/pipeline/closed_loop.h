@@ -19,6 +19,15 @@
 //   collision_imminent  the emergency check, whatever the state
 //   collision_cleared   the emergency check has been clear for clear_s
 //   time_limit          time_limit_s passed
+//   localization_lost   the pose check (slam/pose_check.h, section pose_check) finds
+//                       lost_after_scans scans in a row that disagree with the prior
+//                       map at the believed pose: the car stops
+//   relocalized         while lost, a scan is found on the prior map near the believed
+//                       pose; the believed pose moves there and the machine replans
+//   relocalization_failed  still lost after relocalize_timeout_s
+//   sensor_blind        perception's latest frame is older than blind_stop_s (the car
+//                       stops; from blind_slow_s it drives at most blind_slow_speed_mps)
+//   sensor_restored     in blind: a frame younger than blind_slow_s
 // What the machine reads about the world is a world-model snapshot (world/
 // world_model.h): the static layer, the tracks and the latest perception frame's
 // obstacles, written by perception (closed_loop.perception: the simulator's agents
@@ -66,6 +75,7 @@
 #include "specht/sim/detections.h"
 #include "specht/sim/scenario.h"
 #include "specht/slam/graph_slam.h"
+#include "specht/slam/pose_check.h"
 #include "specht/track/tracker.h"
 #include "specht/world/world_model.h"
 
@@ -104,6 +114,12 @@ struct ClosedLoopOptions {
   double kidnap_at_s = -1;
   double kidnap_m = 2.0;
   double kidnap_deg = 20.0;
+  double relocalize_timeout_s = 30.0;
+  double blind_slow_s = 0.5;
+  double blind_stop_s = 1.5;
+  double blind_slow_speed_mps = 1.0;
+  double blind_at_s = -1;
+  double blind_for_s = 5.0;
 
   template <class V>
   void Visit(V& v) {
@@ -172,9 +188,22 @@ struct ClosedLoopOptions {
             Range::Of(-1.0, 36000.0));
     v.Param("kidnap_m", kidnap_m, "…by this much ahead of the car", Range::Of(-50.0, 50.0));
     v.Param("kidnap_deg", kidnap_deg, "…and this much in heading", Range::Of(-180.0, 180.0));
+    v.Param("relocalize_timeout_s", relocalize_timeout_s,
+            "the mission fails when the pose, once lost (section pose_check), is not found on the map within this",
+            Range::Of(0.1, 3600.0));
+    v.Param("blind_slow_s", blind_slow_s,
+            "perception's latest frame older than this: drive at most blind_slow_speed_mps", Range::Of(0.05, 60.0));
+    v.Param("blind_stop_s", blind_stop_s, "…older than this: the sensor is blind, the car stops until frames come",
+            Range::Of(0.05, 60.0));
+    v.Param("blind_slow_speed_mps", blind_slow_speed_mps, "the speed limit while perception's frames are late",
+            Range::Of(0.1, 20.0));
+    v.Param("blind_at_s", blind_at_s, "a fault: perception delivers no frame from this time on (< 0: never)",
+            Range::Of(-1.0, 36000.0));
+    v.Param("blind_for_s", blind_for_s, "…for this long", Range::Of(0.0, 36000.0));
   }
   // "truth" (both oracles), "full" (SLAM and perceived tracks) or "mixed".
   std::string Stack() const;
+  std::vector<std::string> Relations() const;
 };
 
 struct ClosedLoopResult {
@@ -218,6 +247,7 @@ struct ClosedLoopConfig {
   ClosedLoopOptions loop;
   // What localisation and perception in the loop use (loop.localization, loop.perception).
   LoopSlamConfig slam;
+  slam::PoseCheckOptions pose_check;  // where the believed pose can be wrong and the static layer is a prior map
   sim::SyntheticDetectionOptions detection;
   track::TrackerOptions tracking;
   world::WorldModelOptions world;
