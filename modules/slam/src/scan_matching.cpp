@@ -251,6 +251,8 @@ ScanMatchingOptions GoodOdometry(ScanMatchingOptions options) {
   options.prior_fraction = 0.03;
   options.prior_min_m = 0.005;
   options.submap_resolution_m = 0.08;
+  options.recovery_window_m = 0.5;
+  options.recovery_window_deg = 10;
   return options;
 }
 

@@ -197,7 +197,10 @@ struct ScanMatchingOptions {
 // simulator's, a typical small car's): the odometry step is a prior inside ICP
 // (`fuse_odometry`) at 3 % of the step with a 5 mm floor, and the lines are fitted to
 // the submap's 8 cm cell means. On a straight street the stacked submap otherwise
-// lets the pose slide with the noise along the walls. Not the defaults: on logs whose
+// lets the pose slide with the noise along the walls. A rejected match is searched
+// again only within ±0.5 m and ±10° of the odometry's guess (the recovery window):
+// good odometry is not wrong by more between two scans, while a wide search lets a
+// few returns (a car waiting beside a passing truck) turn the pose by 90°. Not the defaults: on logs whose
 // odometry drifts tens of metres so tight a prior breaks loops, and on thinned logs the
 // cell means are coarser than the submap itself (docs/slam-experiments.md,
 // 2026-12-03). params/good-odometry.yaml holds the same values (a test checks).
