@@ -141,6 +141,26 @@ TEST(CorrelativeMatcherTest, BranchAndBoundFindsTheBestScoreOfTheWholeLattice) {
   EXPECT_NEAR(r->pose.y(), b.y(), 0.11);
 }
 
+// A wide window shifts the scan's points off the grid's low edge at the coarse levels
+// while the finer translations below bring them back onto the map: the coarse bound
+// must still count them, or the search cuts the branch holding the best pose and
+// its answer depends on the acceptance threshold.
+TEST(CorrelativeMatcherTest, BranchAndBoundStaysExactWhenTheWindowReachesPastTheGridsEdge) {
+  const CPose2D a(2.0, 2.0, 0.0), b(2.3, 1.8, 0.1);
+  const double res = 0.1, window = 2.0;
+  const CorrelativeMatcher matcher(InWorld(RoomScan(a), a), res, window);
+  const CSimplePointsMap scan = Decimate(RoomScan(b), res);
+  const CPose2D guess(b.x() - 1.0, b.y() - 1.1, b.phi());
+  const double best = BestLatticeScore(matcher, scan, guess, res, 20, 0.0);
+  for (const double min_score : {0.1, 0.4, best - 0.01}) {
+    const auto r = matcher.Match(scan, guess, window, 0.0, min_score);
+    ASSERT_TRUE(r.has_value()) << "min_score " << min_score;
+    EXPECT_NEAR(r->score, best, 1.0 / scan.size()) << "min_score " << min_score;
+    EXPECT_NEAR(r->pose.x(), b.x(), 0.11);
+    EXPECT_NEAR(r->pose.y(), b.y(), 0.11);
+  }
+}
+
 TEST(DrivePriorTest, ExcessIsTheMotionSidewaysOrBackwardsBeyondTheSlack) {
   DrivePrior prior{CPose2D(1.0, 2.0, M_PI / 2), 0.1, 0.2, false};  // facing +y
   EXPECT_DOUBLE_EQ(prior.ExcessM(1.0, 4.0, M_PI / 2), 0.0);        // 2 m straight ahead

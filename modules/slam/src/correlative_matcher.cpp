@@ -223,8 +223,14 @@ std::optional<CorrelativeResult> CorrelativeMatcher::Match(const mrpt::maps::CSi
       }
       return sum;
     }
+    // A cell left of or below the grid at a coarse level still stands for a block
+    // (cx .. cx + 2^level − 1) that may reach into it: P at the grid's edge cell
+    // bounds that part, so the bound stays admissible.
+    const int span = (1 << level) - 1;
     for (int i = 0; i < count; ++i) {
-      const int cx = r.cells[i].first + c.dx, cy = r.cells[i].second + c.dy;
+      int cx = r.cells[i].first + c.dx, cy = r.cells[i].second + c.dy;
+      if (cx < 0 && cx + span >= 0) cx = 0;
+      if (cy < 0 && cy + span >= 0) cy = 0;
       if (cx >= 0 && cy >= 0 && cx < width_ && cy < height_) sum += cells_at[static_cast<size_t>(cy) * width_ + cx];
       if (sum - 255 * (i + 1) <= give_up) return sum;
     }

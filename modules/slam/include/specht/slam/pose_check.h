@@ -43,13 +43,13 @@ struct PoseCheckOptions {
   bool enabled = true;
   double resolution_m = 0.1;
   double blur_cells = 2.0;
-  double lost_below = 0.35;
+  double lost_below = 0.5;
   int lost_after_scans = 5;
   int min_points = 100;
   double free_radius_m = 0.5;
   double search_window_m = 8.0;
   double search_window_deg = 30.0;
-  double relocalized_above = 0.6;
+  double relocalized_above = 0.7;
 
   template <class V>
   void Visit(V& v) {
