@@ -12,6 +12,7 @@
 #include "specht/pipeline/perception.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/kinodynamic.h"
+#include "specht/plan/local_planner.h"
 #include "specht/plan/smoother.h"
 #include "specht/sim/detections.h"
 #include "specht/slam/graph_slam.h"
@@ -61,6 +62,8 @@ const params::Registry& AllOptions() {
                                     plan::FineSearchDefaults());
     r.Add<plan::KinodynamicOptions>("kinodynamic",
                                     "kinodynamic planner: OMPL SST / RRT / KPIECE1 over the bicycle model");
+    r.Add<plan::LocalPlannerOptions>("local_planner",
+                                     "the OMPL local planner over a receding horizon along the global route");
     r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
     r.Add<plan::TrackerOptions>("tracker", "path tracking: pure pursuit and speed profile");
     r.Add<pipeline::ClosedLoopOptions>("closed_loop", "mission state machine: margins, waiting, tolerances");
@@ -81,7 +84,8 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"track.yaml", {"track", "synthetic_detections"}},
       {"classify.yaml", {"classify", "classify_model"}},
       {"ais.yaml", {"ais_decoder", "ais", "ais_classify", "ais_model"}},
-      {"plan.yaml", {"car", "hybrid_astar", "hybrid_astar_fine", "kinodynamic", "smoother", "tracker"}},
+      {"plan.yaml",
+       {"car", "hybrid_astar", "hybrid_astar_fine", "kinodynamic", "local_planner", "smoother", "tracker"}},
       {"decide.yaml", {"closed_loop"}},
   };
   return files;

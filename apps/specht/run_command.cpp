@@ -1,4 +1,4 @@
-// `specht run <scenario.yaml> [--mission M.yaml] [--seeds A-B] -o DIR`: the closed
+// `specht run <scenario.yaml> [--mission M.yaml] [--seeds A-B] [--stack full|truth] -o DIR`: the closed
 // loop (pipeline/mission_runs.h).
 #include "commands.h"
 #include "specht/pipeline/mission_runs.h"
@@ -10,7 +10,7 @@ struct RunArgs {
   CommonArgs common;
   pipeline::MissionRunInputs in;
   std::string seeds;
-  std::string stack = "truth";
+  std::string stack = "full";
 };
 
 }  // namespace
@@ -23,8 +23,9 @@ void AddRunCommand(CLI::App& app, int& exit_code) {
                   "mission file (goals: waypoints, park: BAY); default: park in the first bay");
   cmd->add_option("--seeds", args->seeds, "seed N or range A-B (default: the scenario's seed)");
   cmd->add_option("--stack", args->stack,
-                  "truth: the simulator's pose and agents; full: SLAM localisation and tracks from noisy "
-                  "detections (closed_loop.localization slam, perception detections; --set overrides either)")
+                  "full: SLAM localisation and tracks from noisy detections (closed_loop.localization slam, "
+                  "perception detections); truth: the simulator's pose and agents, the oracle to compare with "
+                  "(--set overrides either)")
       ->check(CLI::IsMember({"full", "truth"}))
       ->capture_default_str();
   AddCommonOptions(*cmd, args->common, "specht-out/run");

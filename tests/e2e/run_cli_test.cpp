@@ -33,7 +33,7 @@ nlohmann::json RunParked(const std::string& scenario, const std::string& seeds, 
 
 TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
   const std::string out = testing::TempDir("run_cli") + "/out";
-  const auto report = RunParked("parking-lot.yaml", "1-3", out);
+  const auto report = RunParked("parking-lot.yaml", "1-3", out, "--stack truth");
   const auto& m = report["metrics"];
   if (!m["min_pedestrian_distance_m"].is_null()) {  // braces: EXPECT_GE is an if/else inside
     EXPECT_GE(m["min_pedestrian_distance_m"].get<double>(), m["pedestrian_margin_m"].get<double>());
@@ -54,7 +54,8 @@ TEST(RunCliTest, ParksInTheParkingLotWithoutCollisions) {
 // of the fine search's 2 s); with closed_loop.planning_budget time they apply.
 TEST(RunCliTest, ParksInTheTightParallelBayOfTheCourseWhateverTheClock) {
   const std::string dir = testing::TempDir("run_cli_bay");
-  const std::string no_time = "--set hybrid_astar.time_budget_ms=1 --set hybrid_astar_fine.time_budget_ms=1";
+  const std::string no_time =
+      "--stack truth --set hybrid_astar.time_budget_ms=1 --set hybrid_astar_fine.time_budget_ms=1";
   RunParked("course-loop.yaml", "1", dir + "/out", no_time);
   const auto clocked = testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/course-loop.yaml' " +
                                           "--seeds 1 -q -o '" + dir + "/clocked' " + no_time +
@@ -67,7 +68,7 @@ TEST(RunCliTest, ParksInTheTightParallelBayOfTheCourseWhateverTheClock) {
 // cells free); walls that appear on the path ahead send it back to plan.
 TEST(RunCliTest, ParksOnTheMapItsLidarBuildsReplanningAsWallsAppear) {
   const auto report = RunParked("urban-crossing.yaml", "1", testing::TempDir("run_cli_lidar") + "/out",
-                                "--set closed_loop.map_source=lidar");
+                                "--stack truth --set closed_loop.map_source=lidar");
   const auto& run = report["runs"][0];
   EXPECT_GE(run["map_replans"].get<int>(), 1);
   bool logged = false;
@@ -79,7 +80,7 @@ TEST(RunCliTest, ParksOnTheMapItsLidarBuildsReplanningAsWallsAppear) {
 // --stack full drives on what the car perceives: SLAM's pose (scored against the
 // simulator: 0.013 m at worst measured on these seeds) and tracks from noisy
 // detections (recall 0.90–0.97 per class measured); --stack truth is the oracle.
-TEST(RunCliTest, TheFullStackDrivesOnSlamAndPerceivedTracks) {
+TEST(RunCliTest, TheFullStackDrivesOnSlamPerceivedTracksAndTheLocalPlannersPaths) {
   const std::string dir = testing::TempDir("run_cli_full");
   const auto report = RunParked("parking-lot.yaml", "101-102", dir + "/full", "--stack full");
   const auto& m = report["metrics"];
@@ -90,6 +91,16 @@ TEST(RunCliTest, TheFullStackDrivesOnSlamAndPerceivedTracks) {
     EXPECT_GE(m["perception"][cls]["recall"].get<double>(), 0.85) << cls;
     EXPECT_GE(m["perception"][cls]["precision"].get<double>(), 0.8) << cls;
   }
+  // The OMPL local planner drives: the car follows its paths on all the driving but
+  // the final manoeuvres into the bays (which follow hybrid A*'s route).
+  const auto& local = m["local_planner"];
+  EXPECT_GE(local["share_of_driving_outside_manoeuvres"].get<double>(), 0.9);
+  EXPECT_GE(local["success_rate"].get<double>(), 0.8);
+  for (const auto& run : report["runs"]) {
+    EXPECT_GT(run["local_planner"]["found"].get<int>(), 0);
+    EXPECT_LE(run["local_planner"]["max_iterations"].get<int>(), 6000);
+  }
+  EXPECT_THAT(testing::ReadFile(dir + "/full/steps-101.jsonl"), HasSubstr("\"path\":\"local\""));
   const auto truth = RunParked("parking-lot.yaml", "101-102", dir + "/truth", "--stack truth");
   EXPECT_EQ(truth["metrics"]["stack"], "truth");
   EXPECT_EQ(truth["metrics"]["localization_ate_max_m"].get<double>(), 0.0);
@@ -97,17 +108,29 @@ TEST(RunCliTest, TheFullStackDrivesOnSlamAndPerceivedTracks) {
 }
 
 // The emergency check on the LiDAR's raw returns needs neither map nor pose nor
-// tracks. On parking-lot seed 103 the full stack's car, turning towards its bay after
-// waiting for a car, cuts past the corner of a parked car (0.01 m localisation error:
-// the path tracker's offset, not the pose); the returns stop it and it replans.
-TEST(RunCliTest, TheLidarStopHaltsTheCarBeforeTheParkedCarItsTurnCutsPast) {
+// tracks. A pedestrian stands on the parking lot's path to its bay and perception
+// reports nothing (detection_probability 0): without the check the car runs into
+// her; with it the returns stop the car (measured: 2.45 m ahead at the first stop) and
+// it never touches her. It does not get past either: the returns stop the car but do
+// not reach the planners' map, so each replan leads back to her (time limit).
+TEST(RunCliTest, TheLidarStopHaltsTheCarBeforeAPedestrianPerceptionMisses) {
   const std::string dir = testing::TempDir("run_cli_lidar_stop");
-  const std::string scenario = testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml";
-  testing::RunSpecht("run '" + scenario + "' --seeds 103 --stack full -q -o '" + dir +
-                     "/off' --set closed_loop.lidar_stop=false");
-  const auto off = nlohmann::json::parse(testing::ReadFile(dir + "/off/report.json"));
-  EXPECT_GT(off["metrics"]["collisions"].get<int>(), 0) << "no contact without the check: the test lost its point";
-  const auto on = RunParked("parking-lot.yaml", "103", dir + "/on", "--stack full")["runs"][0];
+  std::string scenario = testing::ReadFile(testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml");
+  const size_t agents = scenario.find("agents:"), sensors = scenario.find("sensors:");
+  ASSERT_NE(sensors, std::string::npos);
+  scenario.replace(agents, sensors - agents,
+                   "agents:\n  - {id: 1, class: pedestrian, route: [[9.6, 7.1], [9.7, 7.1]], max_speed_mps: 0.01}\n");
+  testing::WriteFile(dir + "/standing.yaml", scenario);
+  const auto drive = [&](const std::string& name, bool stop) {
+    testing::RunSpecht("run '" + dir + "/standing.yaml' --seeds 1 -q -o '" + dir + "/" + name +
+                       "' --set synthetic_detections.detection_probability=0 --set closed_loop.time_limit_s=30 "
+                       "--set closed_loop.lidar_stop=" +
+                       (stop ? "true" : "false"));
+    return nlohmann::json::parse(testing::ReadFile(dir + "/" + name + "/report.json"))["runs"][0];
+  };
+  EXPECT_GT(drive("off", false)["collisions"].get<int>(), 0) << "no contact without the check: the test lost its point";
+  const auto on = drive("on", true);
+  EXPECT_EQ(on["collisions"].get<int>(), 0);
   bool stopped = false;
   for (const auto& t : on["transitions"])
     stopped |= t["reason"].get<std::string>().find("a LiDAR return") != std::string::npos;
@@ -175,17 +198,19 @@ TEST(RunCliTest, ABlindSensorSlowsThenStopsTheCarUntilFramesReturn) {
   for (std::string line; std::getline(steps, line);) {
     const auto k = nlohmann::json::parse(line);
     const double t = k["t_s"].get<double>();
-    if (t > blind_at + 0.5 && t < restored_at) EXPECT_EQ(k["state"], "blind") << t;
+    if (t > blind_at + 0.5 && t < restored_at) {  // braces: EXPECT_EQ is an if/else inside
+      EXPECT_EQ(k["state"], "blind") << t;
+    }
   }
 }
 
 // A run is a replay: the same seed gives the same report figures and per-step poses
-// (all but the planners' wall-clock times).
+// (all but the wall-clock times: the planners', the local planner's, the stages').
 TEST(RunCliTest, TheSameSeedDrivesTheSameRun) {
   const std::string dir = testing::TempDir("run_cli_again");
   auto a = RunParked("parking-lot.yaml", "103", dir + "/a", "--stack full")["runs"][0];
   auto b = RunParked("parking-lot.yaml", "103", dir + "/b", "--stack full")["runs"][0];
-  a.erase("planning_ms"), b.erase("planning_ms");
+  for (auto* run : {&a, &b}) run->erase("planning_ms"), run->erase("timing"), (*run)["local_planner"].erase("ms");
   EXPECT_EQ(a.dump(), b.dump());
   EXPECT_EQ(testing::ReadFile(dir + "/a/steps-103.jsonl"), testing::ReadFile(dir + "/b/steps-103.jsonl"));
 }

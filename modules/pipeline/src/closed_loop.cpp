@@ -83,8 +83,8 @@ plan::HybridAStarOptions Budgeted(const plan::HybridAStarOptions& o, const Close
 class Machine {
  public:
   Machine(const mrpt::maps::COccupancyGridMap2D& true_grid, const ClosedLoopConfig& c, const std::vector<Goal>& mission,
-          ClosedLoopResult& r)
-      : c_(c), mission_(mission), r_(r) {
+          uint64_t seed, ClosedLoopResult& r)
+      : c_(c), mission_(mission), r_(r), seed_(static_cast<unsigned>(seed)) {
     truth_map_ = std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(true_grid));
     // Paths on a map still being drawn (map_source lidar) keep map_margin_m more
     // clearance than the check that gives them up needs: a wall's outline firming up
@@ -107,6 +107,8 @@ class Machine {
     planned_on_ = snapshot.static_map;
     static_map_ = PlanningMap(*snapshot.static_map, c_.loop.map_source == "lidar");
     search_ = std::make_unique<plan::SearchWithFallback>(search_options_, fine_options_, plan_car_, static_map_);
+    if (c_.local.enabled)
+      local_ = std::make_unique<plan::LocalPlanner>(c_.local, c_.kinodynamic, plan_car_, static_map_);
     const MissionState state = machine_.state();
     if (!tracker_ || (state != MissionState::kDrive && state != MissionState::kWait)) return;
     const auto& points = tracker_->path().points;
@@ -161,6 +163,8 @@ class Machine {
           blocked_since_ = t, clear_since_ = -1;
           return {};
         }
+        if (local_ && t - local_at_s_ >= 1.0 / c_.local.rate_hz - 1e-9) LocalReplan(t, pose, speed, steer, seen.tracks);
+        CountDriving(speed);
         return Limited(tracker_->Update(pose, speed, steer), pose, speed, seen.tracks);
       case MissionState::kWait:
         if (Blocking(pose, speed, seen.tracks).empty()) {
@@ -182,8 +186,57 @@ class Machine {
   }
 
   void Handle(MissionEvent event, double t, const std::string& reason) { machine_.Handle(event, t, reason); }
+  // Whether the car follows a path of the local planner now.
+  bool OnLocalPath() const {
+    return tracker_ && machine_.state() == MissionState::kDrive && tracker_->progress_index() < local_points_;
+  }
 
  private:
+  // The local planner's call: on a path, the tracker follows it (the route spliced on
+  // behind); otherwise the path being followed stays (see the header).
+  void LocalReplan(double t, const plan::Pose& pose, double speed, double steer,
+                   const std::vector<SeenObject>& tracks) {
+    local_at_s_ = t;
+    std::vector<plan::MovingObstacle> obstacles;
+    for (const auto& a : tracks) {
+      const auto discs =
+          plan::BoxDiscs(a.box.x, a.box.y, a.box.theta, a.box.hl, a.box.hw, a.vx_mps, a.vy_mps, Margin(a));
+      obstacles.insert(obstacles.end(), discs.begin(), discs.end());
+    }
+    auto& stats = r_.local;
+    ++stats.calls;
+    const plan::LocalPlan p =
+        local_->Plan(pose, {speed, steer}, route_, route_index_, obstacles, seed_ * 7919u + stats.calls);
+    route_index_ = p.route_index;
+    if (p.skipped) {
+      ++stats.skipped;
+      manoeuvre_ = true;
+      return;
+    }
+    manoeuvre_ = false;
+    stats.ms.push_back(p.milliseconds);
+    stats.max_iterations = std::max(stats.max_iterations, p.iterations);
+    if (p.milliseconds > c_.local.time_budget_ms) ++stats.over_budget;
+    if (!p.found) {
+      ++stats.failed;
+      ++stats.failures[p.failure.substr(0, p.failure.find(" ("))];
+      return;
+    }
+    ++stats.found;
+    local_points_ = p.local_points;
+    tracker_.emplace(tracking_, c_.car, p.path);
+  }
+
+  void CountDriving(double speed) {
+    if (std::abs(speed) < c_.tracker.stop_speed_mps) return;
+    const double dt = 1.0 / c_.loop.control_hz;
+    r_.local.driving_s += dt;
+    if (OnLocalPath())
+      r_.local.on_local_s += dt;
+    else if (manoeuvre_)
+      r_.local.on_manoeuvre_s += dt;
+  }
+
   plan::Command Plan(double t, const plan::Pose& pose, const std::vector<SeenObject>& tracks, bool around_agents) {
     const Goal& goal = mission_[goal_];
     std::shared_ptr<plan::DistanceMap> map = static_map_;
@@ -224,9 +277,11 @@ class Machine {
     r_.paths.push_back(smooth.path);
     // The slow final approach is for parking precision; a waypoint is passed within
     // waypoint_tolerance_m and needs none.
-    plan::TrackerOptions tracking = c_.tracker;
-    if (!goal.park) tracking.approach_distance_m = 0;
-    tracker_.emplace(tracking, c_.car, smooth.path);
+    tracking_ = c_.tracker;
+    if (!goal.park) tracking_.approach_distance_m = 0;
+    tracker_.emplace(tracking_, c_.car, smooth.path);
+    route_ = smooth.path, route_index_ = 0, local_points_ = 0, manoeuvre_ = false;
+    local_at_s_ = -INFINITY;
     Handle(MissionEvent::kPathFound, t, "path to " + goal.name + (around_agents ? " around the agents" : ""));
     return {};
   }
@@ -388,6 +443,16 @@ class Machine {
   plan::HybridAStarOptions search_options_, fine_options_;
   std::unique_ptr<plan::SearchWithFallback> search_;
   std::optional<plan::PathTracker> tracker_;
+  plan::TrackerOptions tracking_;  // the current goal's (no slow approach to a waypoint)
+  // The local planner on static_map_, the route it follows (the smoothed global
+  // path), the route's index the car has passed, how many points of the tracked path
+  // are a local plan's, whether the last call left the car on the route by design.
+  std::unique_ptr<plan::LocalPlanner> local_;
+  plan::Path route_;
+  size_t route_index_ = 0, local_points_ = 0;
+  bool manoeuvre_ = false;
+  double local_at_s_ = -INFINITY;
+  unsigned seed_;
   MissionStateMachine machine_;
   size_t goal_ = 0;
   int corrections_ = 0;
@@ -435,7 +500,12 @@ class ContactScore {
     std::string what = clearance <= 0 ? "static obstacle" : "";
     for (const auto& a : sim.agents()) {
       const double d = internal::BoxToBox(car, AgentBox(a));
-      if (moving && a.cls == sim::AgentClass::kPedestrian) r.min_pedestrian_m = std::min(r.min_pedestrian_m, d);
+      if (moving && a.cls == sim::AgentClass::kPedestrian && d < r.min_pedestrian_m) {
+        r.min_pedestrian_m = d;
+        char at[64];
+        std::snprintf(at, sizeof(at), "%.2f s: pedestrian %d", sim.time_s(), a.id);
+        r.closest_pedestrian = at;
+      }
       if (moving && d <= 0) what = std::string(sim::Name(a.cls)) + " " + std::to_string(a.id);
     }
     const bool contact = !what.empty();
@@ -556,7 +626,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   internal::LoopPerception perceive(loop.perception, loop.control_hz, config.detection, config.tracking,
                                     loop.perception_match_m, seed, world, {loop.blind_at_s, loop.blind_for_s});
   const mrpt::maps::COccupancyGridMap2D true_grid = sim::World(scenario).TrueGrid(0.1);
-  Machine machine(true_grid, config, mission, r);
+  Machine machine(true_grid, config, mission, seed, r);
   ContactScore contacts(scenario, config, machine.truth_map());
   const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (loop.control_hz * sim::Simulator::kStepS))));
   std::optional<LidarMap> lidar;
@@ -574,7 +644,13 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   // it would carry the car's believed pose with it.
   std::vector<cv::Point2d> returns;  // the latest scan's, rear-axle frame (the emergency check's)
   const sim::Pose2 centre_from_axle{scenario.ego.model.PivotAhead(), 0, 0};
-  const auto on_observation = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
+  // Wall-clock time per stage (the report's timing; never a pass/fail figure).
+  using Clock = std::chrono::steady_clock;
+  const auto since = [](Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  };
+  const auto run_start = Clock::now();
+  const auto observe = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
     const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
     if (!scan) return where.Observe(t, obs);
     returns.clear();
@@ -587,6 +663,13 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     if (lidar) lidar->Insert(*kept, where.AtLatestScan(sim));
     if (pose_check) pose_check->Observe(*kept, sim.time_s(), where, sim, machine);
   };
+  const auto on_observation = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
+    const auto t0 = Clock::now();
+    observe(t, obs);
+    r.stage_ms["localize"] += since(t0);
+  };
+  const double warmup_s =
+      loop.perception == "detections" ? config.tracking.confirm_window / config.detection.rate_hz : 0.0;
   double map_updated_s = -INFINITY;
   while (!machine.Final()) {
     const double t = sim.time_s();
@@ -610,20 +693,33 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     where.Score(sim);
     const auto& ego = sim.ego();
     const plan::Pose believed = EgoRearAxle(scenario, where.Believed(sim));
-    const Perceived seen = internal::PerceivedFrom(*snapshot);
     const double perception_age_s = SecondsBetween(snapshot->tracks_stamp, sim.stamp());
-    const plan::Command cmd = machine.Step(t, believed, ego.speed_mps, ego.steer_rad, seen, returns, perception_age_s);
+    const Perceived seen = internal::PerceivedFrom(*snapshot, perception_age_s);
+    auto t0 = Clock::now();
+    // The car sets off once perception could have confirmed the road users around it.
+    const plan::Command cmd =
+        t < warmup_s ? plan::Command{}
+                     : machine.Step(t, believed, ego.speed_mps, ego.steer_rad, seen, returns, perception_age_s);
+    r.stage_ms["decide_and_plan"] += since(t0);
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     r.trajectory.push_back(pose);
-    if (on_step) on_step({t, decide::Name(machine.state()), pose, believed, static_cast<int>(seen.tracks.size())});
+    if (on_step)
+      on_step({t, decide::Name(machine.state()), pose, believed, static_cast<int>(seen.tracks.size()),
+               machine.OnLocalPath()});
     for (int k = 0; k < substeps; ++k) {
-      sim.Step(on_observation);
+      t0 = Clock::now();
+      sim.Step(on_observation);  // localisation runs inside, on each observation
+      r.stage_ms["simulate"] += since(t0);
+      t0 = Clock::now();
       perceive.Step(sim, where.Believed(sim));
+      r.stage_ms["perceive"] += since(t0);
       contacts.Step(sim, r);
     }
   }
   r.time_s = sim.time_s();
+  r.stage_ms["simulate"] -= r.stage_ms["localize"];
+  r.wall_s = since(run_start) / 1e3;
   r.transitions = machine.transitions();
   ScoreParking(config, mission, EgoRearAxle(scenario, sim.ego().pose), r);
   r.stack = loop.Stack();
@@ -633,12 +729,44 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   return r;
 }
 
-nlohmann::json ClosedLoopResult::ToJson() const {
-  std::vector<double> t = plan_ms;
-  std::sort(t.begin(), t.end());
+namespace {
+
+// p50, p90 and max of `values` (0 when there are none).
+nlohmann::json Quantiles(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
   const auto q = [&](double p) {
-    return t.empty() ? 0.0 : t[std::min(t.size() - 1, static_cast<size_t>(p * t.size()))];
+    return values.empty() ? 0.0 : values[std::min(values.size() - 1, static_cast<size_t>(p * values.size()))];
   };
+  return {{"count", values.size()}, {"p50", q(0.5)}, {"p90", q(0.9)}, {"max", values.empty() ? 0.0 : values.back()}};
+}
+
+// Wall-clock milliseconds per stage per simulated second.
+nlohmann::json PerSecond(const std::map<std::string, double>& stage_ms, double sim_s) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [stage, ms] : stage_ms) out[stage] = sim_s > 0 ? ms / sim_s : 0.0;
+  return out;
+}
+
+nlohmann::json LocalToJson(const ClosedLoopResult::LocalPlanning& l) {
+  const double outside = l.driving_s - l.on_manoeuvre_s;
+  return {{"calls", l.calls},
+          {"found", l.found},
+          {"skipped", l.skipped},
+          {"failed", l.failed},
+          {"failures", l.failures},
+          {"success_rate", l.calls - l.skipped > 0 ? static_cast<double>(l.found) / (l.calls - l.skipped) : 0.0},
+          {"ms", Quantiles(l.ms)},
+          {"max_iterations", l.max_iterations},
+          {"over_budget", l.over_budget},
+          {"driving_s", l.driving_s},
+          {"on_local_path_s", l.on_local_s},
+          {"on_manoeuvre_s", l.on_manoeuvre_s},
+          {"share_outside_manoeuvres", outside > 0 ? l.on_local_s / outside : 0.0}};
+}
+
+}  // namespace
+
+nlohmann::json ClosedLoopResult::ToJson() const {
   nlohmann::json states = nlohmann::json::array(), visited = nlohmann::json::array();
   for (const auto& tr : transitions) {
     states.push_back({{"t_s", tr.t_s}, {"from", tr.from}, {"to", tr.to}, {"reason", tr.reason}});
@@ -654,14 +782,20 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"collision_events", collision_events},
           {"min_clearance_m", min_clearance_m},
           {"min_pedestrian_distance_m", min_pedestrian_m > 1e8 ? nlohmann::json() : nlohmann::json(min_pedestrian_m)},
+          {"closest_pedestrian", closest_pedestrian},
           {"time_s", time_s},
           {"park_error_m", park_error_m},
           {"park_error_deg", park_error_deg},
           {"believed_park_error_m", believed_park_error_m},
           {"believed_park_error_deg", believed_park_error_deg},
-          {"planning_ms", {{"count", t.size()}, {"p50", q(0.5)}, {"p90", q(0.9)}, {"max", t.empty() ? 0.0 : t.back()}}},
+          {"planning_ms", Quantiles(plan_ms)},
           {"speed_limited_s", limited_s},
           {"map_replans", map_replans},
+          {"local_planner", LocalToJson(local)},
+          {"timing",
+           {{"wall_s", wall_s},
+            {"real_time_factor", wall_s > 0 ? time_s / wall_s : 0.0},
+            {"stage_ms_per_s", PerSecond(stage_ms, time_s)}}},
           {"states_visited", visited},
           {"transitions", states}};
 }

@@ -23,10 +23,12 @@ cv::Point2d Believed(const sim::Pose2& truth, const sim::Pose2& believed, double
 
 }  // namespace
 
-Perceived PerceivedFrom(const world::Snapshot& s) {
+Perceived PerceivedFrom(const world::Snapshot& s, double age_s) {
   Perceived p;
   for (const auto& t : s.tracks)
-    p.tracks.push_back({t.id, t.cls, BoxOf(t.x_m, t.y_m, t.yaw_rad, t.length_m, t.width_m, 0.5), t.vx_mps, t.vy_mps});
+    p.tracks.push_back(
+        {t.id, t.cls, BoxOf(t.x_m + t.vx_mps * age_s, t.y_m + t.vy_mps * age_s, t.yaw_rad, t.length_m, t.width_m, 0.5),
+         t.vx_mps, t.vy_mps});
   // The latest frame only: the layer keeps obstacles for their lifetime, and a moving
   // agent's older positions are places it has left.
   for (const auto& o : s.obstacles)

@@ -27,14 +27,26 @@
 namespace specht::pipeline {
 namespace {
 
-// Over every run: the median mission time, the worst localisation errors and
-// perception's recall and precision per class, pooled over the frames.
+// Over every run: the median mission time, the worst localisation errors,
+// perception's recall and precision per class pooled over the frames, the local
+// planner's success rate, latency and share of the driving time, and the real-time
+// factor (simulated over wall-clock seconds, all runs together).
 nlohmann::json LoopTotals(const nlohmann::json& runs) {
   std::vector<double> times;
-  double ate_rmse = 0, ate_max = 0, heading_max = 0;
+  double ate_rmse = 0, ate_max = 0, heading_max = 0, sim_s = 0, wall_s = 0;
+  double local_found = 0, local_tried = 0, on_local_s = 0, outside_s = 0, local_ms_max = 0;
+  int over_budget = 0;
   std::map<std::string, std::array<long, 4>> pooled;  // found, in view, right, reported
   for (const auto& r : runs) {
     times.push_back(r["time_s"].get<double>());
+    sim_s += r["time_s"].get<double>(), wall_s += r["timing"]["wall_s"].get<double>();
+    const auto& k = r["local_planner"];
+    local_found += k["found"].get<double>();
+    local_tried += k["calls"].get<double>() - k["skipped"].get<double>();
+    on_local_s += k["on_local_path_s"].get<double>();
+    outside_s += k["driving_s"].get<double>() - k["on_manoeuvre_s"].get<double>();
+    local_ms_max = std::max(local_ms_max, k["ms"]["max"].get<double>());
+    over_budget += k["over_budget"].get<int>();
     const auto& l = r["localization"];
     ate_rmse = std::max(ate_rmse, l["ate_rmse_m"].get<double>());
     ate_max = std::max(ate_max, l["ate_max_m"].get<double>());
@@ -54,7 +66,13 @@ nlohmann::json LoopTotals(const nlohmann::json& runs) {
           {"localization_ate_rmse_m_worst", ate_rmse},
           {"localization_ate_max_m", ate_max},
           {"localization_heading_error_max_deg", heading_max},
-          {"perception", perception}};
+          {"perception", perception},
+          {"local_planner",
+           {{"success_rate", local_tried > 0 ? local_found / local_tried : 0.0},
+            {"ms_max", local_ms_max},
+            {"over_budget", over_budget},
+            {"share_of_driving_outside_manoeuvres", outside_s > 0 ? on_local_s / outside_s : 0.0}}},
+          {"real_time_factor", wall_s > 0 ? sim_s / wall_s : 0.0}};
 }
 
 }  // namespace
@@ -67,6 +85,8 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   config.fine_search = params.Get<plan::HybridAStarOptions>("hybrid_astar_fine");
   config.smoother = params.Get<plan::SmootherOptions>("smoother");
   config.tracker = params.Get<plan::TrackerOptions>("tracker");
+  config.kinodynamic = params.Get<plan::KinodynamicOptions>("kinodynamic");
+  config.local = params.Get<plan::LocalPlannerOptions>("local_planner");
   config.loop = params.Get<ClosedLoopOptions>("closed_loop");
   config.slam = {params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
                  params.Get<slam::LoopClosureOptions>("loop_closure"),
@@ -93,9 +113,9 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
       char line[256];
       std::snprintf(line, sizeof(line),
                     "{\"t_s\":%.2f,\"state\":\"%s\",\"x_m\":%.3f,\"y_m\":%.3f,\"theta_rad\":%.4f,"
-                    "\"believed\":[%.3f,%.3f,%.4f],\"tracks\":%d}\n",
+                    "\"believed\":[%.3f,%.3f,%.4f],\"tracks\":%d,\"path\":\"%s\"}\n",
                     k.t_s, k.state.c_str(), k.pose.x, k.pose.y, k.pose.theta, k.believed.x, k.believed.y,
-                    k.believed.theta, k.tracks);
+                    k.believed.theta, k.tracks, k.on_local_path ? "local" : "route");
       steps += line;
     });
     io::WriteTextAtomically(out + "/steps-" + std::to_string(seed) + ".jsonl", steps);
@@ -146,12 +166,16 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   j["metrics"].update(LoopTotals(runs));
   j["runs"] = runs;
   report.Write(out);
+  char closest[32] = "none near";
+  if (min_pedestrian < 1e8) std::snprintf(closest, sizeof closest, "%.2f m", min_pedestrian);
   std::printf(
       "run %s (stack %s): %d/%d missions completed, %d collisions, min clearance %.2f m, closest pedestrian %s, "
-      "worst parking %.3f m / %.1f°, median %.1f s, localisation error max %.3f m\n",
-      scenario.name.c_str(), config.loop.Stack().c_str(), successes, n, collisions, min_clearance,
-      min_pedestrian > 1e8 ? "none near" : (std::to_string(min_pedestrian) + " m").c_str(), max_park_m, max_park_deg,
-      j["metrics"]["median_time_s"].get<double>(), j["metrics"]["localization_ate_max_m"].get<double>());
+      "worst parking %.3f m / %.1f°, median %.1f s, localisation error max %.3f m, on the local planner's paths "
+      "%.0f %% of the driving outside manoeuvres, %.1f× real time\n",
+      scenario.name.c_str(), config.loop.Stack().c_str(), successes, n, collisions, min_clearance, closest, max_park_m,
+      max_park_deg, j["metrics"]["median_time_s"].get<double>(), j["metrics"]["localization_ate_max_m"].get<double>(),
+      100 * j["metrics"]["local_planner"]["share_of_driving_outside_manoeuvres"].get<double>(),
+      j["metrics"]["real_time_factor"].get<double>());
   for (const auto& run : runs)
     if (!run["success"].get<bool>())
       std::printf("  seed %llu: %s\n", static_cast<unsigned long long>(run["seed"].get<uint64_t>()),

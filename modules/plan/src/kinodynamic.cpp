@@ -289,6 +289,16 @@ void SeedOnce(int seed) {
 
 }  // namespace
 
+// OMPL 1.5 reseeds its seed generator on every setSeed, but reports it as an error
+// once numbers were drawn (its concern: a seed changed mid-run): it is not one here.
+void KinodynamicPlanner::Reseed(unsigned seed) {
+  SeedOnce(static_cast<int>(seed));
+  const ompl::msg::LogLevel level = ompl::msg::getLogLevel();
+  ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
+  ompl::RNG::setSeed(std::max(1u, seed));
+  ompl::msg::setLogLevel(level);
+}
+
 struct KinodynamicPlanner::Impl {
   KinodynamicOptions o;
   CarOptions car;
@@ -327,14 +337,16 @@ KinodynamicPlanner::KinodynamicPlanner(const KinodynamicOptions& options, const 
   m.controls = std::make_shared<oc::RealVectorControlSpace>(m.space, 2);
   ob::RealVectorBounds u(2);
   const double steer_rate = car.max_steer_rate_deg_s * M_PI / 180;
-  u.setLow(0, -car.max_reverse_mps), u.setHigh(0, car.max_speed_mps);
+  u.setLow(0, options.directions == "forward" ? 0.0 : -car.max_reverse_mps);
+  u.setHigh(0, options.directions == "reverse" ? 0.0 : car.max_speed_mps);
   u.setLow(1, -steer_rate), u.setHigh(1, steer_rate);
   m.controls->setBounds(u);
 }
 KinodynamicPlanner::~KinodynamicPlanner() = default;
 
 KinodynamicResult KinodynamicPlanner::Plan(const Pose& start, const Pose& goal,
-                                           const std::vector<MovingObstacle>& obstacles, const Path* guide) {
+                                           const std::vector<MovingObstacle>& obstacles, const Path* guide,
+                                           const StartMotion& motion) {
   Impl& m = *impl_;
   const auto t0 = Clock::now();
   CheckEndpoint(*m.map, m.car, start, "start");
@@ -358,7 +370,10 @@ KinodynamicResult KinodynamicPlanner::Plan(const Pose& start, const Pose& goal,
 
   ob::ScopedState<> s(m.space);
   Se2(s.get()).setXY(start.x, start.y), Se2(s.get()).setYaw(std::remainder(start.theta, 2 * M_PI));
-  std::fill(Values(s.get(), 1), Values(s.get(), 1) + 2, 0.0);
+  const double max_steer = m.car.max_steer_deg * M_PI / 180 * m.o.steer_fraction;
+  Values(s.get(), 1)[kSteer] = std::clamp(motion.steer_rad, -max_steer, max_steer);
+  Values(s.get(), 1)[kSpeed] = std::clamp(motion.speed_mps, m.o.directions == "forward" ? 0.0 : -m.car.max_reverse_mps,
+                                          m.o.directions == "reverse" ? 0.0 : m.car.max_speed_mps);
   std::fill(Values(s.get(), 2), Values(s.get(), 2) + kLogSize, 0.0);
   // The static map passed CheckEndpoint; a moving obstacle may still cover the
   // start (OMPL would only log an error and return nothing).

@@ -46,7 +46,7 @@ struct SeenObject {
 struct Perceived {
   std::vector<SeenObject> tracks, obstacles;
 };
-Perceived PerceivedFrom(const world::Snapshot& snapshot);
+Perceived PerceivedFrom(const world::Snapshot& snapshot, double age_s = 0);
 
 // Each valid return of `scan` as a point, the scan taken with the car's box centre at
 // `at`: visit(beam index, point in `at`'s frame).

@@ -36,6 +36,8 @@
 // simulator's, or graph SLAM on the simulated LiDAR and odometry). The simulator's
 // truth only scores the run: collisions, clearances, parking error, localisation
 // error and perception's recall and precision.
+// With perceived tracks the car sets off after track.confirm_window detection frames
+// (0.5 s at the defaults): the time perception needs to confirm who stands around it.
 // The path check does not use the planner's data: it tests the car's rectangle at
 // the path poses within the stopping distance (+ 1.5 m) against the tracks' boxes,
 // now and every 0.5 s up to prediction_s ahead at constant velocity, as a safety
@@ -45,6 +47,17 @@
 // `lidar_stop`) stretched by the braking distance + lidar_stop_buffer_m against the
 // raw returns of the latest LiDAR scan in the car's own frame, so that it needs
 // neither the map nor the believed pose (Nav2's collision monitor works so).
+//
+// Planning layers: the path hybrid A* finds and the smoother smooths is the route;
+// while driving, the local planner (plan/local_planner.h, section local_planner)
+// replans every 1/rate_hz from the believed pose, speed and steering angle to a pose
+// on the route a horizon ahead, with the tracks as moving obstacles (their boxes as
+// discs, grown by the class margin), and the tracker follows its path with the
+// route spliced on behind. Where it plans nothing by design (the last metres into a
+// bay, a cusp) or finds nothing in time, the car keeps the path it follows, which
+// runs on into the route: the last valid trajectory while the path and emergency
+// checks find it free, then the route; the machine waits when both are blocked
+// and asks hybrid A* for a path around after replan_after_s.
 //
 // Planning budget: a search on the car must end in time, but a replay whose paths
 // depend on how fast the machine is would not be one (a sanitizer build or a busy
@@ -70,6 +83,7 @@
 #include "specht/decide/mission.h"
 #include "specht/decide/mission_state.h"
 #include "specht/plan/hybrid_astar.h"
+#include "specht/plan/local_planner.h"
 #include "specht/plan/smoother.h"
 #include "specht/plan/tracker.h"
 #include "specht/sim/detections.h"
@@ -214,12 +228,29 @@ struct ClosedLoopResult {
   std::vector<std::string> collision_events;  // e.g. "12.30 s: pedestrian 7"
   double min_clearance_m = 1e9;               // footprint to static obstacles
   double min_pedestrian_m = 1e9;              // footprint to pedestrian boxes while moving
+  std::string closest_pedestrian;             // when and who, e.g. "41.20 s: pedestrian 3"
   double time_s = 0;
   double park_error_m = -1, park_error_deg = -1;                    // of the last parking goal, by the truth
   double believed_park_error_m = -1, believed_park_error_deg = -1;  // …as the car believed it
   std::vector<double> plan_ms;
   std::map<std::string, double> limited_s;  // time driven below the tracker's speed, by decision (slow, follow)
   int map_replans = 0;                      // paths given up because the map changed under them
+  // The local planner: calls (found, skipped where the route is followed by design,
+  // failed), their latency and iterations, and the driving time on its paths.
+  struct LocalPlanning {
+    int calls = 0, found = 0, skipped = 0, failed = 0;
+    std::vector<double> ms;
+    long max_iterations = 0;
+    int over_budget = 0;                  // calls longer than local_planner.time_budget_ms
+    double driving_s = 0;                 // the car moving under a path
+    double on_local_s = 0;                // …on a local planner's path
+    double on_manoeuvre_s = 0;            // …on the route where no local plan is wanted (bay, cusps)
+    std::map<std::string, int> failures;  // by reason
+  } local;
+  // Wall clock: the whole run and each stage (simulate, localize, perceive,
+  // decide_and_plan), for the real-time factor; varies with the machine.
+  double wall_s = 0;
+  std::map<std::string, double> stage_ms;
   std::vector<decide::Transition> transitions;
   std::vector<plan::Pose> trajectory;  // at the control rate
   std::vector<plan::Path> paths;       // every plan made
@@ -244,6 +275,8 @@ struct ClosedLoopConfig {
   plan::HybridAStarOptions fine_search = plan::FineSearchDefaults();  // when `search` finds no path
   plan::SmootherOptions smoother;
   plan::TrackerOptions tracker;
+  plan::KinodynamicOptions kinodynamic;  // the local planner's model (its budget: `local`)
+  plan::LocalPlannerOptions local;
   ClosedLoopOptions loop;
   // What localisation and perception in the loop use (loop.localization, loop.perception).
   LoopSlamConfig slam;
@@ -260,6 +293,7 @@ struct LoopStep {
   std::string state;
   plan::Pose pose, believed;
   int tracks = 0;
+  bool on_local_path = false;  // following a path of the local planner (else the route)
 };
 
 // Runs the mission; `on_step` (optional) after every control step.

@@ -32,7 +32,8 @@
 // max_iterations (0: no limit), whichever comes first; SST keeps improving until
 // then unless stop_at_first_solution. Randomness: OMPL's global seed (set once per
 // process from `seed`); with the budget set by max_iterations alone, a process's
-// sequence of calls is reproducible.
+// sequence of calls is reproducible, and Reseed() makes the calls after it so
+// whatever ran before (a closed loop reseeds each call from its run's seed).
 #pragma once
 
 #include <memory>
@@ -51,6 +52,7 @@ struct KinodynamicOptions {
   double time_budget_ms = 250;
   int max_iterations = 0;
   bool stop_at_first_solution = false;
+  std::string directions = "both";
   double steer_fraction = 0.85;
   double goal_tolerance_m = 0.3;
   double goal_heading_tolerance_deg = 10;
@@ -83,6 +85,8 @@ struct KinodynamicOptions {
     v.Param("stop_at_first_solution", stop_at_first_solution,
             "SST: return the first solution instead of "
             "improving it until the budget ends");
+    v.Choice("directions", directions, {"both", "forward", "reverse"},
+             "the directions a path may drive in (a local plan keeps its route stretch's)");
     v.Param("steer_fraction", steer_fraction,
             "plan with this share of the steering limit (the rest is the "
             "tracker's)",
@@ -122,6 +126,13 @@ struct MovingObstacle {
   double radius_m = 0.3;
 };
 
+// How the car moves at the start: a replan from a moving car starts at its speed and
+// steering angle (clamped to the planner's limits), not from rest.
+struct StartMotion {
+  double speed_mps = 0;  // signed
+  double steer_rad = 0;
+};
+
 struct KinodynamicResult : PlanResult {
   bool approximate = false;     // the path ends short of the goal (found is then false)
   double goal_distance_m = 0;   // from the path's end to the goal
@@ -139,7 +150,10 @@ class KinodynamicPlanner {
   // `obstacles` are checked at the time the car would be there; `guide` (optional,
   // e.g. hybrid A*'s path) biases the sampling.
   KinodynamicResult Plan(const Pose& start, const Pose& goal, const std::vector<MovingObstacle>& obstacles = {},
-                         const Path* guide = nullptr);
+                         const Path* guide = nullptr, const StartMotion& motion = {});
+  // Restarts OMPL's seed sequence (process-wide) at `seed`: the calls that follow
+  // draw the numbers they would after any other Reseed(seed).
+  static void Reseed(unsigned seed);
 
  private:
   struct Impl;
