@@ -31,6 +31,7 @@ void AddRunCommand(CLI::App& app, int& exit_code) {
   AddCommonOptions(*cmd, args->common, "specht-out/run");
   cmd->callback([args, &exit_code] {
     if (!args->seeds.empty()) args->in.seeds = ParseSeedRange(args->seeds, 0);
+    args->in.data_dir = DataDir(args->common);
     const bool full = args->stack == "full";
     auto& o = args->common.overrides;
     o.insert(o.begin(), {std::string("closed_loop.localization=") + (full ? "slam" : "truth"),

@@ -204,6 +204,33 @@ TEST(RunCliTest, ABlindSensorSlowsThenStopsTheCarUntilFramesReturn) {
   }
 }
 
+// closed_loop.perception camera: our SGM and the CNN on the simulator's rendered
+// stereo frames (photographed agents), fused at the believed pose, tracked. The first
+// 8 s of parking-lot seed 1: a frame every 0.1 s, the pedestrians found by tracks
+// (measured 0.94 recall, 0.99 precision), and the same seed drives the same steps.
+TEST(RunCliTest, TheCameraPerceivesTheRoadUsersInTheLoop) {
+  if (testing::DataDir().empty()) SPECHT_SKIP() << "no data dir (detector models, sprites)";
+  const std::string dir = testing::TempDir("run_cli_camera");
+  const auto drive = [&](const std::string& name) {
+    testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml' --seeds 1 -q -o '" +
+                       dir + "/" + name + "' --data-dir '" + testing::DataDir() +
+                       "' --set closed_loop.perception=camera --set perception.stereo_downsample=2 "
+                       "--set closed_loop.time_limit_s=8");
+    return nlohmann::json::parse(testing::ReadFile(dir + "/" + name + "/report.json"))["runs"][0];
+  };
+  const auto run = drive("a");
+  const auto& seen = run["perception"];
+  EXPECT_EQ(seen["mode"], "camera");
+  EXPECT_NEAR(seen["frames"].get<double>(), 80, 2);
+  const auto& pedestrians = seen["by_class"]["pedestrian"];
+  EXPECT_GE(pedestrians["in_view"].get<int>(), 40);
+  EXPECT_GE(pedestrians["recall"].get<double>(), 0.8);
+  EXPECT_GE(pedestrians["precision"].get<double>(), 0.8);
+  EXPECT_TRUE(run["timing"]["stage_ms_per_s"].contains("render"));
+  drive("b");
+  EXPECT_EQ(testing::ReadFile(dir + "/a/steps-1.jsonl"), testing::ReadFile(dir + "/b/steps-1.jsonl"));
+}
+
 // A run is a replay: the same seed gives the same report figures and per-step poses
 // (all but the wall-clock times: the planners', the local planner's, the stages').
 TEST(RunCliTest, TheSameSeedDrivesTheSameRun) {

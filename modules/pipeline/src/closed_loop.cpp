@@ -614,7 +614,10 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   if (mission.empty()) throw InputError("closed loop: the mission has no goals");
   const ClosedLoopOptions& loop = config.loop;
   ClosedLoopResult r;
-  sim::Simulator sim(scenario, seed);
+  const bool camera = loop.perception == "camera";
+  if (camera && !scenario.stereo)
+    throw InputError("closed_loop.perception camera: scenario " + scenario.name + " has no stereo camera");
+  sim::Simulator sim(scenario, seed, camera ? config.camera.sprites : nullptr);
   world::WorldModel world(config.world);
   LoopSlamConfig slam_config = config.slam;
   slam_config.survey_spacing_m = loop.survey_spacing_m;
@@ -624,7 +627,8 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   internal::LoopLocalization where(loop.localization, scenario, slam_config,
                                    {loop.kidnap_at_s, loop.kidnap_m, loop.kidnap_deg});
   internal::LoopPerception perceive(loop.perception, loop.control_hz, config.detection, config.tracking,
-                                    loop.perception_match_m, seed, world, {loop.blind_at_s, loop.blind_for_s});
+                                    loop.perception_match_m, seed, world, {loop.blind_at_s, loop.blind_for_s},
+                                    config.camera);
   const mrpt::maps::COccupancyGridMap2D true_grid = sim::World(scenario).TrueGrid(0.1);
   Machine machine(true_grid, config, mission, seed, r);
   ContactScore contacts(scenario, config, machine.truth_map());
@@ -668,8 +672,17 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     observe(t, obs);
     r.stage_ms["localize"] += since(t0);
   };
-  const double warmup_s =
-      loop.perception == "detections" ? config.tracking.confirm_window / config.detection.rate_hz : 0.0;
+  // Rendered stereo frames, only where perception reads them (rendering costs).
+  sim::Simulator::StereoSink on_stereo;
+  if (camera)
+    on_stereo = [&](Stamp, const sim::StereoFrame& frame) {
+      const auto t0 = Clock::now();
+      perceive.Camera(sim, frame, where.Believed(sim));
+      r.stage_ms["perceive"] += since(t0);
+      r.stage_ms["camera_in_simulate"] += since(t0);
+    };
+  const double frame_rate_hz = camera ? scenario.stereo->rate_hz : config.detection.rate_hz;
+  const double warmup_s = loop.perception == "truth" ? 0.0 : config.tracking.confirm_window / frame_rate_hz;
   double map_updated_s = -INFINITY;
   while (!machine.Final()) {
     const double t = sim.time_s();
@@ -709,7 +722,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
                machine.OnLocalPath()});
     for (int k = 0; k < substeps; ++k) {
       t0 = Clock::now();
-      sim.Step(on_observation);  // localisation runs inside, on each observation
+      sim.Step(on_observation, on_stereo);  // localisation and camera perception run inside
       r.stage_ms["simulate"] += since(t0);
       t0 = Clock::now();
       perceive.Step(sim, where.Believed(sim));
@@ -718,7 +731,10 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     }
   }
   r.time_s = sim.time_s();
-  r.stage_ms["simulate"] -= r.stage_ms["localize"];
+  // What ran inside the simulator's step belongs to its own stage; rendering is its own.
+  r.stage_ms["simulate"] -= r.stage_ms["localize"] + r.stage_ms["camera_in_simulate"] + 1e3 * sim.render_seconds();
+  r.stage_ms.erase("camera_in_simulate");
+  if (camera) r.stage_ms["render"] = 1e3 * sim.render_seconds();
   r.wall_s = since(run_start) / 1e3;
   r.transitions = machine.transitions();
   ScoreParking(config, mission, EgoRearAxle(scenario, sim.ego().pose), r);

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "internal/sim_stereo.h"
 #include "specht/core/error.h"
+#include "specht/pipeline/perception_eval.h"
 
 namespace specht::pipeline::internal {
 namespace {
@@ -68,7 +70,8 @@ mrpt::obs::CObservation2DRangeScan::Ptr WithoutReturnsOn(const mrpt::obs::CObser
 
 LoopPerception::LoopPerception(const std::string& mode, double control_hz,
                                const sim::SyntheticDetectionOptions& detection, const track::TrackerOptions& tracking,
-                               double match_m, uint64_t seed, world::WorldModel& world, Blindness blind)
+                               double match_m, uint64_t seed, world::WorldModel& world, Blindness blind,
+                               const LoopCameraConfig& camera)
     : mode_(mode),
       blind_(blind),
       truth_every_(std::max(1, static_cast<int>(std::lround(1.0 / (control_hz * sim::Simulator::kStepS))))),
@@ -77,16 +80,20 @@ LoopPerception::LoopPerception(const std::string& mode, double control_hz,
   if (mode == "detections") {
     detector_.emplace(detection, seed);
     tracker_.emplace(tracking);
+  } else if (mode == "camera") {  // loads the detector: a missing model fails here, before the car moves
+    camera_ = std::make_unique<StereoPerception>(camera.sgm, camera.detector, camera.fusion, camera.data_dir,
+                                                 camera.downsample);
+    tracker_.emplace(tracking);
   } else if (mode != "truth") {
     throw InputError("closed_loop.perception: unknown mode '" + mode + "'");
   }
 }
 
+LoopPerception::~LoopPerception() = default;
+
 void LoopPerception::Step(const sim::Simulator& sim, const sim::Pose2& believed) {
-  if (blind_.Covers(sim.time_s())) return;
+  if (camera_ || blind_.Covers(sim.time_s())) return;
   const sim::Pose2 truth = sim.ego().pose;
-  world::WorldUpdate u;
-  u.stamp = sim.stamp();
   std::vector<types::Track> tracks;
   std::vector<types::Obstacle> obstacles;
   const std::vector<sim::AgentTruth> agents = sim.agents();
@@ -106,22 +113,47 @@ void LoopPerception::Step(const sim::Simulator& sim, const sim::Pose2& believed)
       obstacles.push_back(o);
     }
     Score(agents, agents, tracks);
-  } else {
-    if (!detector_->Due(sim)) return;
-    obstacles = detector_->Detect(sim);
-    for (auto& o : obstacles) {
-      const cv::Point2d p = Believed(truth, believed, o.x_m, o.y_m);
-      o.x_m = p.x, o.y_m = p.y, o.yaw_rad += believed.yaw_rad - truth.yaw_rad;
-    }
-    tracker_->Update(obstacles, sim.stamp());
-    tracks = tracker_->Tracks();
-    detections_ += static_cast<long>(obstacles.size());
-    Score(detector_->visible(), agents, tracks);
+    return Write(std::move(tracks), std::move(obstacles), sim.stamp());
   }
-  ++frames_;
+  if (!detector_->Due(sim)) return;
+  obstacles = detector_->Detect(sim);
+  for (auto& o : obstacles) {
+    const cv::Point2d p = Believed(truth, believed, o.x_m, o.y_m);
+    o.x_m = p.x, o.y_m = p.y, o.yaw_rad += believed.yaw_rad - truth.yaw_rad;
+  }
+  Publish(std::move(obstacles), sim, detector_->visible());
+}
+
+void LoopPerception::Camera(const sim::Simulator& sim, const sim::StereoFrame& frame, const sim::Pose2& believed) {
+  if (!camera_ || blind_.Covers(sim.time_s())) return;
+  const sim::StereoSpec& spec = *sim.scenario().stereo;
+  const mrpt::poses::CPose3D map_from_base(believed.x, believed.y, 0, believed.yaw_rad, 0, 0);
+  PerceivedFrame seen = camera_->Process(*SimStereoObservation(sim.stamp(), spec, frame), map_from_base, sim.stamp());
+  const PerceptionEvalOptions counted;  // which agents in the image count as seeable
+  std::vector<sim::AgentTruth> in_view;
+  for (const auto& a : sim.agents())
+    for (const auto& v : frame.agents)
+      if (v.id == a.id && v.visible >= counted.min_visible && v.box.height >= counted.min_height_px)
+        in_view.push_back(a);
+  Publish(std::move(seen.obstacles), sim, in_view);
+}
+
+void LoopPerception::Publish(std::vector<types::Obstacle> obstacles, const sim::Simulator& sim,
+                             const std::vector<sim::AgentTruth>& in_view) {
+  tracker_->Update(obstacles, sim.stamp());
+  std::vector<types::Track> tracks = tracker_->Tracks();
+  detections_ += static_cast<long>(obstacles.size());
+  Score(in_view, sim.agents(), tracks);
+  Write(std::move(tracks), std::move(obstacles), sim.stamp());
+}
+
+void LoopPerception::Write(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp) {
+  world::WorldUpdate u;
+  u.stamp = stamp;
   u.tracks = std::move(tracks);
   u.obstacles = std::move(obstacles);
   world_.Apply(u);
+  ++frames_;
 }
 
 void LoopPerception::Score(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,

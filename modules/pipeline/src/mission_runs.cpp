@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
@@ -20,6 +21,7 @@
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
 #include "specht/pipeline/closed_loop.h"
+#include "specht/pipeline/perception.h"
 #include "specht/pipeline/run_directory.h"
 #include "specht/plan/draw.h"
 #include "specht/sim/world.h"
@@ -95,6 +97,20 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   config.detection = params.Get<sim::SyntheticDetectionOptions>("synthetic_detections");
   config.tracking = params.Get<track::TrackerOptions>("track");
   config.world = params.Get<world::WorldModelOptions>("world");
+  std::optional<sim::SpriteLibrary> sprites;
+  if (config.loop.perception == "camera") {
+    if (a.data_dir.empty())
+      throw InputError(
+          "closed_loop.perception camera: no data directory (--data-dir or $SPECHT_DATA_DIR) for the detector's "
+          "models and the sprites");
+    sprites = sim::SpriteLibrary::Load(a.data_dir + "/sprites");
+    config.camera = {params.Get<stereo::SgmOptions>("stereo"),
+                     params.Get<detect::DetectorOptions>("detect"),
+                     params.Get<detect::FusionOptions>("fusion"),
+                     params.Get<PerceptionOptions>("perception").stereo_downsample,
+                     a.data_dir,
+                     &*sprites};
+  }
   const std::vector<decide::Goal> mission = a.mission.empty()
                                                 ? decide::DefaultMission(MissionSiteOf(scenario), config.car)
                                                 : decide::LoadMission(a.mission, MissionSiteOf(scenario), config.car);

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 
+#include "internal/sim_stereo.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/core/log.h"
@@ -75,21 +76,9 @@ mrpt::obs::CObservation::Ptr WriteStereoFrame(const std::string& out, int index,
   for (const auto& line : f.kitti_labels) labels += line + "\n";
   io::WriteTextAtomically(out + "/stereo/labels/" + std::string(name) + ".txt", labels);
 
-  auto obs = mrpt::obs::CObservationStereoImages::Create();
+  auto obs = internal::SimStereoObservation(stamp, spec);
   obs->imageLeft.setExternalStorage(std::string("left_") + name + ".png");
   obs->imageRight.setExternalStorage(std::string("right_") + name + ".png");
-  obs->hasImageRight = true;
-  const double cx = (spec.width - 1) / 2.0, cy = (spec.height - 1) / 2.0;
-  for (auto* cam : {&obs->leftCamera, &obs->rightCamera}) {
-    cam->ncols = spec.width, cam->nrows = spec.height;
-    cam->setIntrinsicParamsFromValues(spec.focal_px, spec.focal_px, cx, cy);
-  }
-  // The left camera on base_link (optical frame: x right, y down, z forward).
-  obs->cameraPose = mrpt::poses::CPose3DQuat(
-      mrpt::poses::CPose3D(spec.x_m, spec.y_m, spec.z_m, spec.yaw_rad - M_PI / 2, 0, -M_PI / 2 - spec.pitch_rad));
-  obs->rightCameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(spec.baseline_m, 0, 0, 0, 0, 0));
-  obs->sensorLabel = "STEREO";
-  obs->timestamp = ToMrpt(stamp);
   return obs;
 }
 

@@ -9,8 +9,12 @@
 //               pose (a localisation error moves what it sees with it) → the
 //               multi-object tracker (track/tracker.h) → the track layer, and the
 //               frame's detections → the obstacle layer
+//   camera      each stereo frame the simulator renders (Camera): our SGM and the
+//               CNN detector (stereo_perception.h), box fusion placed at the
+//               believed pose → the tracker → the track and obstacle layers
 // In-loop scoring against the simulator's truth (never fed back): at each perception
-// frame, an agent in view counts as found when a reported track lies within
+// frame, an agent in view (camera: as `specht eval perception` counts one at its
+// defaults, perception_eval.h) counts as found when a reported track lies within
 // match_m of it (recall, by the agent's class), and a track is right when an agent
 // lies within match_m of it (precision, by the track's class).
 #pragma once
@@ -26,6 +30,8 @@
 #include <vector>
 
 #include "internal/loop_geometry.h"
+#include "specht/pipeline/closed_loop.h"
+#include "specht/pipeline/stereo_perception.h"
 #include "specht/sim/detections.h"
 #include "specht/sim/simulator.h"
 #include "specht/track/tracker.h"
@@ -74,15 +80,23 @@ class LoopPerception {
  public:
   LoopPerception(const std::string& mode, double control_hz, const sim::SyntheticDetectionOptions& detection,
                  const track::TrackerOptions& tracking, double match_m, uint64_t seed, world::WorldModel& world,
-                 Blindness blind = {});
+                 Blindness blind = {}, const LoopCameraConfig& camera = {});
+  ~LoopPerception();
   // After every simulator step (and once before the first): writes the world model
   // when a frame is due. `believed` is where the car thinks its box centre is.
   void Step(const sim::Simulator& sim, const sim::Pose2& believed);
+  // Mode camera: one rendered stereo frame, as the simulator delivers it.
+  void Camera(const sim::Simulator& sim, const sim::StereoFrame& frame, const sim::Pose2& believed);
   nlohmann::json ToJson() const;  // recall and precision per class, frames, detections
 
  private:
   void Score(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,
              const std::vector<types::Track>& tracks);
+  // Tracks the frame's obstacles (map frame) and writes both layers.
+  void Publish(std::vector<types::Obstacle> obstacles, const sim::Simulator& sim,
+               const std::vector<sim::AgentTruth>& in_view);
+  // One perception frame into the world model.
+  void Write(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp);
   std::string mode_;
   Blindness blind_;
   int truth_every_;  // simulator steps per truth frame
@@ -90,6 +104,7 @@ class LoopPerception {
   world::WorldModel& world_;
   std::optional<sim::SyntheticDetector> detector_;
   std::optional<track::Tracker> tracker_;
+  std::unique_ptr<StereoPerception> camera_;
   std::map<std::string, PerceptionCounts> by_class_;
   long frames_ = 0, detections_ = 0;
 };

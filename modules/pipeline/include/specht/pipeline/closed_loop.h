@@ -31,12 +31,14 @@
 // What the machine reads about the world is a world-model snapshot (world/
 // world_model.h): the static layer, the tracks and the latest perception frame's
 // obstacles, written by perception (closed_loop.perception: the simulator's agents
-// as they are, or its noisy detections through the multi-object tracker); it
+// as they are; its noisy detections through the multi-object tracker; or the camera:
+// our SGM and the CNN detector on the simulator's rendered stereo frames, box fusion
+// at the believed pose, the tracker); it
 // drives on the pose localisation believes (closed_loop.localization: the
 // simulator's, or graph SLAM on the simulated LiDAR and odometry). The simulator's
 // truth only scores the run: collisions, clearances, parking error, localisation
 // error and perception's recall and precision.
-// With perceived tracks the car sets off after track.confirm_window detection frames
+// With perceived tracks the car sets off after track.confirm_window perception frames
 // (0.5 s at the defaults): the time perception needs to confirm who stands around it.
 // The path check does not use the planner's data: it tests the car's rectangle at
 // the path poses within the stopping distance (+ 1.5 m) against the tracks' boxes,
@@ -82,14 +84,18 @@
 
 #include "specht/decide/mission.h"
 #include "specht/decide/mission_state.h"
+#include "specht/detect/detector.h"
+#include "specht/detect/fusion.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/local_planner.h"
 #include "specht/plan/smoother.h"
 #include "specht/plan/tracker.h"
 #include "specht/sim/detections.h"
 #include "specht/sim/scenario.h"
+#include "specht/sim/sprites.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/pose_check.h"
+#include "specht/stereo/sgm.h"
 #include "specht/track/tracker.h"
 #include "specht/world/world_model.h"
 
@@ -193,9 +199,10 @@ struct ClosedLoopOptions {
     v.Param("good_odometry", good_odometry,
             "SLAM in the loop takes the simulated car's odometry as good (slam::GoodOdometry, the values of "
             "params/good-odometry.yaml over scan_matching); off: scan_matching as given");
-    v.Choice("perception", perception, {"truth", "detections"},
-             "the road users it plans around: the simulator's agents, or noisy detections (section "
-             "synthetic_detections) through the tracker (section track) into the world model");
+    v.Choice("perception", perception, {"truth", "detections", "camera"},
+             "the road users it plans around: the simulator's agents; noisy detections (section "
+             "synthetic_detections) through the tracker (section track) into the world model; or the camera: SGM "
+             "(section stereo) and the CNN (section detect) on rendered stereo frames, box fusion, the tracker");
     v.Param("perception_match_m", perception_match_m,
             "in-loop scoring: a track within this of an agent counts as seeing it", Range::Of(0.1, 10.0));
     v.Param("kidnap_at_s", kidnap_at_s, "a fault: from this time on the believed pose is off (< 0: never)",
@@ -269,6 +276,16 @@ struct LoopSlamConfig {
   double survey_spacing_m = 4.0;  // closed_loop.survey_spacing_m
 };
 
+// Perception camera: our SGM and the CNN detector on the simulator's stereo frames.
+struct LoopCameraConfig {
+  stereo::SgmOptions sgm;
+  detect::DetectorOptions detector;
+  detect::FusionOptions fusion;
+  int downsample = 1;                           // perception.stereo_downsample
+  std::string data_dir;                         // holds the detector's models
+  const sim::SpriteLibrary* sprites = nullptr;  // agents drawn as photographs (none: boxes)
+};
+
 struct ClosedLoopConfig {
   plan::CarOptions car;  // limits; dimensions come from the scenario
   plan::HybridAStarOptions search;
@@ -282,6 +299,7 @@ struct ClosedLoopConfig {
   LoopSlamConfig slam;
   slam::PoseCheckOptions pose_check;  // where the believed pose can be wrong and the static layer is a prior map
   sim::SyntheticDetectionOptions detection;
+  LoopCameraConfig camera;
   track::TrackerOptions tracking;
   world::WorldModelOptions world;
 };

@@ -19,6 +19,7 @@ struct MissionRunInputs {
   std::string scenario;                                // scenario file
   std::string mission;                                 // mission file, or "" (park in the scenario's first bay)
   std::optional<std::pair<uint64_t, uint64_t>> seeds;  // first and last; none = the scenario's own
+  std::string data_dir;  // detector models and sprites/, for closed_loop.perception camera
 };
 
 // Exit code 0 when every mission was completed, 1 when one failed, 128 + the signal

@@ -65,6 +65,7 @@ class Simulator {
   const MoverState& ego() const { return ego_.state(); }
   std::vector<AgentTruth> agents() const;  // the agents that have started
   const World& world() const { return world_; }
+  const Scenario& scenario() const { return scenario_; }
   // True when the step that just ran produced a LiDAR scan.
   bool scanned() const { return scanned_; }
   // Wall time spent rendering stereo frames so far.
