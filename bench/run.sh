@@ -36,7 +36,9 @@ sprites=()
 [[ -d "$data/sprites" ]] && sprites=(--sprites "$data/sprites")
 run "$build/bench/sim_bench" "${sprites[@]}" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/track_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
-run "$build/bench/loop_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
+camera=()
+[[ -d "$data/sprites" ]] && camera=(--data "$data")
+run "$build/bench/loop_bench" "${camera[@]}" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/classify_bench"
 if [[ -d "$data/ais" ]]; then
   run "$build/bench/ais_bench" "$data"
