@@ -110,10 +110,10 @@ TEST(RunCliTest, TheFullStackDrivesOnSlamPerceivedTracksAndTheLocalPlannersPaths
 // The emergency check on the LiDAR's raw returns needs neither map nor pose nor
 // tracks. A pedestrian stands on the parking lot's path to its bay and perception
 // reports nothing (detection_probability 0): without the check the car runs into
-// her; with it the returns stop the car (measured: 2.45 m ahead at the first stop) and
-// it never touches her. It does not get past either: the returns stop the car but do
-// not reach the planners' map, so each replan leads back to her (time limit).
-TEST(RunCliTest, TheLidarStopHaltsTheCarBeforeAPedestrianPerceptionMisses) {
+// her; with it the returns stop the car, and those neither the map nor a track
+// explains become the LiDAR obstacle layer: the next plan goes round her and the car
+// parks, once stopped (measured: 2.45 m before her, passing her 0.54 m off).
+TEST(RunCliTest, TheLidarStopHaltsTheCarBeforeAPedestrianPerceptionMissesAndItGoesRound) {
   const std::string dir = testing::TempDir("run_cli_lidar_stop");
   std::string scenario = testing::ReadFile(testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml");
   const size_t agents = scenario.find("agents:"), sensors = scenario.find("sensors:");
@@ -121,20 +121,26 @@ TEST(RunCliTest, TheLidarStopHaltsTheCarBeforeAPedestrianPerceptionMisses) {
   scenario.replace(agents, sensors - agents,
                    "agents:\n  - {id: 1, class: pedestrian, route: [[9.6, 7.1], [9.7, 7.1]], max_speed_mps: 0.01}\n");
   testing::WriteFile(dir + "/standing.yaml", scenario);
-  const auto drive = [&](const std::string& name, bool stop) {
+  const auto drive = [&](const std::string& name, const std::string& extra) {
     testing::RunSpecht("run '" + dir + "/standing.yaml' --seeds 1 -q -o '" + dir + "/" + name +
-                       "' --set synthetic_detections.detection_probability=0 --set closed_loop.time_limit_s=30 "
-                       "--set closed_loop.lidar_stop=" +
-                       (stop ? "true" : "false"));
+                       "' --set synthetic_detections.detection_probability=0 --set closed_loop.time_limit_s=60 " +
+                       extra);
     return nlohmann::json::parse(testing::ReadFile(dir + "/" + name + "/report.json"))["runs"][0];
   };
-  EXPECT_GT(drive("off", false)["collisions"].get<int>(), 0) << "no contact without the check: the test lost its point";
-  const auto on = drive("on", true);
+  EXPECT_GT(drive("off", "--set closed_loop.lidar_stop=false")["collisions"].get<int>(), 0)
+      << "no contact without the check: the test lost its point";
+  const auto on = drive("on", "");
   EXPECT_EQ(on["collisions"].get<int>(), 0);
-  bool stopped = false;
+  EXPECT_TRUE(on["success"].get<bool>()) << on["failure"];
+  int stops = 0;
   for (const auto& t : on["transitions"])
-    stopped |= t["reason"].get<std::string>().find("a LiDAR return") != std::string::npos;
-  EXPECT_TRUE(stopped);
+    stops += t["reason"].get<std::string>().find("a LiDAR return") != std::string::npos;
+  EXPECT_GE(stops, 1);
+  EXPECT_LE(stops, 2);
+  // Without the obstacle layer every replan leads back to her.
+  const auto forgetful = drive("forgetful", "--set closed_loop.lidar_obstacle_range_m=0");
+  EXPECT_FALSE(forgetful["success"].get<bool>());
+  EXPECT_EQ(forgetful["collisions"].get<int>(), 0);
 }
 
 // A kidnapped pose (2 m ahead and 20° off from 4 s on, as a wrong relocalisation)

@@ -148,7 +148,10 @@ class Machine {
       Handle(MissionEvent::kSensorRestored, t, "perception frames again");
     }
     // The emergency check first: it overrides whatever the machine is doing.
-    if (const std::string what = Imminent(pose, speed, seen.obstacles, returns); !what.empty()) {
+    std::string what = ObstacleAhead(pose, speed, seen.obstacles);
+    const bool by_lidar = what.empty() && !(what = ReturnAhead(speed, returns)).empty();
+    if (!what.empty()) {
+      if (by_lidar) RememberUnexplained(pose, returns, seen.tracks);
       Handle(MissionEvent::kCollisionImminent, t, what);
       estop_clear_since_ = -1;
       return {};
@@ -203,6 +206,7 @@ class Machine {
           plan::BoxDiscs(a.box.x, a.box.y, a.box.theta, a.box.hl, a.box.hw, a.vx_mps, a.vy_mps, Margin(a));
       obstacles.insert(obstacles.end(), discs.begin(), discs.end());
     }
+    for (const auto& p : unexplained_) obstacles.push_back({p.x, p.y, 0, 0, c_.loop.pedestrian_margin_m});
     auto& stats = r_.local;
     ++stats.calls;
     const plan::LocalPlan p =
@@ -240,20 +244,35 @@ class Machine {
   plan::Command Plan(double t, const plan::Pose& pose, const std::vector<SeenObject>& tracks, bool around_agents) {
     const Goal& goal = mission_[goal_];
     std::shared_ptr<plan::DistanceMap> map = static_map_;
-    std::unique_ptr<plan::HybridAStar> local;  // around agents: the default search on a map with them
-    if (around_agents) {                       // the blocking agents become obstacles, inflated by their margins
+    // Around agents or the LiDAR obstacle layer: the default search on a map with
+    // them, the agents inflated by their margins, the returns by pedestrian_margin_m.
+    std::unique_ptr<plan::HybridAStar> local;
+    if (around_agents || !unexplained_.empty()) {
       cv::Mat obstacles = static_map_->obstacles().clone();
+      const auto cell = [&](const cv::Point2d& p) {
+        return cv::Point{static_cast<int>((p.x - map->origin_x()) / map->resolution()),
+                         static_cast<int>((p.y - map->origin_y()) / map->resolution())};
+      };
       for (const auto& a : tracks) {
+        if (!around_agents) break;
         Box b = a.box;
         const double m = Margin(a);
         b.hl += m, b.hw += m;
         std::vector<cv::Point> poly;
-        for (const auto& p : internal::Corners(b))
-          poly.push_back(
-              {static_cast<int>((p.x - map->origin_x()) / 0.1), static_cast<int>((p.y - map->origin_y()) / 0.1)});
+        for (const auto& p : internal::Corners(b)) poly.push_back(cell(p));
         cv::fillConvexPoly(obstacles, poly, cv::Scalar(1));
       }
-      map = std::make_shared<plan::DistanceMap>(obstacles, static_map_->origin_x(), static_map_->origin_y(), 0.1);
+      // A return's disc stops 0.2 m short of the car as it stands: the search needs
+      // its start clear (a return at the bumper is left to the emergency stop).
+      const Box car = internal::CarBox(c_.car, pose);
+      for (const auto& p : unexplained_) {
+        const double radius = std::min(c_.loop.pedestrian_margin_m, internal::PointToBox(p, car) - 0.2);
+        if (radius >= 0)
+          cv::circle(obstacles, cell(p), static_cast<int>(std::ceil(radius / map->resolution())), cv::Scalar(1),
+                     cv::FILLED);
+      }
+      map = std::make_shared<plan::DistanceMap>(obstacles, static_map_->origin_x(), static_map_->origin_y(),
+                                                static_map_->resolution());
       local = std::make_unique<plan::HybridAStar>(c_.search, plan_car_, map);
     }
     plan::PlanResult found;
@@ -266,6 +285,10 @@ class Machine {
     if (!found.found) {
       if (around_agents) {  // keep waiting; the agents may move on
         blocked_since_ = t;
+        return {};
+      }
+      if (!unexplained_.empty()) {  // no way past what the LiDAR saw: try the way it blocked again
+        unexplained_.clear();
         return {};
       }
       r_.failure = "no path to " + goal.name + ": " + found.failure;
@@ -306,6 +329,7 @@ class Machine {
       return {};
     }
     corrections_ = 0;
+    unexplained_.clear();  // what stopped the car on the way to the last goal
     if (++goal_ < mission_.size()) {
       Handle(MissionEvent::kGoalReached, t, std::string("reached ") + note);
       return {};
@@ -372,18 +396,20 @@ class Machine {
   // The emergency check, independent of the path, the planner and the margins:
   // the car's box stretched in its direction of travel by the braking distance
   // v²/(2 a) + emergency_buffer_m, against the obstacles of perception's latest
-  // frame (not the tracks), and stretched by v²/(2 a) + lidar_stop_buffer_m against
-  // the LiDAR's raw returns in the car's frame. Returns what it would hit ("" when
-  // nothing). A stopped car needs no check.
-  std::string Imminent(const plan::Pose& pose, double speed, const std::vector<SeenObject>& obstacles,
-                       const std::vector<cv::Point2d>& returns) const {
+  // frame (not the tracks); then (ReturnAhead) stretched by v²/(2 a) +
+  // lidar_stop_buffer_m against the LiDAR's raw returns in the car's frame. Each
+  // returns what the car would hit ("" when nothing). A stopped car needs no check.
+  std::string ObstacleAhead(const plan::Pose& pose, double speed, const std::vector<SeenObject>& obstacles) const {
     if (std::abs(speed) < c_.tracker.stop_speed_mps) return "";
-    const double braking = speed * speed / (2 * c_.car.max_accel_mps2);
-    const Box box = Stretched(pose, speed, braking + c_.loop.emergency_buffer_m);
+    const Box box = Stretched(pose, speed, Braking(speed) + c_.loop.emergency_buffer_m);
     for (const auto& o : obstacles)
       if (internal::BoxToBox(box, o.box) <= 0) return "emergency stop: " + o.Name() + " within the stopping distance";
-    if (!c_.loop.lidar_stop) return "";
-    const Box own = Stretched({0, 0, 0}, speed, braking + c_.loop.lidar_stop_buffer_m);
+    return "";
+  }
+
+  std::string ReturnAhead(double speed, const std::vector<cv::Point2d>& returns) const {
+    if (!c_.loop.lidar_stop || std::abs(speed) < c_.tracker.stop_speed_mps) return "";
+    const Box own = Stretched({0, 0, 0}, speed, Braking(speed) + c_.loop.lidar_stop_buffer_m);
     for (const auto& p : returns)
       if (internal::PointToBox(p, own) <= 0) {
         char what[96];
@@ -392,6 +418,28 @@ class Machine {
         return what;
       }
     return "";
+  }
+
+  double Braking(double speed) const { return speed * speed / (2 * c_.car.max_accel_mps2); }
+
+  // The LiDAR obstacle layer: after a LiDAR stop, the returns within
+  // lidar_obstacle_range_m that neither the static layer (within 0.3 m of an
+  // occupied cell) nor a track's box explains, in the map frame at the believed pose.
+  // The planners keep clear of them by pedestrian_margin_m (nobody knows what they
+  // are) until the goal changes: what stopped the car, perception may not see.
+  void RememberUnexplained(const plan::Pose& pose, const std::vector<cv::Point2d>& returns,
+                           const std::vector<SeenObject>& tracks) {
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    for (const auto& p : returns) {
+      if (std::hypot(p.x, p.y) > c_.loop.lidar_obstacle_range_m) continue;
+      const cv::Point2d w{pose.x + c * p.x - s * p.y, pose.y + s * p.x + c * p.y};
+      if (!static_map_->Contains(w.x, w.y) || static_map_->Distance(w.x, w.y) < 0.3) continue;
+      const bool on_track = std::any_of(tracks.begin(), tracks.end(),
+                                        [&](const SeenObject& a) { return internal::PointToBox(w, a.box) < 0.3; });
+      const bool known = std::any_of(unexplained_.begin(), unexplained_.end(),
+                                     [&](const cv::Point2d& q) { return std::hypot(q.x - w.x, q.y - w.y) < 0.1; });
+      if (!on_track && !known) unexplained_.push_back(w);
+    }
   }
 
   // The car's box at `pose` stretched by `reach` in its direction of travel.
@@ -453,6 +501,7 @@ class Machine {
   bool manoeuvre_ = false;
   double local_at_s_ = -INFINITY;
   unsigned seed_;
+  std::vector<cv::Point2d> unexplained_;  // the LiDAR obstacle layer (map frame)
   MissionStateMachine machine_;
   size_t goal_ = 0;
   int corrections_ = 0;

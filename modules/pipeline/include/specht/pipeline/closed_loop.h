@@ -48,7 +48,10 @@
 // emergency_buffer_m against the obstacles of perception's latest frame, and (with
 // `lidar_stop`) stretched by the braking distance + lidar_stop_buffer_m against the
 // raw returns of the latest LiDAR scan in the car's own frame, so that it needs
-// neither the map nor the believed pose (Nav2's collision monitor works so).
+// neither the map nor the believed pose (Nav2's collision monitor works so). After
+// a LiDAR stop, the returns near the car that neither the static layer nor a track
+// explains become an obstacle layer both planners keep clear of until the goal
+// changes (lidar_obstacle_range_m): what stopped the car, perception may not see.
 //
 // Planning layers: the path hybrid A* finds and the smoother smooths is the route;
 // while driving, the local planner (plan/local_planner.h, section local_planner)
@@ -117,6 +120,7 @@ struct ClosedLoopOptions {
   double emergency_buffer_m = 0.3;
   bool lidar_stop = true;
   double lidar_stop_buffer_m = 0.1;
+  double lidar_obstacle_range_m = 8.0;
   double pedestrian_slow_radius_m = 4.0;
   double pedestrian_slow_speed_mps = 1.0;
   double look_ahead_m = 15.0;
@@ -166,6 +170,10 @@ struct ClosedLoopOptions {
             "the braking distance plus lidar_stop_buffer_m (car frame: no map, no pose)");
     v.Param("lidar_stop_buffer_m", lidar_stop_buffer_m, "…the stretch beyond the braking distance",
             Range::Of(0.0, 5.0));
+    v.Param("lidar_obstacle_range_m", lidar_obstacle_range_m,
+            "after a LiDAR stop, returns this close that neither the static layer nor a track explains become "
+            "obstacles the planners keep clear of until the goal changes (0: none)",
+            Range::Of(0.0, 30.0));
     v.Param("pedestrian_slow_radius_m", pedestrian_slow_radius_m,
             "slow down when a pedestrian is (or walks within prediction_s) this close to the path ahead "
             "(about the margin + the braking distance from 3 m/s)",
