@@ -253,15 +253,15 @@ class Machine {
         return cv::Point{static_cast<int>((p.x - map->origin_x()) / map->resolution()),
                          static_cast<int>((p.y - map->origin_y()) / map->resolution())};
       };
-      for (const auto& a : tracks) {
-        if (!around_agents) break;
-        Box b = a.box;
-        const double m = Margin(a);
-        b.hl += m, b.hw += m;
-        std::vector<cv::Point> poly;
-        for (const auto& p : internal::Corners(b)) poly.push_back(cell(p));
-        cv::fillConvexPoly(obstacles, poly, cv::Scalar(1));
-      }
+      if (around_agents)
+        for (const auto& a : tracks) {
+          Box b = a.box;
+          const double m = Margin(a);
+          b.hl += m, b.hw += m;
+          std::vector<cv::Point> poly;
+          for (const auto& p : internal::Corners(b)) poly.push_back(cell(p));
+          cv::fillConvexPoly(obstacles, poly, cv::Scalar(1));
+        }
       // A return's disc stops 0.2 m short of the car as it stands: the search needs
       // its start clear (a return at the bumper is left to the emergency stop).
       const Box car = internal::CarBox(c_.car, pose);

@@ -132,13 +132,7 @@ class Validity : public ob::StateValidityChecker {
   bool isValid(const ob::State* s) const override {
     const Pose p = PoseOf(s);
     if (!map_->Contains(p.x, p.y) || !map_->Free(discs_, p)) return false;
-    const double t = Values(s, 2)[kTime], c = std::cos(p.theta), sn = std::sin(p.theta);
-    for (const MovingObstacle& o : obstacles_) {
-      const double ox = o.x + o.vx * t, oy = o.y + o.vy * t, need = discs_.radius + o.radius_m + discs_.margin;
-      for (const double d : discs_.offsets)
-        if (std::hypot(p.x + c * d - ox, p.y + sn * d - oy) < need) return false;
-    }
-    return true;
+    return ClearOfMovingObstacles(discs_, p, obstacles_, Values(s, 2)[kTime]);
   }
 
  private:
@@ -287,7 +281,23 @@ void SeedOnce(int seed) {
   });
 }
 
+// The speeds a plan may drive at, by `directions`: reversing, forward or both.
+std::pair<double, double> SpeedRange(const KinodynamicOptions& o, const CarOptions& car) {
+  return {o.directions == "forward" ? 0.0 : -car.max_reverse_mps, o.directions == "reverse" ? 0.0 : car.max_speed_mps};
+}
+
 }  // namespace
+
+bool ClearOfMovingObstacles(const DiscCover& discs, const Pose& pose, const std::vector<MovingObstacle>& obstacles,
+                            double t_s) {
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  for (const MovingObstacle& o : obstacles) {
+    const double ox = o.x + o.vx * t_s, oy = o.y + o.vy * t_s, need = discs.radius + o.radius_m + discs.margin;
+    for (const double d : discs.offsets)
+      if (std::hypot(pose.x + c * d - ox, pose.y + s * d - oy) < need) return false;
+  }
+  return true;
+}
 
 // OMPL 1.5 reseeds its seed generator on every setSeed, but reports it as an error
 // once numbers were drawn (its concern: a seed changed mid-run): it is not one here.
@@ -337,8 +347,8 @@ KinodynamicPlanner::KinodynamicPlanner(const KinodynamicOptions& options, const 
   m.controls = std::make_shared<oc::RealVectorControlSpace>(m.space, 2);
   ob::RealVectorBounds u(2);
   const double steer_rate = car.max_steer_rate_deg_s * M_PI / 180;
-  u.setLow(0, options.directions == "forward" ? 0.0 : -car.max_reverse_mps);
-  u.setHigh(0, options.directions == "reverse" ? 0.0 : car.max_speed_mps);
+  const auto [slowest, fastest] = SpeedRange(options, car);
+  u.setLow(0, slowest), u.setHigh(0, fastest);
   u.setLow(1, -steer_rate), u.setHigh(1, steer_rate);
   m.controls->setBounds(u);
 }
@@ -372,8 +382,8 @@ KinodynamicResult KinodynamicPlanner::Plan(const Pose& start, const Pose& goal,
   Se2(s.get()).setXY(start.x, start.y), Se2(s.get()).setYaw(std::remainder(start.theta, 2 * M_PI));
   const double max_steer = m.car.max_steer_deg * M_PI / 180 * m.o.steer_fraction;
   Values(s.get(), 1)[kSteer] = std::clamp(motion.steer_rad, -max_steer, max_steer);
-  Values(s.get(), 1)[kSpeed] = std::clamp(motion.speed_mps, m.o.directions == "forward" ? 0.0 : -m.car.max_reverse_mps,
-                                          m.o.directions == "reverse" ? 0.0 : m.car.max_speed_mps);
+  const auto [slowest, fastest] = SpeedRange(m.o, m.car);
+  Values(s.get(), 1)[kSpeed] = std::clamp(motion.speed_mps, slowest, fastest);
   std::fill(Values(s.get(), 2), Values(s.get(), 2) + kLogSize, 0.0);
   // The static map passed CheckEndpoint; a moving obstacle may still cover the
   // start (OMPL would only log an error and return nothing).

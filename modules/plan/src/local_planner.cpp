@@ -46,16 +46,6 @@ size_t Projection(const Path& route, size_t from, const Pose& pose) {
   return best;
 }
 
-// Whether the car's discs at `pose` clear every obstacle where it stands now.
-bool ClearOf(const DiscCover& discs, const Pose& pose, const std::vector<MovingObstacle>& obstacles) {
-  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
-  for (const MovingObstacle& o : obstacles)
-    for (const double d : discs.offsets)
-      if (std::hypot(pose.x + c * d - o.x, pose.y + s * d - o.y) < discs.radius + o.radius_m + discs.margin)
-        return false;
-  return true;
-}
-
 }  // namespace
 
 LocalPlanner::LocalPlanner(const LocalPlannerOptions& options, const KinodynamicOptions& kinodynamic,
@@ -104,12 +94,13 @@ LocalPlan LocalPlanner::Plan(const Pose& pose, const StartMotion& motion, const 
   while (goal < end && along[goal - at] < reach) ++goal;
   const double farthest = std::min(2 * reach, along.back() - o_.min_horizon_m);
   bool moved = false;
-  while (goal < end && along[goal - at] < farthest && !ClearOf(discs, route.points[goal].pose, obstacles))
+  while (goal < end && along[goal - at] < farthest &&
+         !ClearOfMovingObstacles(discs, route.points[goal].pose, obstacles))
     ++goal, moved = true;
   // Past a road user the car needs room to come back onto the route: a car length.
   const double back_on = along[goal - at] + car_.length_m;
   while (moved && goal < end && along[goal - at] < std::min(back_on, farthest)) ++goal;
-  if (!ClearOf(discs, route.points[goal].pose, obstacles)) {
+  if (!ClearOfMovingObstacles(discs, route.points[goal].pose, obstacles)) {
     out.failure = "a road user stands on the route ahead";
     return out;
   }

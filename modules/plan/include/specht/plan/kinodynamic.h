@@ -126,6 +126,11 @@ struct MovingObstacle {
   double radius_m = 0.3;
 };
 
+// Whether the car's discs at `pose` clear every obstacle where it is `t_s` after plan
+// time (the planner's check of a state; 0: where they stand now).
+bool ClearOfMovingObstacles(const DiscCover& discs, const Pose& pose, const std::vector<MovingObstacle>& obstacles,
+                            double t_s = 0);
+
 // How the car moves at the start: a replan from a moving car starts at its speed and
 // steering angle (clamped to the planner's limits), not from rest.
 struct StartMotion {
