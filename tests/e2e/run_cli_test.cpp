@@ -248,6 +248,18 @@ TEST(RunCliTest, TheSameSeedDrivesTheSameRun) {
   EXPECT_EQ(testing::ReadFile(dir + "/a/steps-103.jsonl"), testing::ReadFile(dir + "/b/steps-103.jsonl"));
 }
 
+// The camera in the loop without its inputs: the missing file is named and the car
+// never moves (no run directory is written).
+TEST(RunCliTest, TheCameraWithoutSpritesOrModelsNamesTheMissingFile) {
+  const std::string dir = testing::TempDir("run_cli_camera_bad");
+  std::filesystem::create_directories(dir + "/data");
+  const auto r = testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml' -q -o '" +
+                                    dir + "/out' --data-dir '" + dir + "/data' --set closed_loop.perception=camera");
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, HasSubstr(dir + "/data/sprites"));
+  EXPECT_FALSE(fs::exists(dir + "/out/report.json"));
+}
+
 TEST(RunCliTest, BadMissionNamesTheLine) {
   const std::string dir = testing::TempDir("run_cli_bad");
   testing::WriteFile(dir + "/mission.yaml", "goals:\n  - park: bay-z\n");
