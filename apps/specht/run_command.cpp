@@ -1,4 +1,4 @@
-// `specht run <scenario.yaml> [--mission M.yaml] [--seeds A-B] [--stack full|truth] -o DIR`: the closed
+// `specht run <scenario.yaml> [--mission M.yaml] [--seeds A-B] [--stack full|truth] [--map DIR] -o DIR`: the closed
 // loop (pipeline/mission_runs.h).
 #include "commands.h"
 #include "specht/pipeline/mission_runs.h"
@@ -28,13 +28,18 @@ void AddRunCommand(CLI::App& app, int& exit_code) {
                   "(--set overrides either)")
       ->check(CLI::IsMember({"full", "truth"}))
       ->capture_default_str();
+  cmd->add_option("--map", args->in.map_dir,
+                  "localise on the map a mapping drive of this scenario left (its map-<seed>/ folder) and plan on "
+                  "its grid, instead of mapping from scratch (closed_loop.localization map; full stack only)");
   AddCommonOptions(*cmd, args->common, "specht-out/run");
   cmd->callback([args, &exit_code] {
     if (!args->seeds.empty()) args->in.seeds = ParseSeedRange(args->seeds, 0);
     args->in.data_dir = DataDir(args->common);
     const bool full = args->stack == "full";
+    if (!full && !args->in.map_dir.empty()) throw CLI::ValidationError("--map", "the truth stack reads no map");
+    const std::string localization = !full ? "truth" : args->in.map_dir.empty() ? "slam" : "map";
     auto& o = args->common.overrides;
-    o.insert(o.begin(), {std::string("closed_loop.localization=") + (full ? "slam" : "truth"),
+    o.insert(o.begin(), {"closed_loop.localization=" + localization,
                          std::string("closed_loop.perception=") + (full ? "detections" : "truth")});
     exit_code = pipeline::RunMissions(LoadParams(args->common), args->in, args->common.out_dir, args->common.quiet);
   });

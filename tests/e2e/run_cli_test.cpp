@@ -107,6 +107,34 @@ TEST(RunCliTest, TheFullStackDrivesOnSlamPerceivedTracksAndTheLocalPlannersPaths
   EXPECT_EQ(truth["metrics"]["perception"]["pedestrian"]["recall"].get<double>(), 1.0);
 }
 
+// A mapping drive leaves SLAM's map of the site (map-<seed>/, in the scenario's
+// frame); a later run localises on it and plans on its grid: no truth but the
+// scenario's start pose reaches the car (measured on seed 2: 0.015 m at worst).
+TEST(RunCliTest, ALaterRunLocalisesOnTheMapAMappingDriveLeft) {
+  const std::string dir = testing::TempDir("run_cli_site_map");
+  const auto mapping = RunParked("parking-lot.yaml", "1", dir + "/mapping", "--stack full");
+  EXPECT_EQ(mapping["runs"][0]["localization"]["mode"], "slam");
+  for (const char* f : {"map.yaml", "map.pgm", "map.gridmap", "graph.g2o", "keyframes.rawlog", "site.json", "map.png"})
+    EXPECT_TRUE(fs::exists(dir + "/mapping/map-1/" + f)) << f;
+  const auto located = RunParked("parking-lot.yaml", "2", dir + "/located", "--map '" + dir + "/mapping/map-1'");
+  const auto& run = located["runs"][0];
+  EXPECT_EQ(run["localization"]["mode"], "map");
+  EXPECT_EQ(run["static_layer"], "site map");
+  EXPECT_LT(run["localization"]["ate_max_m"].get<double>(), 0.05);
+  EXPECT_EQ(located["inputs"]["map"], dir + "/mapping/map-1");
+
+  // Another scenario's map, or a folder that holds no map: an input error before the car moves.
+  const std::string urban = testing::SourceDir() + "/datasets/scenarios/urban-crossing.yaml";
+  auto r = testing::RunSpecht("run '" + urban + "' -q -o '" + dir + "/other' --map '" + dir + "/mapping/map-1'");
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, HasSubstr("map-1/site.json: the map was drawn in scenario 'parking-lot', this run is in "
+                               "'urban-crossing'"));
+  r = testing::RunSpecht("run '" + urban + "' -q -o '" + dir + "/other' --map '" + dir + "/mapping'");
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, HasSubstr(dir + "/mapping: not a specht map (missing graph.g2o"));
+  EXPECT_FALSE(fs::exists(dir + "/other/report.json"));
+}
+
 // The emergency check on the LiDAR's raw returns needs neither map nor pose nor
 // tracks. A pedestrian stands on the parking lot's path to its bay and perception
 // reports nothing (detection_probability 0): without the check the car runs into

@@ -666,6 +666,10 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   const bool camera = loop.perception == "camera";
   if (camera && !scenario.stereo)
     throw InputError("closed_loop.perception camera: scenario " + scenario.name + " has no stereo camera");
+  const std::shared_ptr<const MapArtefact>& site_map = config.slam.site_map;
+  if (site_map && loop.localization != "map")
+    throw InputError("a map of the site is given, but closed_loop.localization is " + loop.localization +
+                     " (it is read by localization map)");
   sim::Simulator sim(scenario, seed, camera ? config.camera.sprites : nullptr);
   world::WorldModel world(config.world);
   LoopSlamConfig slam_config = config.slam;
@@ -678,15 +682,15 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   internal::LoopPerception perceive(loop.perception, loop.control_hz, config.detection, config.tracking,
                                     loop.perception_match_m, seed, world, {loop.blind_at_s, loop.blind_for_s},
                                     config.camera);
-  const mrpt::maps::COccupancyGridMap2D true_grid = sim::World(scenario).TrueGrid(0.1);
+  const mrpt::maps::COccupancyGridMap2D true_grid = sim::World(scenario).TrueGrid(kPlanningResolutionM);
   Machine machine(true_grid, config, mission, seed, r);
   ContactScore contacts(scenario, config, machine.truth_map());
   const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (loop.control_hz * sim::Simulator::kStepS))));
   std::optional<LidarMap> lidar;
   if (loop.map_source == "lidar")
     lidar.emplace(machine.truth_map());  // nothing seen yet
-  else                                   // a prior map of the site: the scenario's true grid
-    world.SetStaticMap(true_grid, sim.stamp());
+  else  // a prior map of the site: a mapping drive's, or the scenario's true grid
+    world.SetStaticMap(site_map ? site_map->grid : true_grid, sim.stamp());
   // The pose check needs a prior map, and a pose that can be wrong.
   std::optional<LoopPoseCheck> pose_check;
   if (config.pose_check.enabled && !lidar && (loop.localization != "truth" || loop.kidnap_at_s >= 0))
@@ -788,9 +792,13 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   r.transitions = machine.transitions();
   ScoreParking(config, mission, EgoRearAxle(scenario, sim.ego().pose), r);
   r.stack = loop.Stack();
+  r.static_layer = lidar ? "lidar" : site_map ? "site map" : "true grid";
   r.localization = where.ToJson();
   if (pose_check) r.localization["pose_check"] = pose_check->ToJson();
   r.perception = perceive.ToJson();
+  slam::GridOptions drawn = config.slam.grid;
+  drawn.resolution_m = kPlanningResolutionM;
+  r.drawn_map = where.DrawnMap(scenario.name, drawn);
   return r;
 }
 
@@ -840,6 +848,7 @@ nlohmann::json ClosedLoopResult::ToJson() const {
   return {{"success", success},
           {"failure", failure},
           {"stack", stack},
+          {"static_layer", static_layer},
           {"localization", localization},
           {"perception", perception},
           {"interrupted", interrupted},

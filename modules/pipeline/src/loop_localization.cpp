@@ -56,8 +56,9 @@ LoopLocalization::LoopLocalization(const std::string& mode, const sim::Scenario&
   } else if (mode == "map") {
     slam::LocalizationOptions options;
     options.initial_pose = {start_.x(), start_.y(), start_.phi() * 180 / M_PI};
-    localizer_ = std::make_unique<slam::Localizer>(Survey(scenario, c.survey_spacing_m), options, c.matching, nullptr,
-                                                   "base_link");
+    localizer_ = std::make_unique<slam::Localizer>(
+        c.site_map ? c.site_map->keyframes : Survey(scenario, c.survey_spacing_m), options, c.matching, nullptr,
+        "base_link");
     at_scan_ = start_;  // until the first scan is placed
     start_ = {};        // its poses are in the map frame already
   } else if (mode != "truth")
@@ -80,6 +81,23 @@ void LoopLocalization::Observe(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
     at_scan_ = mrpt::poses::CPose2D(p.x(), p.y(), p.yaw());
     odometry_at_scan_ = odometry_, scan_stamp_ = t;
   }
+}
+
+std::shared_ptr<const MapArtefact> LoopLocalization::DrawnMap(const std::string& site,
+                                                              const slam::GridOptions& grid) {
+  if (!slam_ || slam_->keyframes().empty()) return nullptr;
+  slam_->Finish();
+  auto map = std::make_shared<MapArtefact>();
+  map->site = site;
+  map->graph = slam_->graph();
+  for (auto& [id, pose] : map->graph.nodes) pose = start_ + pose;  // SLAM's frame → the scenario's
+  map->keyframes = slam_->keyframes();
+  for (size_t i = 0; i < map->keyframes.size(); ++i) {  // node i is keyframe i, as ReadMapArtefact reads them
+    const auto node = map->graph.nodes.find(static_cast<int>(i));
+    map->keyframes[i].pose = node != map->graph.nodes.end() ? node->second : start_ + map->keyframes[i].pose;
+  }
+  map->grid = slam::BuildGrid(map->keyframes, grid);
+  return map;
 }
 
 CPose2D LoopLocalization::Estimate(const sim::Simulator& sim) const {

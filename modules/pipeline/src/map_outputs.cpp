@@ -11,9 +11,7 @@
 #include "specht/eval/relation_error.h"
 #include "specht/eval/trajectory_error.h"
 #include "specht/io/dataset.h"
-#include "specht/io/g2o.h"
 #include "specht/io/map_io.h"
-#include "specht/io/rawlog_writer.h"
 #include "specht/slam/localizer.h"
 
 namespace specht::pipeline::internal {
@@ -83,16 +81,9 @@ void AddMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Trajector
       a.mean_nats, b.mean_nats, at_estimate.size());
 }
 
-// The map artefact: grid (ROS + MRPT), pose graph (g2o; node i = keyframe i) and the
-// keyframe scans (rawlog, in node order): what localization and continuing need.
 void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyGridMap2D& grid,
                       const std::string& out) {
-  io::WriteRosMap(grid, out + "/map.yaml");
-  io::WriteMrptGridmap(grid, out + "/map.gridmap");
-  io::WriteG2o(slam.graph(), out + "/graph.g2o");
-  io::RawlogWriter keyframes(out + "/keyframes.rawlog");
-  for (const auto& kf : slam.keyframes()) keyframes.Write(*kf.scan);
-  keyframes.Close();
+  pipeline::WriteMapArtefact({slam.keyframes(), slam.graph(), grid, ""}, out);
 }
 
 // The loop closures as the final graph holds them (slam/pose_graph_optimizer.h's
@@ -150,27 +141,6 @@ void ReportLoops(const slam::GraphSlam& slam, const slam::PoseGraphOptions& opti
       {&weakened, {240, 150, 0}, "loop weakened (" + std::to_string(weakened.size() / 2) + ")", false, true},
       {&set_aside, {220, 30, 30}, "loop set aside (" + std::to_string(set_aside.size() / 2) + ")", false, true}};
   io::WriteMapPng(grid, paths, out + "/loops.png");
-}
-
-SavedMap ReadMapArtefact(const std::string& dir) {
-  for (const char* f : {"graph.g2o", "keyframes.rawlog", "map.gridmap"}) {
-    if (!std::filesystem::is_regular_file(dir + "/" + f)) {
-      throw InputError(dir + ": not a specht map (missing " + f + "; write one with `specht slam -o DIR`)");
-    }
-  }
-  const io::G2oReadResult graph = io::ReadG2o(dir + "/graph.g2o");
-  std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> scans;
-  auto rawlog = io::OpenRawlog(dir + "/keyframes.rawlog");
-  while (auto obs = rawlog->Next()) {
-    if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data)) scans.push_back(scan);
-  }
-  std::vector<mrpt::poses::CPose2D> poses;
-  for (const auto& [id, pose] : graph.graph.nodes) poses.push_back(pose);
-  if (scans.size() != poses.size() || scans.empty()) {
-    throw InputError(dir + ": map artefact is inconsistent: " + std::to_string(scans.size()) +
-                     " keyframe scans in keyframes.rawlog but " + std::to_string(poses.size()) + " nodes in graph.g2o");
-  }
-  return {slam::KeyframesFromGraph(scans, poses), graph.graph, io::ReadMrptGridmap(dir + "/map.gridmap")};
 }
 
 }  // namespace specht::pipeline::internal

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <optional>
 
@@ -77,6 +78,18 @@ nlohmann::json LoopTotals(const nlohmann::json& runs) {
           {"real_time_factor", wall_s > 0 ? sim_s / wall_s : 0.0}};
 }
 
+// The map of `dir` (map_artefact.h), which must have been drawn in this scenario.
+std::shared_ptr<const MapArtefact> SiteMap(const std::string& dir, const sim::Scenario& scenario) {
+  auto map = std::make_shared<MapArtefact>(ReadMapArtefact(dir));
+  if (map->site.empty())
+    throw InputError(dir + ": a map without site.json, so not drawn by a mapping drive of `specht run` in " +
+                     scenario.name + "; write one with `specht run " + scenario.name + ".yaml --stack full -o DIR`");
+  if (map->site != scenario.name)
+    throw InputError(dir + "/site.json: the map was drawn in scenario '" + map->site + "', this run is in '" +
+                     scenario.name + "'");
+  return map;
+}
+
 }  // namespace
 
 int RunMissions(const params::Params& params, const MissionRunInputs& a, const std::string& out, bool quiet) {
@@ -92,7 +105,8 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   config.loop = params.Get<ClosedLoopOptions>("closed_loop");
   config.slam = {params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
                  params.Get<slam::LoopClosureOptions>("loop_closure"),
-                 params.Get<slam::PoseGraphOptions>("pose_graph")};
+                 params.Get<slam::PoseGraphOptions>("pose_graph"), params.Get<slam::GridOptions>("grid"), 4.0, nullptr};
+  if (!a.map_dir.empty()) config.slam.site_map = SiteMap(a.map_dir, scenario);
   config.pose_check = params.Get<slam::PoseCheckOptions>("pose_check");
   config.detection = params.Get<sim::SyntheticDetectionOptions>("synthetic_detections");
   config.tracking = params.Get<track::TrackerOptions>("track");
@@ -145,6 +159,12 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
       }
     }
     io::WriteTextAtomically(out + "/paths-" + std::to_string(seed) + ".csv", paths);
+    if (r.drawn_map) {  // a mapping drive: what `--map` reads back
+      const std::string dir = out + "/map-" + std::to_string(seed);
+      std::filesystem::create_directories(dir);
+      WriteMapArtefact(*r.drawn_map, dir);
+      io::WriteMapPng(r.drawn_map->grid, {}, dir + "/map.png");
+    }
     plan::Path driven;
     for (const auto& p : r.trajectory) driven.points.push_back({p, 1});
     const plan::Pose start = r.trajectory.empty() ? plan::Pose{} : r.trajectory.front();
@@ -168,7 +188,10 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
     report.SetInterrupted(std::to_string(n) + " of " + std::to_string(last - first + 1) + " runs");
   auto& j = report.json();
   j["inputs"] = {
-      {"scenario", a.scenario}, {"mission", a.mission.empty() ? "default" : a.mission}, {"seeds", {first, last}}};
+      {"scenario", a.scenario},
+      {"mission", a.mission.empty() ? "default" : a.mission},
+      {"seeds", {first, last}},
+      {"map", a.map_dir.empty() ? nlohmann::json() : nlohmann::json(a.map_dir)}};
   j["metrics"] = {
       {"runs", n},
       {"success_rate", static_cast<double>(successes) / n},

@@ -119,7 +119,7 @@ struct Replay::State {
   std::string reference_path;
   Trajectory reference;
   std::optional<io::RelationsFile> relations;
-  internal::SavedMap saved;
+  MapArtefact saved;
   std::unique_ptr<PerceptionPipeline> perception;
 
   // The parts of one run.
@@ -143,8 +143,8 @@ Replay::Replay(const params::Params& params, ReplayInputs in, std::string comman
   if (!s.reference_path.empty()) s.reference = io::ReadReference(s.reference_path);
   const std::string relations = s.in.relations.empty() ? io::DefaultRelationsPath(s.in.dataset) : s.in.relations;
   if (!relations.empty()) s.relations = io::ReadRelations(relations);
-  if (!s.in.map_dir.empty()) s.saved = internal::ReadMapArtefact(s.in.map_dir);
-  if (!s.in.continue_dir.empty()) s.saved = internal::ReadMapArtefact(s.in.continue_dir);
+  if (!s.in.map_dir.empty()) s.saved = ReadMapArtefact(s.in.map_dir);
+  if (!s.in.continue_dir.empty()) s.saved = ReadMapArtefact(s.in.continue_dir);
   s.perception = std::make_unique<PerceptionPipeline>(params, s.in.data_dir);
 }
 

@@ -7,7 +7,8 @@
 //          odometry since that scan.
 //   map    localisation on a prior map of the site (slam/localizer.h: ICP against
 //          the map's points, seeded by odometry, starting at the scenario's start
-//          pose): the map is a survey of the static world — 360° scans taken every
+//          pose): the map an earlier mapping drive left (LoopSlamConfig::site_map),
+//          or else a survey of the static world — 360° scans taken every
 //          survey_spacing_m over its free space — as a mapping drive would leave.
 // Whatever the mode, the believed pose is correction ⊕ the estimate: the correction
 // (map ← the estimator's frame, identity at the start) is what a relocalisation on the
@@ -54,6 +55,9 @@ class LoopLocalization {
   // Records the error of the believed pose against the truth.
   void Score(const sim::Simulator& sim);
   nlohmann::json ToJson() const;
+  // slam: the map drawn so far, the graph finished (Finish), moved into the scenario's
+  // frame; none in the other modes. Call once, at the end of the drive.
+  std::shared_ptr<const MapArtefact> DrawnMap(const std::string& site, const slam::GridOptions& grid);
 
  private:
   // The estimate, before the correction: now, and at the latest scan.

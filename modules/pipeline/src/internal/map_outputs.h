@@ -11,6 +11,7 @@
 #include "specht/core/trajectory.h"
 #include "specht/io/map_io.h"
 #include "specht/io/trajectory_io.h"
+#include "specht/pipeline/map_artefact.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/pose_graph_optimizer.h"
 
@@ -36,8 +37,7 @@ std::vector<io::PathOverlay> RelationOverlays(const Trajectory& estimate, const 
 // (eval/map_quality.h): whether the reference's map is sharper than ours.
 void AddMapEntropy(const std::vector<slam::Keyframe>& keyframes, const Trajectory& reference, nlohmann::json& metrics);
 
-// The map artefact: grid (ROS + MRPT), pose graph (g2o; node i = keyframe i) and the
-// keyframe scans (rawlog, in node order): what localization and continuing need.
+// The map artefact of a SLAM run (specht/pipeline/map_artefact.h).
 void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyGridMap2D& grid, const std::string& out);
 
 // The loop closures as the final graph holds them, their weights and errors, and
@@ -45,14 +45,5 @@ void WriteMapArtefact(const slam::GraphSlam& slam, const mrpt::maps::COccupancyG
 void ReportLoops(const slam::GraphSlam& slam, const slam::PoseGraphOptions& options,
                  const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& trajectory, const std::string& out,
                  nlohmann::json& metrics);
-
-struct SavedMap {
-  std::vector<slam::Keyframe> keyframes;  // poses from the graph
-  PoseGraph2D graph;
-  mrpt::maps::COccupancyGridMap2D grid;
-};
-
-// Throws InputError naming the directory and what is missing or inconsistent.
-SavedMap ReadMapArtefact(const std::string& dir);
 
 }  // namespace specht::pipeline::internal

@@ -70,8 +70,9 @@
 // expansions) the searches here stop at their max_expansions only; the time each
 // call took is still reported.
 //
-// The static layer is the scenario's true grid at 0.1 m (a prior map of the site),
-// or (map_source lidar) the occupancy grid the car's simulated LiDAR builds as it
+// The static layer is a prior map of the site: the map an earlier mapping drive
+// left (`--map DIR`: LoopSlamConfig::site_map, localised on with localization map),
+// else the scenario's true grid at kPlanningResolutionM; or (map_source lidar) the occupancy grid the car's simulated LiDAR builds as it
 // drives, at the believed poses, returns on tracks removed, unknown cells free,
 // rebuilt at map_update_hz — when it blocks the path ahead, map_changed sends the
 // machine back to plan. The car is the scenario's ego; the simulator reports its
@@ -96,6 +97,7 @@
 #include "specht/sim/detections.h"
 #include "specht/sim/scenario.h"
 #include "specht/sim/sprites.h"
+#include "specht/pipeline/map_artefact.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/pose_check.h"
 #include "specht/stereo/sgm.h"
@@ -103,6 +105,9 @@
 #include "specht/world/world_model.h"
 
 namespace specht::pipeline {
+
+// The cell size the closed loop plans at: the true grid's, and a mapping drive's map.
+inline constexpr double kPlanningResolutionM = 0.1;
 
 // Section "closed_loop".
 struct ClosedLoopOptions {
@@ -270,8 +275,12 @@ struct ClosedLoopResult {
   std::vector<plan::Pose> trajectory;  // at the control rate
   std::vector<plan::Path> paths;       // every plan made
   std::string stack;                   // ClosedLoopOptions::Stack()
+  std::string static_layer;            // what the static layer started from: "site map", "true grid", "lidar"
   nlohmann::json localization;         // mode and trajectory error against the truth
   nlohmann::json perception;           // mode, frames, recall and precision per class
+  // localization slam: the map this drive drew, in the scenario's frame (a mapping
+  // drive: what `--map` reads back).
+  std::shared_ptr<const MapArtefact> drawn_map;
   nlohmann::json ToJson() const;
 };
 
@@ -281,7 +290,11 @@ struct LoopSlamConfig {
   slam::ScanMatchingOptions matching;
   slam::LoopClosureOptions loops;
   slam::PoseGraphOptions graph;
+  slam::GridOptions grid;         // the map a mapping drive leaves (its resolution: kPlanningResolutionM)
   double survey_spacing_m = 4.0;  // closed_loop.survey_spacing_m
+  // localization map: the site's map from an earlier mapping drive (`specht run --map
+  // DIR`, in the scenario's frame); none: a survey of the scenario's static world.
+  std::shared_ptr<const MapArtefact> site_map;
 };
 
 // Perception camera: our SGM and the CNN detector on the simulator's stereo frames.
