@@ -101,6 +101,11 @@ TEST(RunCliTest, TheFullStackDrivesOnSlamPerceivedTracksAndTheLocalPlannersPaths
     EXPECT_LE(run["local_planner"]["max_iterations"].get<int>(), 6000);
   }
   EXPECT_THAT(testing::ReadFile(dir + "/full/steps-101.jsonl"), HasSubstr("\"path\":\"local\""));
+  // The first seed's video (closed_loop.video first): the truth beside the world model.
+  EXPECT_EQ(report["runs"][0]["video"], "run-101.mp4");
+  EXPECT_GT(fs::file_size(dir + "/full/run-101.mp4"), 10000u);
+  EXPECT_EQ(report["runs"][1]["video"], "");
+  EXPECT_FALSE(fs::exists(dir + "/full/run-102.mp4"));
   const auto truth = RunParked("parking-lot.yaml", "101-102", dir + "/truth", "--stack truth");
   EXPECT_EQ(truth["metrics"]["stack"], "truth");
   EXPECT_EQ(truth["metrics"]["localization_ate_max_m"].get<double>(), 0.0);

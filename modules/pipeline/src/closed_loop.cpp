@@ -10,6 +10,7 @@
 
 #include "internal/loop_geometry.h"
 #include "internal/loop_localization.h"
+#include "internal/loop_video.h"
 #include "internal/loop_perception.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
@@ -63,13 +64,18 @@ class LidarMap {
   bool changed_ = true;  // the first map: all unknown
 };
 
-// The planning map of the world model's static layer. A map still being drawn
-// (map_source lidar) counts its unknown cells as free and widens its hits by a
-// cell: a return marks the cell its point falls in, the true surface may lie in
-// the neighbour, and at grazing angles neighbouring hits leave a cell between them.
-std::shared_ptr<plan::DistanceMap> PlanningMap(const mrpt::maps::COccupancyGridMap2D& grid, bool being_drawn) {
-  if (!being_drawn) return std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(grid));
+// The planning map of the world model's static layer. A map the car's LiDAR drew
+// (map_source lidar as it drives, or a mapping drive's site map) counts its unknown
+// cells as free: the LiDAR, mounted on the car, leaves ground around it unseen. A
+// map still being drawn also widens its hits by a cell: a return marks the cell its
+// point falls in, the true surface may lie in the neighbour, and at grazing angles
+// neighbouring hits leave a cell between them (a finished map has seen its walls
+// from many poses; widened, it closes the course's tight parallel bay).
+std::shared_ptr<plan::DistanceMap> PlanningMap(const mrpt::maps::COccupancyGridMap2D& grid, bool lidar_drawn,
+                                               bool being_drawn) {
+  if (!lidar_drawn) return std::make_shared<plan::DistanceMap>(plan::DistanceMap::FromGrid(grid));
   const plan::DistanceMap seen = plan::DistanceMap::FromGrid(grid, false);
+  if (!being_drawn) return std::make_shared<plan::DistanceMap>(seen);
   cv::Mat obstacles;
   cv::dilate(seen.obstacles(), obstacles, cv::Mat::ones(3, 3, CV_8U));
   return std::make_shared<plan::DistanceMap>(obstacles, seen.origin_x(), seen.origin_y(), seen.resolution());
@@ -95,6 +101,15 @@ class Machine {
   }
 
   MissionState state() const { return machine_.state(); }
+  // The path the car follows, from where it is on (rear axle, map frame); empty when none.
+  std::vector<cv::Point2d> PathAhead() const {
+    std::vector<cv::Point2d> ahead;
+    if (!tracker_ || Final()) return ahead;
+    const auto& points = tracker_->path().points;
+    for (size_t i = tracker_->progress_index(); i < points.size(); ++i)
+      ahead.emplace_back(points[i].pose.x, points[i].pose.y);
+    return ahead;
+  }
   bool Final() const { return machine_.Final(); }
   const std::vector<Transition>& transitions() const { return machine_.transitions(); }
   // The true static map (what collisions and clearance are scored against).
@@ -105,7 +120,8 @@ class Machine {
   void SyncMap(const world::Snapshot& snapshot, double t) {
     if (!snapshot.static_map || snapshot.static_map == planned_on_) return;
     planned_on_ = snapshot.static_map;
-    static_map_ = PlanningMap(*snapshot.static_map, c_.loop.map_source == "lidar");
+    const bool drawing = c_.loop.map_source == "lidar";
+    static_map_ = PlanningMap(*snapshot.static_map, drawing || c_.slam.site_map, drawing);
     search_ = std::make_unique<plan::SearchWithFallback>(search_options_, fine_options_, plan_car_, static_map_);
     if (c_.local.enabled)
       local_ = std::make_unique<plan::LocalPlanner>(c_.local, c_.kinodynamic, plan_car_, static_map_);
@@ -736,6 +752,8 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     };
   const double frame_rate_hz = camera ? scenario.stereo->rate_hz : config.detection.rate_hz;
   const double warmup_s = loop.perception == "truth" ? 0.0 : config.tracking.confirm_window / frame_rate_hz;
+  std::optional<internal::LoopVideo> video;
+  if (!config.video.empty()) video.emplace(config.video, true_grid, config.world, sim.stamp());
   double map_updated_s = -INFINITY;
   while (!machine.Final()) {
     const double t = sim.time_s();
@@ -770,6 +788,11 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     r.trajectory.push_back(pose);
+    if (video) {
+      t0 = Clock::now();
+      video->Step(sim, *snapshot, where.Believed(sim), machine.PathAhead());
+      r.stage_ms["video"] += since(t0);
+    }
     if (on_step)
       on_step({t, decide::Name(machine.state()), pose, believed, static_cast<int>(seen.tracks.size()),
                machine.OnLocalPath()});
@@ -784,6 +807,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     }
   }
   r.time_s = sim.time_s();
+  if (video) r.video = video->Close();
   // What ran inside the simulator's step belongs to its own stage; rendering is its own.
   r.stage_ms["simulate"] -= r.stage_ms["localize"] + r.stage_ms["camera_in_simulate"] + 1e3 * sim.render_seconds();
   r.stage_ms.erase("camera_in_simulate");
@@ -849,6 +873,7 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"failure", failure},
           {"stack", stack},
           {"static_layer", static_layer},
+          {"video", video},
           {"localization", localization},
           {"perception", perception},
           {"interrupted", interrupted},

@@ -46,11 +46,30 @@ std::vector<slam::Keyframe> Survey(const sim::Scenario& scenario, double spacing
   return keyframes;
 }
 
+// The cells under the car's box at `centre` marked free: where the car stood holds
+// no obstacle, though its own LiDAR, mounted on it, never sees the ground it covers
+// (the start pose's cells would stay unknown, and a plan from there fail).
+void ClearFootprint(const CPose2D& centre, double length_m, double width_m, mrpt::maps::COccupancyGridMap2D& grid) {
+  const double reach = std::hypot(length_m, width_m) / 2;
+  const int x0 = std::max(0, grid.x2idx(centre.x() - reach)), x1 = std::min<int>(grid.getSizeX() - 1, grid.x2idx(centre.x() + reach));
+  const int y0 = std::max(0, grid.y2idx(centre.y() - reach)), y1 = std::min<int>(grid.getSizeY() - 1, grid.y2idx(centre.y() + reach));
+  for (int cy = y0; cy <= y1; ++cy)
+    for (int cx = x0; cx <= x1; ++cx) {
+      const CPose2D cell(grid.idx2x(cx), grid.idx2y(cy), 0);
+      const CPose2D local = cell - centre;  // the cell's centre in the car's frame
+      if (std::abs(local.x()) <= length_m / 2 && std::abs(local.y()) <= width_m / 2) grid.setCell(cx, cy, 1.0f);
+    }
+}
+
 }  // namespace
 
 LoopLocalization::LoopLocalization(const std::string& mode, const sim::Scenario& scenario, const LoopSlamConfig& c,
                                    Kidnap kidnap)
-    : mode_(mode), start_(ToMrpt(scenario.ego.start)), kidnap_(kidnap) {
+    : mode_(mode),
+      start_(ToMrpt(scenario.ego.start)),
+      kidnap_(kidnap),
+      car_length_m_(scenario.ego.model.length_m),
+      car_width_m_(scenario.ego.model.width_m) {
   if (mode == "slam") {
     slam_ = std::make_unique<slam::GraphSlam>(c.slam, c.matching, c.loops, c.graph, nullptr, "base_link");
   } else if (mode == "map") {
@@ -97,6 +116,7 @@ std::shared_ptr<const MapArtefact> LoopLocalization::DrawnMap(const std::string&
     map->keyframes[i].pose = node != map->graph.nodes.end() ? node->second : start_ + map->keyframes[i].pose;
   }
   map->grid = slam::BuildGrid(map->keyframes, grid);
+  for (const auto& kf : map->keyframes) ClearFootprint(kf.pose, car_length_m_, car_width_m_, map->grid);
   return map;
 }
 

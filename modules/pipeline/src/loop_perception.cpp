@@ -68,6 +68,23 @@ mrpt::obs::CObservation2DRangeScan::Ptr WithoutReturnsOn(const mrpt::obs::CObser
   return scan;
 }
 
+void AgentsAsPerceived(const std::vector<sim::AgentTruth>& agents, Stamp stamp, std::vector<types::Track>& tracks,
+                       std::vector<types::Obstacle>& obstacles) {
+  for (const auto& a : agents) {
+    types::Track t;
+    t.id = a.id, t.cls = sim::Name(a.cls), t.stamp = stamp, t.state = "confirmed";
+    t.x_m = a.pose.x, t.y_m = a.pose.y, t.yaw_rad = a.pose.yaw_rad;
+    t.vx_mps = a.speed_mps * std::cos(a.pose.yaw_rad), t.vy_mps = a.speed_mps * std::sin(a.pose.yaw_rad);
+    t.length_m = a.length_m, t.width_m = a.width_m;
+    tracks.push_back(t);
+    types::Obstacle o;
+    o.id = a.id, o.cls = t.cls, o.stamp = t.stamp, o.x_m = t.x_m, o.y_m = t.y_m;
+    o.length_m = a.length_m, o.width_m = a.width_m, o.yaw_rad = a.pose.yaw_rad;
+    o.radius_m = std::max(a.length_m, a.width_m) / 2, o.score = 1;
+    obstacles.push_back(o);
+  }
+}
+
 LoopPerception::LoopPerception(const std::string& mode, double control_hz,
                                const sim::SyntheticDetectionOptions& detection, const track::TrackerOptions& tracking,
                                double match_m, uint64_t seed, world::WorldModel& world, Blindness blind,
@@ -99,19 +116,7 @@ void LoopPerception::Step(const sim::Simulator& sim, const sim::Pose2& believed)
   const std::vector<sim::AgentTruth> agents = sim.agents();
   if (!detector_) {
     if (std::llround(sim.time_s() / sim::Simulator::kStepS) % truth_every_ != 0) return;
-    for (const auto& a : agents) {
-      types::Track t;
-      t.id = a.id, t.cls = sim::Name(a.cls), t.stamp = sim.stamp(), t.state = "confirmed";
-      t.x_m = a.pose.x, t.y_m = a.pose.y, t.yaw_rad = a.pose.yaw_rad;
-      t.vx_mps = a.speed_mps * std::cos(a.pose.yaw_rad), t.vy_mps = a.speed_mps * std::sin(a.pose.yaw_rad);
-      t.length_m = a.length_m, t.width_m = a.width_m;
-      tracks.push_back(t);
-      types::Obstacle o;
-      o.id = a.id, o.cls = t.cls, o.stamp = t.stamp, o.x_m = t.x_m, o.y_m = t.y_m;
-      o.length_m = a.length_m, o.width_m = a.width_m, o.yaw_rad = a.pose.yaw_rad;
-      o.radius_m = std::max(a.length_m, a.width_m) / 2, o.score = 1;
-      obstacles.push_back(o);
-    }
+    AgentsAsPerceived(agents, sim.stamp(), tracks, obstacles);
     Score(agents, agents, tracks);
     return Write(std::move(tracks), std::move(obstacles), sim.stamp());
   }

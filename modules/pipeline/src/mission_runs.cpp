@@ -139,6 +139,10 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   ProgressLine progress("run", "runs", !quiet, 0.0);
   for (uint64_t seed = first; seed <= last; ++seed) {
     std::string steps;
+    const std::string& filmed = config.loop.video;
+    config.video = filmed == "all" || (filmed == "first" && seed == first)
+                       ? out + "/run-" + std::to_string(seed) + ".mp4"
+                       : "";
     const ClosedLoopResult r = RunClosedLoop(scenario, seed, mission, config, [&](const LoopStep& k) {
       char line[256];
       std::snprintf(line, sizeof(line),

@@ -247,7 +247,8 @@ void PerceptionPipeline::ProcessFrame(const PerceivedFrame& frame, Stamp t, cons
       const auto t0 = Clock::now();
       camera_video_->Write(internal::AnnotatedCamera(frame, tracks));
       birds_eye_video_->Write(
-          internal::BirdsEye(*snapshot, pose, t_s, options_.birds_eye_extent_m, options_.birds_eye_px));
+          internal::BirdsEye(*snapshot, pose, t_s,
+                             internal::BirdsEyeView::Around(pose, options_.birds_eye_extent_m, options_.birds_eye_px)));
       s.summary.video_ms += MsSince(t0);
     });
   }

@@ -12,7 +12,9 @@ cv::Scalar Bgr(const std::string& cls) {
   return cv::Scalar(c[2], c[1], c[0]);
 }
 
-void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour, double scale = 0.5) {
+}  // namespace
+
+void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour, double scale) {
   int baseline = 0;
   const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline);
   at.x = std::clamp(at.x, 0, std::max(0, image.cols - size.width));
@@ -20,6 +22,8 @@ void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scal
   cv::rectangle(image, {at.x, at.y - size.height - 2}, {at.x + size.width, at.y + baseline}, colour, cv::FILLED);
   cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 }
+
+namespace {
 
 const types::Track* NearestTrack(const types::Obstacle& o, const std::vector<types::Track>& tracks) {
   const types::Track* best = nullptr;
@@ -98,9 +102,16 @@ cv::Mat AnnotatedCamera(const PerceivedFrame& frame, const std::vector<types::Tr
   return image;
 }
 
-cv::Mat BirdsEye(const world::Snapshot& s, const mrpt::poses::CPose3D& car, double t_s, double extent_m, int size_px) {
-  const double px_per_m = size_px / extent_m;
-  const double x0 = car.x() - extent_m / 2, y1 = car.y() + extent_m / 2;
+BirdsEyeView BirdsEyeView::Around(const mrpt::poses::CPose3D& car, double extent_m, int size_px) {
+  return {car.x(), car.y(), extent_m, size_px};
+}
+
+cv::Mat BirdsEye(const world::Snapshot& s, const mrpt::poses::CPose3D& car, double t_s, const BirdsEyeView& view,
+                 const std::vector<cv::Point2d>& path) {
+  const int size_px = view.size_px;
+  const double px_per_m = size_px / view.extent_m;
+  const double x0 = view.centre_x_m - view.extent_m / 2, y1 = view.centre_y_m + view.extent_m / 2;
+  const auto inside = [&](const cv::Point& p) { return p.x >= 0 && p.y >= 0 && p.x < size_px && p.y < size_px; };
   const auto pixel = [&](double x, double y) {
     return cv::Point(static_cast<int>(std::lround((x - x0) * px_per_m)),
                      static_cast<int>(std::lround((y1 - y) * px_per_m)));
@@ -120,10 +131,14 @@ cv::Mat BirdsEye(const world::Snapshot& s, const mrpt::poses::CPose3D& car, doub
       cv::ellipse(image, pixel(p.x_m, p.y_m), axes, -angle, 0, 360, colour, 1, cv::LINE_AA);
     }
     const cv::Point at = pixel(t.x_m, t.y_m);
+    if (!inside(at)) continue;  // its label would cling to the edge
     cv::circle(image, at, 6, colour, 2, cv::LINE_AA);
     if (!t.prediction.empty()) cv::line(image, at, pixel(t.prediction.back().x_m, t.prediction.back().y_m), colour, 1);
     Label(image, "#" + std::to_string(t.id) + " " + t.cls, at + cv::Point(8, -8), colour, 0.4);
   }
+  std::vector<cv::Point> line;
+  for (const auto& p : path) line.push_back(pixel(p.x, p.y));
+  cv::polylines(image, line, false, cv::Scalar(200, 90, 30), 2, cv::LINE_AA);
   const double yaw = car.yaw();
   const auto ahead = [&](double forward, double left) {
     return pixel(car.x() + forward * std::cos(yaw) - left * std::sin(yaw),

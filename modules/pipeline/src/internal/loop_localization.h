@@ -56,7 +56,8 @@ class LoopLocalization {
   void Score(const sim::Simulator& sim);
   nlohmann::json ToJson() const;
   // slam: the map drawn so far, the graph finished (Finish), moved into the scenario's
-  // frame; none in the other modes. Call once, at the end of the drive.
+  // frame, the car's footprint at every keyframe free; none in the other modes. Call
+  // once, at the end of the drive.
   std::shared_ptr<const MapArtefact> DrawnMap(const std::string& site, const slam::GridOptions& grid);
 
  private:
@@ -66,6 +67,7 @@ class LoopLocalization {
   std::string mode_;
   mrpt::poses::CPose2D start_;
   Kidnap kidnap_;
+  double car_length_m_, car_width_m_;  // the footprint a drawn map clears
   bool kidnapped_ = false;
   mrpt::poses::CPose2D correction_;  // map ← the estimator's frame
   int relocalizations_ = 0;

@@ -71,6 +71,11 @@ struct PerceptionCounts {
 };
 
 // A fault: from at_s (≥ 0) for for_s, perception delivers no frame (a blind camera).
+// The simulator's agents as perception would report them, exactly (perception
+// truth, and the truth side of the run video): confirmed tracks and obstacles.
+void AgentsAsPerceived(const std::vector<sim::AgentTruth>& agents, Stamp stamp, std::vector<types::Track>& tracks,
+                       std::vector<types::Obstacle>& obstacles);
+
 struct Blindness {
   double at_s = -1, for_s = 0;
   bool Covers(double t_s) const { return at_s >= 0 && t_s >= at_s && t_s < at_s + for_s; }

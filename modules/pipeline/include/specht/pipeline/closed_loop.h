@@ -143,6 +143,7 @@ struct ClosedLoopOptions {
   double kidnap_at_s = -1;
   double kidnap_m = 2.0;
   double kidnap_deg = 20.0;
+  std::string video = "first";
   double relocalize_timeout_s = 30.0;
   double blind_slow_s = 0.5;
   double blind_stop_s = 1.5;
@@ -218,6 +219,9 @@ struct ClosedLoopOptions {
              "(section stereo) and the CNN (section detect) on rendered stereo frames, box fusion, the tracker");
     v.Param("perception_match_m", perception_match_m,
             "in-loop scoring: a track within this of an agent counts as seeing it", Range::Of(0.1, 10.0));
+    v.Choice("video", video, {"first", "all", "off"},
+             "which drives of a run get a video (run-<seed>.mp4: the truth beside the world model the car drives "
+             "on): the first seed's, every seed's, or none");
     v.Param("kidnap_at_s", kidnap_at_s, "a fault: from this time on the believed pose is off (< 0: never)",
             Range::Of(-1.0, 36000.0));
     v.Param("kidnap_m", kidnap_m, "…by this much ahead of the car", Range::Of(-50.0, 50.0));
@@ -276,6 +280,7 @@ struct ClosedLoopResult {
   std::vector<plan::Path> paths;       // every plan made
   std::string stack;                   // ClosedLoopOptions::Stack()
   std::string static_layer;            // what the static layer started from: "site map", "true grid", "lidar"
+  std::string video;                   // the run video written (file name), or ""
   nlohmann::json localization;         // mode and trajectory error against the truth
   nlohmann::json perception;           // mode, frames, recall and precision per class
   // localization slam: the map this drive drew, in the scenario's frame (a mapping
@@ -323,6 +328,9 @@ struct ClosedLoopConfig {
   LoopCameraConfig camera;
   track::TrackerOptions tracking;
   world::WorldModelOptions world;
+  // The run video (.mp4): the truth beside the world model the car drives on, from
+  // above, 10 frames a simulated second; "" for none.
+  std::string video;
 };
 
 // One control step as it happened: the state, the true pose and the believed one
