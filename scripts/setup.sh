@@ -22,6 +22,8 @@ PACKAGES=(
   libboost-dev       # Student's t distribution (Boost.Math) for the corrected t-test in cross-validation
   zlib1g-dev         # reading gzip CARMEN logs, AIS files
   libbz2-dev         # reading the Freiburg benchmark's .clf.bz2 logs
+  libsqlite3-dev     # ROS 2 bags (rosbag2's sqlite3 storage, .db3)
+  libfastcdr-dev     # eProsima Fast CDR: the CDR payloads of ROS 2 messages
   libshp-dev         # coastline shapefile (AIS distance to coast)
   libnanoflann-dev   # k-d tree (AIS nearest coast vertex / harbour)
   # configuration, CLI, output

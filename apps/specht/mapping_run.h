@@ -15,13 +15,16 @@ struct MappingArgs {
   std::string dataset;
   std::string ground_truth;
   std::string relations;
+  std::string reference_map;
   std::string map_dir;       // localization on a saved map when set
   std::string continue_dir;  // continuing a saved map when set
   std::string model_dir;     // the trajectory classifier on the perceived tracks
   std::optional<double> rate, from_s, to_s;
+  bool list = false;  // print a bag's topics and stop
 };
 
-// Adds the dataset positional and --ground-truth/--relations/--map/--continue/--model/--rate/--from/--to.
+// Adds the dataset positional and
+// --ground-truth/--relations/--reference-map/--map/--continue/--model/--rate/--from/--to.
 void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& default_out);
 
 // Runs the pipeline; returns the exit code (2 when the input broke off midway).

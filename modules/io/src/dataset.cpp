@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "specht/io/carmen.h"
+#include "specht/io/ros_bag.h"
 
 namespace specht::io {
 
@@ -20,6 +21,7 @@ DatasetError::DatasetError(const std::string& file, int64_t record, int64_t byte
 
 std::unique_ptr<DatasetSource> OpenDataset(const std::string& path, OnBadRecord on_bad) {
   std::error_code ec;
+  if (IsRos2Bag(path)) return OpenRos2Bag(path, {}, on_bad);
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path + ": no such dataset file");
   }

@@ -10,8 +10,8 @@
 
 #include "internal/loop_geometry.h"
 #include "internal/loop_localization.h"
-#include "internal/loop_video.h"
 #include "internal/loop_perception.h"
+#include "internal/loop_video.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/sim/simulator.h"
@@ -705,7 +705,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   std::optional<LidarMap> lidar;
   if (loop.map_source == "lidar")
     lidar.emplace(machine.truth_map());  // nothing seen yet
-  else  // a prior map of the site: a mapping drive's, or the scenario's true grid
+  else                                   // a prior map of the site: a mapping drive's, or the scenario's true grid
     world.SetStaticMap(site_map ? site_map->grid : true_grid, sim.stamp());
   // The pose check needs a prior map, and a pose that can be wrong.
   std::optional<LoopPoseCheck> pose_check;

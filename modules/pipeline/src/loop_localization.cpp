@@ -51,8 +51,10 @@ std::vector<slam::Keyframe> Survey(const sim::Scenario& scenario, double spacing
 // (the start pose's cells would stay unknown, and a plan from there fail).
 void ClearFootprint(const CPose2D& centre, double length_m, double width_m, mrpt::maps::COccupancyGridMap2D& grid) {
   const double reach = std::hypot(length_m, width_m) / 2;
-  const int x0 = std::max(0, grid.x2idx(centre.x() - reach)), x1 = std::min<int>(grid.getSizeX() - 1, grid.x2idx(centre.x() + reach));
-  const int y0 = std::max(0, grid.y2idx(centre.y() - reach)), y1 = std::min<int>(grid.getSizeY() - 1, grid.y2idx(centre.y() + reach));
+  const int x0 = std::max(0, grid.x2idx(centre.x() - reach)),
+            x1 = std::min<int>(grid.getSizeX() - 1, grid.x2idx(centre.x() + reach));
+  const int y0 = std::max(0, grid.y2idx(centre.y() - reach)),
+            y1 = std::min<int>(grid.getSizeY() - 1, grid.y2idx(centre.y() + reach));
   for (int cy = y0; cy <= y1; ++cy)
     for (int cx = x0; cx <= x1; ++cx) {
       const CPose2D cell(grid.idx2x(cx), grid.idx2y(cy), 0);
@@ -75,9 +77,9 @@ LoopLocalization::LoopLocalization(const std::string& mode, const sim::Scenario&
   } else if (mode == "map") {
     slam::LocalizationOptions options;
     options.initial_pose = {start_.x(), start_.y(), start_.phi() * 180 / M_PI};
-    localizer_ = std::make_unique<slam::Localizer>(
-        c.site_map ? c.site_map->keyframes : Survey(scenario, c.survey_spacing_m), options, c.matching, nullptr,
-        "base_link");
+    localizer_ =
+        std::make_unique<slam::Localizer>(c.site_map ? c.site_map->keyframes : Survey(scenario, c.survey_spacing_m),
+                                          options, c.matching, nullptr, "base_link");
     at_scan_ = start_;  // until the first scan is placed
     start_ = {};        // its poses are in the map frame already
   } else if (mode != "truth")
@@ -102,8 +104,7 @@ void LoopLocalization::Observe(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
   }
 }
 
-std::shared_ptr<const MapArtefact> LoopLocalization::DrawnMap(const std::string& site,
-                                                              const slam::GridOptions& grid) {
+std::shared_ptr<const MapArtefact> LoopLocalization::DrawnMap(const std::string& site, const slam::GridOptions& grid) {
   if (!slam_ || slam_->keyframes().empty()) return nullptr;
   slam_->Finish();
   auto map = std::make_shared<MapArtefact>();

@@ -7,11 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "specht/core/error.h"
+#include "specht/io/atomic_file.h"
 #include "specht/io/dataset.h"
 #include "specht/io/g2o.h"
 #include "specht/io/map_io.h"
 #include "specht/io/rawlog_writer.h"
-#include "specht/io/atomic_file.h"
 #include "specht/slam/localizer.h"
 
 namespace specht::pipeline {

@@ -1,12 +1,15 @@
 #include "internal/map_outputs.h"
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPoint2D.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <opencv2/core.hpp>
 
 #include "specht/core/error.h"
 #include "specht/core/log.h"
+#include "specht/eval/map_agreement.h"
 #include "specht/eval/map_quality.h"
 #include "specht/eval/relation_error.h"
 #include "specht/eval/trajectory_error.h"
@@ -60,6 +63,41 @@ void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::Relatio
     m["error"] = e.what();
     spdlog::warn("published relations not scored: {}", e.what());
   }
+}
+
+void AddReferenceMapMetrics(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& reference_yaml,
+                            const std::string& out, nlohmann::json& metrics) {
+  const auto theirs = io::ReadRosMap(reference_yaml);
+  const eval::MapAgreement a = eval::CompareMaps(grid, theirs);
+  metrics["reference_map"] = eval::ToJson(a);
+  metrics["reference_map"]["file"] = reference_yaml;
+  spdlog::info(
+      "against the reference map {}: {:.1f} % of our occupied cells within 0.1 m of its walls, {:.1f} % of its walls "
+      "within 0.1 m of ours ({:.1f} % of those we saw)",
+      reference_yaml, 100 * a.ours_within, 100 * a.theirs_within, 100 * a.theirs_within_seen);
+  // The picture: the reference's grid as its background, occupied cells coloured.
+  cv::Mat image(static_cast<int>(theirs.getSizeY()), static_cast<int>(theirs.getSizeX()), CV_8UC3,
+                cv::Scalar(255, 255, 255));
+  const auto row = [&](int cy) { return image.rows - 1 - cy; };
+  for (int cy = 0; cy < image.rows; ++cy)
+    for (int cx = 0; cx < image.cols; ++cx) {
+      const float p_free = theirs.getCell(cx, cy);
+      auto& px = image.at<cv::Vec3b>(row(cy), cx);
+      if (p_free <= 0.35f)
+        px = {60, 60, 220};  // their wall: red (BGR)
+      else if (std::abs(p_free - 0.5f) < 0.01f)
+        px = {205, 205, 205};  // unknown
+    }
+  for (unsigned cy = 0; cy < grid.getSizeY(); ++cy)
+    for (unsigned cx = 0; cx < grid.getSizeX(); ++cx) {
+      if (grid.getCell(cx, cy) > 0.35f) continue;
+      const auto p = a.ours_in_theirs + mrpt::poses::CPoint2D(grid.idx2x(cx), grid.idx2y(cy));
+      const int ix = theirs.x2idx(p.x()), iy = theirs.y2idx(p.y());
+      if (ix < 0 || iy < 0 || ix >= image.cols || iy >= image.rows) continue;
+      auto& px = image.at<cv::Vec3b>(row(iy), ix);
+      px = px == cv::Vec3b(60, 60, 220) ? cv::Vec3b(200, 40, 160) : cv::Vec3b(220, 90, 30);  // both: purple; ours: blue
+    }
+  io::WritePng(image, out + "/map_vs_reference.png");
 }
 
 // Mean map entropy of the keyframe scans at the estimated poses and, with a

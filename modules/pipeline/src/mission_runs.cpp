@@ -103,9 +103,13 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   config.kinodynamic = params.Get<plan::KinodynamicOptions>("kinodynamic");
   config.local = params.Get<plan::LocalPlannerOptions>("local_planner");
   config.loop = params.Get<ClosedLoopOptions>("closed_loop");
-  config.slam = {params.Get<slam::SlamOptions>("slam"), params.Get<slam::ScanMatchingOptions>("scan_matching"),
+  config.slam = {params.Get<slam::SlamOptions>("slam"),
+                 params.Get<slam::ScanMatchingOptions>("scan_matching"),
                  params.Get<slam::LoopClosureOptions>("loop_closure"),
-                 params.Get<slam::PoseGraphOptions>("pose_graph"), params.Get<slam::GridOptions>("grid"), 4.0, nullptr};
+                 params.Get<slam::PoseGraphOptions>("pose_graph"),
+                 params.Get<slam::GridOptions>("grid"),
+                 4.0,
+                 nullptr};
   if (!a.map_dir.empty()) config.slam.site_map = SiteMap(a.map_dir, scenario);
   config.pose_check = params.Get<slam::PoseCheckOptions>("pose_check");
   config.detection = params.Get<sim::SyntheticDetectionOptions>("synthetic_detections");
@@ -140,9 +144,8 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   for (uint64_t seed = first; seed <= last; ++seed) {
     std::string steps;
     const std::string& filmed = config.loop.video;
-    config.video = filmed == "all" || (filmed == "first" && seed == first)
-                       ? out + "/run-" + std::to_string(seed) + ".mp4"
-                       : "";
+    config.video =
+        filmed == "all" || (filmed == "first" && seed == first) ? out + "/run-" + std::to_string(seed) + ".mp4" : "";
     const ClosedLoopResult r = RunClosedLoop(scenario, seed, mission, config, [&](const LoopStep& k) {
       char line[256];
       std::snprintf(line, sizeof(line),
@@ -191,11 +194,10 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   if (InterruptRequested())
     report.SetInterrupted(std::to_string(n) + " of " + std::to_string(last - first + 1) + " runs");
   auto& j = report.json();
-  j["inputs"] = {
-      {"scenario", a.scenario},
-      {"mission", a.mission.empty() ? "default" : a.mission},
-      {"seeds", {first, last}},
-      {"map", a.map_dir.empty() ? nlohmann::json() : nlohmann::json(a.map_dir)}};
+  j["inputs"] = {{"scenario", a.scenario},
+                 {"mission", a.mission.empty() ? "default" : a.mission},
+                 {"seeds", {first, last}},
+                 {"map", a.map_dir.empty() ? nlohmann::json() : nlohmann::json(a.map_dir)}};
   j["metrics"] = {
       {"runs", n},
       {"success_rate", static_cast<double>(successes) / n},

@@ -21,6 +21,7 @@
 #include "specht/io/reference.h"
 #include "specht/io/replay.h"
 #include "specht/io/report.h"
+#include "specht/io/ros_bag.h"
 #include "specht/io/trajectory_io.h"
 #include "specht/pipeline/perception.h"
 #include "specht/slam/graph_slam.h"
@@ -119,6 +120,7 @@ struct Replay::State {
   std::string reference_path;
   Trajectory reference;
   std::optional<io::RelationsFile> relations;
+  std::string reference_map;  // map_server YAML, or ""
   MapArtefact saved;
   std::unique_ptr<PerceptionPipeline> perception;
 
@@ -131,18 +133,26 @@ struct Replay::State {
 };
 
 Replay::Replay(const params::Params& params, ReplayInputs in, std::string command)
-    : state_(
-          std::make_unique<State>(State{params, std::move(in), std::move(command), nullptr, "", {}, {}, {}, nullptr})) {
+    : state_(std::make_unique<State>(
+          State{params, std::move(in), std::move(command), nullptr, "", {}, {}, "", {}, nullptr})) {
   State& s = *state_;
   if (s.in.dataset.empty()) s.in.dataset = io::DefaultRawlog();
   const auto& replay = params.Get<io::ReplayOptions>("replay");
-  s.source =
-      io::OpenDataset(s.in.dataset, replay.on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop);
+  const auto on_bad = replay.on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop;
+  s.source = io::IsRos2Bag(s.in.dataset)
+                 ? io::OpenRos2Bag(s.in.dataset, {replay.scan_topic, replay.odometry_topic}, on_bad)
+                 : io::OpenDataset(s.in.dataset, on_bad);
   s.reference_path =
       s.in.ground_truth.empty() ? io::DefaultReferencePath(s.in.dataset, s.source->Format()) : s.in.ground_truth;
   if (!s.reference_path.empty()) s.reference = io::ReadReference(s.reference_path);
   const std::string relations = s.in.relations.empty() ? io::DefaultRelationsPath(s.in.dataset) : s.in.relations;
   if (!relations.empty()) s.relations = io::ReadRelations(relations);
+  s.reference_map = s.in.reference_map;
+  if (s.reference_map.empty() && io::IsRos2Bag(s.in.dataset) && std::filesystem::is_directory(s.in.dataset) &&
+      std::filesystem::is_regular_file(s.in.dataset + "/map.yaml"))
+    s.reference_map = s.in.dataset + "/map.yaml";
+  if (!s.reference_map.empty() && !std::filesystem::is_regular_file(s.reference_map))
+    throw InputError(s.reference_map + ": no such reference map");
   if (!s.in.map_dir.empty()) s.saved = ReadMapArtefact(s.in.map_dir);
   if (!s.in.continue_dir.empty()) s.saved = ReadMapArtefact(s.in.continue_dir);
   s.perception = std::make_unique<PerceptionPipeline>(params, s.in.data_dir);
@@ -313,13 +323,10 @@ int Replay::Run(const std::string& out, bool quiet) {
   io::StageTimer timer;
   io::RunReport report(s.command);
   auto& j = report.json();
-  j["inputs"] = {{"dataset", s.in.dataset},
-                 {"format", s.source->Format()},
-                 {"ground_truth", s.reference_path},
-                 {"relations", s.relations ? s.relations->path : ""},
-                 {"map", s.in.map_dir},
-                 {"continue", s.in.continue_dir},
-                 {"params_files", s.in.param_files},
+  j["inputs"] = {{"dataset", s.in.dataset},          {"format", s.source->Format()},
+                 {"ground_truth", s.reference_path}, {"relations", s.relations ? s.relations->path : ""},
+                 {"reference_map", s.reference_map}, {"map", s.in.map_dir},
+                 {"continue", s.in.continue_dir},    {"params_files", s.in.param_files},
                  {"overrides", s.in.overrides}};
   int exit_code = 0;
   PerceptionPipeline& perception = *s.perception;
@@ -352,6 +359,11 @@ int Replay::Run(const std::string& out, bool quiet) {
     auto t = timer.Time("write");
     internal::AddPublishedRelationMetrics(e.trajectory, *s.relations, e.grid, out, j["metrics"]);
     if (j["metrics"]["published_relations"].contains("worst")) report.AddOutput("relations.png");
+  }
+  if (!s.reference_map.empty()) {
+    auto t = timer.Time("reference_map");
+    internal::AddReferenceMapMetrics(e.grid, s.reference_map, out, j["metrics"]);
+    report.AddOutput("map_vs_reference.png");
   }
   if (!e.keyframes.empty()) {
     auto t = timer.Time("map_entropy");

@@ -32,6 +32,13 @@ void AddPublishedRelationMetrics(const Trajectory& trajectory, const io::Relatio
 // relations.png draws them.
 std::vector<io::PathOverlay> RelationOverlays(const Trajectory& estimate, const Trajectory& worst, size_t count);
 
+// The map against a reference map of the same place (eval/map_agreement.h; a
+// map_server YAML): the agreement in `metrics` ("reference_map") and
+// map_vs_reference.png, both maps in the reference's frame — the reference's walls
+// red, ours blue, where they agree purple.
+void AddReferenceMapMetrics(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& reference_yaml,
+                            const std::string& out, nlohmann::json& metrics);
+
 // Mean map entropy of the keyframe scans at the estimated poses and, with a
 // reference, of the same scans at the estimate's and at the reference's poses
 // (eval/map_quality.h): whether the reference's map is sharper than ours.

@@ -39,7 +39,7 @@ struct BirdsEyeView {
 // and class, the prediction with its 2σ ellipses), the car (a triangle pointing its
 // heading) and the path it follows (map frame, in the car's colour), captioned with
 // `t_s`.
-cv::Mat BirdsEye(const world::Snapshot& snapshot, const mrpt::poses::CPose3D& car, double t_s,
-                 const BirdsEyeView& view, const std::vector<cv::Point2d>& path = {});
+cv::Mat BirdsEye(const world::Snapshot& snapshot, const mrpt::poses::CPose3D& car, double t_s, const BirdsEyeView& view,
+                 const std::vector<cv::Point2d>& path = {});
 
 }  // namespace specht::pipeline::internal

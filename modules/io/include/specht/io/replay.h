@@ -20,6 +20,7 @@ struct ReplayOptions {
   double from_s = 0.0;  // seconds after the first observation
   double to_s = 0.0;    // 0 = to the end
   std::string on_bad_record = "stop";
+  std::string scan_topic, odometry_topic;  // ROS bags; "" = the first of its type
 
   template <class V>
   void Visit(V& v) {
@@ -29,6 +30,9 @@ struct ReplayOptions {
     v.Param("to_s", to_s, "stop this many seconds after the first observation; 0 = at the end", Range::AtLeast(0));
     v.Choice("on_bad_record", on_bad_record, {"stop", "skip"},
              "on a corrupt record: stop (write what was computed, mark the report incomplete) or skip it");
+    v.Param("scan_topic", scan_topic, "ROS bags: the sensor_msgs/msg/LaserScan topic to map with; \"\" = the first");
+    v.Param("odometry_topic", odometry_topic,
+            "ROS bags: the nav_msgs/msg/Odometry topic; \"\" = the first, \"none\" = map without odometry");
   }
   std::vector<std::string> Relations() const;
 };

@@ -72,12 +72,11 @@
 //
 // The static layer is a prior map of the site: the map an earlier mapping drive
 // left (`--map DIR`: LoopSlamConfig::site_map, localised on with localization map),
-// else the scenario's true grid at kPlanningResolutionM; or (map_source lidar) the occupancy grid the car's simulated LiDAR builds as it
-// drives, at the believed poses, returns on tracks removed, unknown cells free,
-// rebuilt at map_update_hz — when it blocks the path ahead, map_changed sends the
-// machine back to plan. The car is the scenario's ego; the simulator reports its
-// box centre, the planner and tracker work on its rear axle (the point it turns
-// about, ego.rear_overhang_m from the rear bumper).
+// else the scenario's true grid at kPlanningResolutionM; or (map_source lidar) the occupancy grid the car's simulated
+// LiDAR builds as it drives, at the believed poses, returns on tracks removed, unknown cells free, rebuilt at
+// map_update_hz — when it blocks the path ahead, map_changed sends the machine back to plan. The car is the scenario's
+// ego; the simulator reports its box centre, the planner and tracker work on its rear axle (the point it turns about,
+// ego.rear_overhang_m from the rear bumper).
 #pragma once
 
 #include <functional>
@@ -90,6 +89,7 @@
 #include "specht/decide/mission_state.h"
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
+#include "specht/pipeline/map_artefact.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/local_planner.h"
 #include "specht/plan/smoother.h"
@@ -97,7 +97,6 @@
 #include "specht/sim/detections.h"
 #include "specht/sim/scenario.h"
 #include "specht/sim/sprites.h"
-#include "specht/pipeline/map_artefact.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/pose_check.h"
 #include "specht/stereo/sgm.h"

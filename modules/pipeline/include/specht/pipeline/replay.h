@@ -23,6 +23,8 @@ struct ReplayInputs {
   std::string dataset;                              // "" = the rawlog shipped by Debian's mrpt-common
   std::string ground_truth;                         // "" = the dataset's own reference, when it has one
   std::string relations;                            // "" = <log stem>.relations beside the dataset, when there is one
+  std::string reference_map;                        // a map_server YAML to score the map against; "" = a ROS 2
+                                                    // bag folder's own map.yaml, when it has one
   std::string map_dir;                              // localize on this saved map instead of mapping
   std::string continue_dir;                         // continue this saved map
   std::string data_dir;                             // the detector's models

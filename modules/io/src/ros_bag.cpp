@@ -1,0 +1,341 @@
+#include "specht/io/ros_bag.h"
+
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/poses/CPose3D.h>
+#include <sqlite3.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "specht/io/ros_messages.h"
+
+namespace specht::io {
+namespace {
+
+namespace fs = std::filesystem;
+using mrpt::poses::CPose3D;
+
+constexpr const char* kLaserScan = "sensor_msgs/msg/LaserScan";
+constexpr const char* kOdometry = "nav_msgs/msg/Odometry";
+constexpr const char* kTf = "tf2_msgs/msg/TFMessage";
+
+// One read-only rosbag2 SQLite file and the statement stepping through it.
+class Db3 {
+ public:
+  explicit Db3(std::string path) : path_(std::move(path)) {
+    if (sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) Fail("cannot open");
+    sqlite3_stmt* probe = nullptr;  // a file that is no rosbag2 store fails here, not later
+    if (sqlite3_prepare_v2(db_, "SELECT id, name, type FROM topics", -1, &probe, nullptr) != SQLITE_OK)
+      Fail("not a rosbag2 SQLite file");
+    while (sqlite3_step(probe) == SQLITE_ROW)
+      topics_.push_back({sqlite3_column_int64(probe, 0), Text(probe, 1), Text(probe, 2)});
+    sqlite3_finalize(probe);
+  }
+  ~Db3() {
+    sqlite3_finalize(stmt_);
+    sqlite3_close(db_);
+  }
+  Db3(const Db3&) = delete;
+  Db3& operator=(const Db3&) = delete;
+
+  struct Topic {
+    int64_t id;
+    std::string name, type;
+  };
+  const std::vector<Topic>& topics() const { return topics_; }
+  const std::string& path() const { return path_; }
+
+  // The messages of `names` in receive order: (id, topic, receive stamp, payload).
+  void Select(const std::vector<std::string>& names) {
+    std::string in;
+    for (size_t i = 0; i < names.size(); ++i) in += i ? ",?" : "?";
+    const std::string sql =
+        "SELECT m.id, t.name, m.timestamp, m.data FROM messages m JOIN topics t ON m.topic_id = t.id WHERE t.name IN "
+        "(" +
+        in + ") ORDER BY m.timestamp, m.id";
+    sqlite3_finalize(stmt_);
+    stmt_ = nullptr;
+    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK) Fail("cannot read its messages");
+    for (size_t i = 0; i < names.size(); ++i)
+      sqlite3_bind_text(stmt_, static_cast<int>(i + 1), names[i].c_str(), -1, SQLITE_TRANSIENT);
+  }
+  struct Row {
+    int64_t id = 0;
+    std::string topic;
+    int64_t received_ns = 0;
+    std::vector<uint8_t> data;
+  };
+  bool Step(Row& row) {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_DONE) return false;
+    if (rc != SQLITE_ROW) Fail("message table unreadable");
+    row.id = sqlite3_column_int64(stmt_, 0);
+    row.topic = Text(stmt_, 1);
+    row.received_ns = sqlite3_column_int64(stmt_, 2);
+    const auto* blob = static_cast<const uint8_t*>(sqlite3_column_blob(stmt_, 3));
+    row.data.assign(blob, blob + sqlite3_column_bytes(stmt_, 3));
+    return true;
+  }
+  int64_t Count(const std::vector<std::string>& names) {
+    int64_t n = 0;
+    for (const auto& t : topics_)
+      if (std::find(names.begin(), names.end(), t.name) != names.end()) n += Scalar(t.id, "COUNT(*)");
+    return n;
+  }
+  // (messages, first receive ns, last receive ns) of a topic.
+  std::array<int64_t, 3> Span(int64_t topic_id) {
+    return {Scalar(topic_id, "COUNT(*)"), Scalar(topic_id, "MIN(timestamp)"), Scalar(topic_id, "MAX(timestamp)")};
+  }
+
+ private:
+  static std::string Text(sqlite3_stmt* s, int col) {
+    const auto* t = sqlite3_column_text(s, col);
+    return t ? reinterpret_cast<const char*>(t) : "";
+  }
+  int64_t Scalar(int64_t topic_id, const char* what) {
+    sqlite3_stmt* s = nullptr;
+    const std::string sql = std::string("SELECT ") + what + " FROM messages WHERE topic_id = ?";
+    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &s, nullptr) != SQLITE_OK) Fail("message table unreadable");
+    sqlite3_bind_int64(s, 1, topic_id);
+    const int64_t v = sqlite3_step(s) == SQLITE_ROW ? sqlite3_column_int64(s, 0) : 0;
+    sqlite3_finalize(s);
+    return v;
+  }
+  [[noreturn]] void Fail(const std::string& why) const {
+    throw InputError(path_ + ": " + why + " (SQLite: " + (db_ ? sqlite3_errmsg(db_) : "no handle") + ")");
+  }
+  std::string path_;
+  sqlite3* db_ = nullptr;
+  sqlite3_stmt* stmt_ = nullptr;
+  std::vector<Topic> topics_;
+};
+
+// The .db3 files of a bag: the folder's metadata.yaml lists them.
+std::vector<std::string> Db3Files(const std::string& path) {
+  if (fs::is_regular_file(path)) return {path};
+  const std::string meta = path + "/metadata.yaml";
+  if (!fs::is_regular_file(meta)) throw InputError(path + ": not a ROS 2 bag (no metadata.yaml)");
+  YAML::Node info;
+  try {
+    info = YAML::LoadFile(meta)["rosbag2_bagfile_information"];
+  } catch (const YAML::Exception& e) {
+    throw InputError(meta + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  if (!info || !info.IsMap()) throw InputError(meta + ": no rosbag2_bagfile_information");
+  const auto text = [&](const char* key) {
+    return info[key] && info[key].IsScalar() ? info[key].as<std::string>() : std::string();
+  };
+  if (const std::string storage = text("storage_identifier"); !storage.empty() && storage != "sqlite3")
+    throw InputError(meta + ": storage_identifier '" + storage + "': only sqlite3 bags are read");
+  if (const std::string c = text("compression_format"); !c.empty())
+    throw InputError(meta + ": compression_format '" + c + "' is not read (decompress with `ros2 bag convert`)");
+  std::vector<std::string> files;
+  if (const auto list = info["relative_file_paths"]; list && list.IsSequence()) {
+    for (const auto& f : list) {
+      const std::string p = path + "/" + f.as<std::string>();
+      if (!fs::is_regular_file(p))
+        throw InputError(meta + ": relative_file_paths lists " + f.as<std::string>() + ", which is missing");
+      files.push_back(p);
+    }
+  }
+  if (files.empty()) throw InputError(meta + ": relative_file_paths lists no .db3 file");
+  return files;
+}
+
+CPose3D ToMrpt(const ros::Pose& p) {
+  return CPose3D(mrpt::math::CQuaternionDouble(p.qw, p.qx, p.qy, p.qz), p.x, p.y, p.z);
+}
+
+// The first topic of `type`, or `chosen` checked against the bag.
+std::string Pick(const std::vector<Db3::Topic>& topics, const std::string& chosen, const char* type,
+                 const std::string& bag) {
+  for (const auto& t : topics) {
+    if (chosen.empty() && t.type == type) return t.name;
+    if (t.name == chosen) {
+      if (t.type != type) throw InputError(bag + ": topic " + chosen + " is " + t.type + ", not " + type);
+      return t.name;
+    }
+  }
+  if (!chosen.empty()) throw InputError(bag + ": no topic " + chosen);
+  return "";
+}
+
+class Ros2BagSource : public DatasetSource {
+ public:
+  Ros2BagSource(std::string path, const BagTopicChoice& choice, OnBadRecord on_bad)
+      : path_(std::move(path)), files_(Db3Files(path_)), on_bad_(on_bad) {
+    Db3 first(files_.front());
+    scan_ = Pick(first.topics(), choice.scan, kLaserScan, path_);
+    if (choice.odometry != "none") odometry_ = Pick(first.topics(), choice.odometry, kOdometry, path_);
+    if (scan_.empty()) throw InputError(path_ + ": no " + std::string(kLaserScan) + " topic to map with");
+    for (const auto& t : first.topics())
+      if (t.name == "/tf_static")
+        notes_.push_back("/tf_static read for the scan's mount");
+      else if (t.name != scan_ && t.name != odometry_)
+        notes_.push_back(t.name + " (" + t.type + ") not read");
+    for (const auto& f : files_) {
+      Db3 db(f);
+      total_ += db.Count(Selected());
+      ReadStaticTransforms(db);
+    }
+    OpenFile(0);
+  }
+
+  std::optional<Observation> Next() override {
+    Db3::Row row;
+    while (db_) {
+      if (!db_->Step(row)) {
+        OpenFile(file_ + 1);
+        continue;
+      }
+      ++read_;
+      try {
+        if (auto obs = Convert(row)) return obs;
+      } catch (const InputError& e) {
+        if (on_bad_ == OnBadRecord::kStop) throw DatasetError(db_->path(), row.id, -1, row.topic + ": " + e.what());
+        skipped_.push_back(db_->path() + ":" + std::to_string(row.id) + ": " + row.topic + ": " + e.what());
+      }
+    }
+    return std::nullopt;
+  }
+  std::string Path() const override { return path_; }
+  std::string Format() const override { return "ROS 2 bag (sqlite3)"; }
+  double FractionRead() const override { return total_ > 0 ? static_cast<double>(read_) / total_ : 1.0; }
+  const std::vector<std::string>& SkippedRecords() const override { return skipped_; }
+  std::vector<std::string> Notes() const override {
+    std::vector<std::string> notes = notes_;
+    for (const auto& [frame, mounted] : mounted_)
+      if (!mounted) notes.push_back("scan frame " + frame + " has no /tf_static path to " + base_ + ": mounted at it");
+    return notes;
+  }
+
+ private:
+  std::vector<std::string> Selected() const {
+    std::vector<std::string> s{scan_};
+    if (!odometry_.empty()) s.push_back(odometry_);
+    return s;
+  }
+  void OpenFile(size_t i) {
+    db_.reset();
+    file_ = i;
+    if (i >= files_.size()) return;
+    db_ = std::make_unique<Db3>(files_[i]);
+    db_->Select(Selected());
+  }
+  void ReadStaticTransforms(Db3& db) {
+    for (const auto& t : db.topics()) {
+      if (t.type != kTf || t.name != "/tf_static") continue;
+      db.Select({t.name});
+      Db3::Row row;
+      while (db.Step(row))
+        for (const auto& tf : ros::DecodeTfMessage(row.data))
+          parent_of_[tf.child_frame_id] = {tf.header.frame_id, ToMrpt(tf.transform)};
+    }
+  }
+  // The pose of `frame` on the base frame along /tf_static (identity when no path).
+  CPose3D Mount(const std::string& frame) {
+    CPose3D acc;
+    std::string f = frame;
+    for (int depth = 0; f != base_ && depth < 64; ++depth) {
+      const auto it = parent_of_.find(f);
+      if (it == parent_of_.end()) {
+        mounted_[frame] = false;
+        return {};
+      }
+      acc = it->second.second + acc;  // parent ← f, then f ← frame
+      f = it->second.first;
+    }
+    mounted_[frame] = f == base_;
+    return f == base_ ? acc : CPose3D();
+  }
+  static Stamp StampOf(const ros::Header& h, int64_t received_ns) {
+    return h.stamp.ns > 0 ? h.stamp : Stamp{received_ns};
+  }
+  std::optional<Observation> Convert(const Db3::Row& row) {
+    if (row.topic == odometry_) {
+      const ros::Odometry m = ros::DecodeOdometry(row.data);
+      if (!m.child_frame_id.empty()) base_ = m.child_frame_id;
+      auto odo = mrpt::obs::CObservationOdometry::Create();
+      const Stamp t = StampOf(m.header, row.received_ns);
+      odo->timestamp = ToMrpt(t);
+      odo->sensorLabel = row.topic;
+      odo->odometry = mrpt::poses::CPose2D(m.pose.x, m.pose.y, m.pose.Yaw());
+      odo->hasVelocities = true;
+      odo->velocityLocal = {m.vx, m.vy, m.wz};
+      return Observation{t, odo, row.id};
+    }
+    const ros::LaserScan m = ros::DecodeLaserScan(row.data);
+    const size_t n = m.ranges.size();
+    if (n < 2 || !(std::abs(m.angle_increment) > 0)) throw InputError("a scan of " + std::to_string(n) + " beams");
+    auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+    const Stamp t = StampOf(m.header, row.received_ns);
+    scan->timestamp = ToMrpt(t);
+    scan->sensorLabel = row.topic;
+    scan->aperture = std::abs(m.angle_increment) * static_cast<float>(n - 1);
+    scan->rightToLeft = m.angle_increment > 0;
+    scan->maxRange = m.range_max;
+    scan->resizeScan(n);
+    for (size_t i = 0; i < n; ++i) {
+      const float r = m.ranges[i];
+      const bool valid = std::isfinite(r) && r >= m.range_min && r <= m.range_max;
+      scan->setScanRange(i, valid ? r : m.range_max);
+      scan->setScanRangeValidity(i, valid);
+    }
+    // MRPT's beams run symmetric about the sensor's x axis: turn the mount by the
+    // scan's mid angle.
+    const double mid = m.angle_min + m.angle_increment * static_cast<double>(n - 1) / 2;
+    scan->sensorPose = Mount(m.header.frame_id) + CPose3D(0, 0, 0, mid, 0, 0);
+    return Observation{t, scan, row.id};
+  }
+
+  std::string path_;
+  std::vector<std::string> files_;
+  OnBadRecord on_bad_;
+  std::string scan_, odometry_, base_ = "base_link";
+  std::vector<std::string> notes_, skipped_;
+  std::map<std::string, std::pair<std::string, CPose3D>> parent_of_;  // /tf_static: child → (parent, pose)
+  std::map<std::string, bool> mounted_;                               // scan frames: found on the base?
+  std::unique_ptr<Db3> db_;
+  size_t file_ = 0;
+  int64_t total_ = 0, read_ = 0;
+};
+
+}  // namespace
+
+bool IsRos2Bag(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return fs::is_regular_file(path + "/metadata.yaml", ec);
+  return fs::path(path).extension() == ".db3";
+}
+
+std::vector<BagTopic> ListRos2Bag(const std::string& path) {
+  std::map<std::string, BagTopic> by_name;
+  std::map<std::string, std::pair<int64_t, int64_t>> span;
+  for (const auto& f : Db3Files(path)) {
+    Db3 db(f);
+    for (const auto& t : db.topics()) {
+      const auto [count, first, last] = db.Span(t.id);
+      auto& b = by_name[t.name];
+      b.name = t.name, b.type = t.type, b.messages += count;
+      auto& s = span.try_emplace(t.name, first, last).first->second;
+      if (count > 0) s = {std::min(s.first, first), std::max(s.second, last)};
+    }
+  }
+  std::vector<BagTopic> out;
+  for (auto& [name, b] : by_name) {
+    const auto [first, last] = span[name];
+    if (b.messages > 1 && last > first) b.rate_hz = (b.messages - 1) / ((last - first) * 1e-9);
+    out.push_back(b);
+  }
+  return out;
+}
+
+std::unique_ptr<DatasetSource> OpenRos2Bag(const std::string& path, const BagTopicChoice& topics, OnBadRecord on_bad) {
+  return std::make_unique<Ros2BagSource>(path, topics, on_bad);
+}
+
+}  // namespace specht::io

@@ -1,0 +1,189 @@
+// ROS 2 messages and bags: CDR payloads written here with Fast CDR's serializer
+// (the writer side, independent of the decoders under test) decode to the values
+// written; short payloads and broken bags are input errors naming what broke.
+#include "specht/io/ros_bag.h"
+
+#include <fastcdr/Cdr.h>
+#include <fastcdr/FastBuffer.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <sqlite3.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "specht/core/error.h"
+#include "specht/io/ros_messages.h"
+#include "test_support.h"
+
+namespace specht::io {
+namespace {
+
+using eprosima::fastcdr::Cdr;
+using ::testing::HasSubstr;
+
+// Serialises with `write` after a little-endian CDR encapsulation header.
+template <class Write>
+std::vector<uint8_t> Cdr(Write write) {
+  std::vector<char> bytes(64 * 1024);
+  eprosima::fastcdr::FastBuffer buffer(bytes.data(), bytes.size());
+  eprosima::fastcdr::Cdr cdr(buffer, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS, eprosima::fastcdr::Cdr::DDS_CDR);
+  cdr.serialize_encapsulation();
+  write(cdr);
+  return {bytes.begin(), bytes.begin() + static_cast<long>(cdr.getSerializedDataLength())};
+}
+
+void Header(eprosima::fastcdr::Cdr& cdr, int32_t sec, uint32_t nsec, const std::string& frame) {
+  cdr << sec << nsec << frame;
+}
+
+std::vector<uint8_t> Scan() {
+  return Cdr([](eprosima::fastcdr::Cdr& cdr) {
+    Header(cdr, 1663967375, 500000000u, "rplidar_link");
+    cdr << -3.1f << 3.1f << 0.1f << 0.0f << 0.1f << 0.15f << 12.0f;
+    cdr << std::vector<float>{1.5f, 2.0f, INFINITY, 0.1f} << std::vector<float>{};
+  });
+}
+
+TEST(RosMessagesTest, ALaserScanDecodesToTheValuesWritten) {
+  const ros::LaserScan m = ros::DecodeLaserScan(Scan());
+  EXPECT_EQ(m.header.stamp.ns, 1663967375500000000LL);
+  EXPECT_EQ(m.header.frame_id, "rplidar_link");
+  EXPECT_FLOAT_EQ(m.angle_min, -3.1f);
+  EXPECT_FLOAT_EQ(m.range_max, 12.0f);
+  ASSERT_EQ(m.ranges.size(), 4u);
+  EXPECT_FLOAT_EQ(m.ranges[1], 2.0f);
+  EXPECT_TRUE(std::isinf(m.ranges[2]));
+}
+
+TEST(RosMessagesTest, OdometryAndTfDecodeToTheValuesWritten) {
+  const double yaw = 0.7;
+  const auto odom = Cdr([&](eprosima::fastcdr::Cdr& cdr) {
+    Header(cdr, 10, 250u, "odom");
+    cdr << std::string("base_link");
+    cdr << 1.0 << 2.0 << 0.0 << 0.0 << 0.0 << std::sin(yaw / 2) << std::cos(yaw / 2);
+    cdr << std::array<double, 36>{};
+    cdr << 0.5 << 0.0 << 0.0 << 0.0 << 0.0 << 0.2;
+    cdr << std::array<double, 36>{};
+  });
+  const ros::Odometry o = ros::DecodeOdometry(odom);
+  EXPECT_EQ(o.child_frame_id, "base_link");
+  EXPECT_DOUBLE_EQ(o.pose.x, 1.0);
+  EXPECT_NEAR(o.pose.Yaw(), yaw, 1e-12);
+  EXPECT_DOUBLE_EQ(o.vx, 0.5);
+  EXPECT_DOUBLE_EQ(o.wz, 0.2);
+
+  const auto tf = Cdr([](eprosima::fastcdr::Cdr& cdr) {
+    cdr << static_cast<uint32_t>(2);
+    for (const char* child : {"base_link", "rplidar_link"}) {
+      Header(cdr, 1, 0, child == std::string("base_link") ? "odom" : "base_link");
+      cdr << std::string(child) << 0.1 << 0.0 << 0.2 << 0.0 << 0.0 << 0.0 << 1.0;
+    }
+  });
+  const auto transforms = ros::DecodeTfMessage(tf);
+  ASSERT_EQ(transforms.size(), 2u);
+  EXPECT_EQ(transforms[1].header.frame_id, "base_link");
+  EXPECT_EQ(transforms[1].child_frame_id, "rplidar_link");
+  EXPECT_DOUBLE_EQ(transforms[1].transform.z, 0.2);
+}
+
+TEST(RosMessagesTest, APayloadShorterThanItsTypeIsAnInputError) {
+  std::vector<uint8_t> cut = Scan();
+  cut.resize(cut.size() - 12);  // inside the ranges
+  try {
+    ros::DecodeLaserScan(cut);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("sensor_msgs/msg/LaserScan: CDR payload of"));
+    EXPECT_THAT(e.what(), HasSubstr("ends inside the message"));
+  }
+  EXPECT_THROW(ros::DecodeOdometry({0, 1}), InputError);
+  EXPECT_THROW(ros::DecodeOdometry({0, 2, 0, 0, 1, 2, 3, 4}), InputError);  // PL_CDR: not this encapsulation
+}
+
+// A bag written here with SQLite in rosbag2's schema: one scan, one odometry, a
+// mount on /tf_static; and the same bag with a payload cut short.
+void WriteBag(const std::string& db3, bool cut_scan) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(db3.c_str(), &db), SQLITE_OK);
+  sqlite3_exec(db,
+               "CREATE TABLE topics(id INTEGER PRIMARY KEY,name TEXT NOT NULL,type TEXT NOT NULL,serialization_format "
+               "TEXT NOT NULL,offered_qos_profiles TEXT NOT NULL);"
+               "CREATE TABLE messages(id INTEGER PRIMARY KEY,topic_id INTEGER NOT NULL,timestamp INTEGER NOT NULL, "
+               "data BLOB NOT NULL);"
+               "INSERT INTO topics VALUES (1,'/scan','sensor_msgs/msg/LaserScan','cdr','');"
+               "INSERT INTO topics VALUES (2,'/tf_static','tf2_msgs/msg/TFMessage','cdr','');"
+               "INSERT INTO topics VALUES (3,'/cmd_vel','geometry_msgs/msg/Twist','cdr','');",
+               nullptr, nullptr, nullptr);
+  const auto insert = [&](int id, int topic, int64_t t, const std::vector<uint8_t>& data) {
+    sqlite3_stmt* s = nullptr;
+    sqlite3_prepare_v2(db, "INSERT INTO messages VALUES (?,?,?,?)", -1, &s, nullptr);
+    sqlite3_bind_int(s, 1, id), sqlite3_bind_int(s, 2, topic), sqlite3_bind_int64(s, 3, t);
+    sqlite3_bind_blob(s, 4, data.data(), static_cast<int>(data.size()), SQLITE_TRANSIENT);
+    sqlite3_step(s);
+    sqlite3_finalize(s);
+  };
+  insert(1, 2, 1, Cdr([](eprosima::fastcdr::Cdr& cdr) {
+           cdr << static_cast<uint32_t>(1);
+           Header(cdr, 1, 0, "base_link");
+           cdr << std::string("rplidar_link") << 0.3 << 0.0 << 0.2 << 0.0 << 0.0 << 0.0 << 1.0;
+         }));
+  std::vector<uint8_t> scan = Scan();
+  if (cut_scan) scan.resize(20);
+  insert(2, 1, 2, scan);
+  sqlite3_close(db);
+}
+
+TEST(Ros2BagTest, ReadsTheScanMountedWhereTfStaticPutsIt) {
+  const std::string dir = testing::TempDir("ros2_bag");
+  WriteBag(dir + "/bag.db3", false);
+  auto source = OpenRos2Bag(dir + "/bag.db3");
+  const auto obs = source->Next();
+  ASSERT_TRUE(obs);
+  const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs->data);
+  ASSERT_TRUE(scan);
+  EXPECT_EQ(scan->getScanSize(), 4u);
+  EXPECT_TRUE(scan->getScanRangeValidity(0));
+  EXPECT_FALSE(scan->getScanRangeValidity(2));  // inf
+  EXPECT_FALSE(scan->getScanRangeValidity(3));  // below range_min
+  EXPECT_NEAR(scan->sensorPose.x(), 0.3, 1e-9);
+  EXPECT_NEAR(scan->sensorPose.z(), 0.2, 1e-9);
+  // -3.1 + 0.1 · 3 / 2 = -2.95 rad: the beams' middle, where MRPT puts the sensor's x axis.
+  EXPECT_NEAR(scan->sensorPose.yaw(), -2.95, 1e-6);
+  EXPECT_FALSE(source->Next());
+  EXPECT_THAT(source->Notes(), ::testing::Contains(HasSubstr("/cmd_vel (geometry_msgs/msg/Twist) not read")));
+}
+
+TEST(Ros2BagTest, BrokenBagsNameWhatBroke) {
+  const std::string dir = testing::TempDir("ros2_bag_bad");
+  WriteBag(dir + "/cut.db3", true);
+  auto source = OpenRos2Bag(dir + "/cut.db3");
+  try {
+    source->Next();
+    FAIL() << "no error";
+  } catch (const DatasetError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cut.db3:2: /scan: sensor_msgs/msg/LaserScan: CDR payload of 20 bytes"));
+  }
+  auto skipping = OpenRos2Bag(dir + "/cut.db3", {}, OnBadRecord::kSkip);
+  EXPECT_FALSE(skipping->Next());
+  EXPECT_EQ(skipping->SkippedRecords().size(), 1u);
+
+  std::filesystem::create_directories(dir + "/bag");
+  testing::WriteFile(dir + "/bag/metadata.yaml",
+                     "rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n  relative_file_paths:\n"
+                     "    - bag_0.db3\n");
+  EXPECT_TRUE(IsRos2Bag(dir + "/bag"));
+  try {
+    OpenRos2Bag(dir + "/bag");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("metadata.yaml: relative_file_paths lists bag_0.db3, which is missing"));
+  }
+  testing::WriteFile(dir + "/not.db3", "hello");
+  EXPECT_THROW(OpenRos2Bag(dir + "/not.db3"), InputError);
+}
+
+}  // namespace
+}  // namespace specht::io
