@@ -46,6 +46,7 @@ seed fuzz_ais_positions "$data"/ais/tracks/*.csv.gz
 seed fuzz_params "$root"/params/*.yaml "$root"/params/tune/*.yaml
 seed fuzz_scenario "$root"/datasets/scenarios/*.yaml "$root"/datasets/missions/*.yaml
 seed fuzz_calibration "$data"/stereo/kitti_object/calib.txt
+seed fuzz_ros_messages "$data"/ros/*/*.db3
 
 targets=("$@")
 if [[ ${#targets[@]} -eq 0 ]]; then
