@@ -24,6 +24,7 @@ PACKAGES=(
   libbz2-dev         # reading the Freiburg benchmark's .clf.bz2 logs
   libsqlite3-dev     # ROS 2 bags (rosbag2's sqlite3 storage, .db3)
   libfastcdr-dev     # eProsima Fast CDR: the CDR payloads of ROS 2 messages
+  libzstd-dev liblz4-dev  # MCAP chunk compression (zstd written; zstd and lz4 read)
   libshp-dev         # coastline shapefile (AIS distance to coast)
   libnanoflann-dev   # k-d tree (AIS nearest coast vertex / harbour)
   # configuration, CLI, output
@@ -36,6 +37,18 @@ PACKAGES=(
   jq                 # reading JSON reports in bench scripts
 )
 
+# The independent readers the tests check specht's MCAP with (tests/npm: @mcap/core,
+# @foxglove/rosmsg2-serialization), from the npm registry at the versions locked there.
+npm_verifiers() {
+  local dir
+  dir="$(cd "$(dirname "$0")/.." && pwd)/tests/npm"
+  if ! command -v npm > /dev/null; then
+    echo "setup: npm not found: the MCAP conformance test will be skipped"
+    return
+  fi
+  [[ -d "$dir/node_modules/@mcap/core" ]] || npm ci --prefix "$dir" --no-audit --no-fund --loglevel=error
+}
+
 missing=()
 for p in "${PACKAGES[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
@@ -44,6 +57,7 @@ done
 
 if [[ ${#missing[@]} -eq 0 ]]; then
   echo "setup: all ${#PACKAGES[@]} packages present"
+  npm_verifiers
   exit 0
 fi
 
@@ -53,4 +67,5 @@ echo "setup: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+npm_verifiers
 echo "setup: done"

@@ -44,6 +44,11 @@ void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& defa
                  "classify the perceived tracks online with this `specht classify train` output "
                  "(same as --set perception.classifier_model=DIR)");
   cmd.add_option("--rate", args.rate, "pace at R x real time (same as --set replay.rate=R)");
+  cmd.add_option("--mcap", args.mcap,
+                 "record the replay as MCAP with ROS 2 schemas (scans, odometry, TF, the map, the trajectory), for "
+                 "Foxglove; a bare file name goes into the output folder")
+      ->capture_default_str();
+  cmd.add_flag("--no-mcap", args.no_mcap, "write no MCAP");
   cmd.add_flag("--list", args.list, "print the topics of a ROS bag (type, messages, rate) and stop");
   cmd.add_option("--from", args.from_s, "start S seconds into the data (replay.from_s)");
   cmd.add_option("--to", args.to_s, "stop S seconds into the data (replay.to_s)");
@@ -67,7 +72,7 @@ int RunMapping(MappingArgs a, const std::string& command) {
   const params::Params params = LoadParams(common);
   pipeline::Replay replay(params,
                           {a.dataset, a.ground_truth, a.relations, a.reference_map, a.map_dir, a.continue_dir,
-                           DataDir(common), common.param_files, common.overrides},
+                           DataDir(common), a.no_mcap ? "" : a.mcap, common.param_files, common.overrides},
                           command);
   PrepareOutputDir(common, params);
   return replay.Run(common.out_dir, common.quiet);

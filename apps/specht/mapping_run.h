@@ -21,6 +21,8 @@ struct MappingArgs {
   std::string model_dir;     // the trajectory classifier on the perceived tracks
   std::optional<double> rate, from_s, to_s;
   bool list = false;  // print a bag's topics and stop
+  std::string mcap = "run.mcap";
+  bool no_mcap = false;
 };
 
 // Adds the dataset positional and

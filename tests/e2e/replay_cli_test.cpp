@@ -1,9 +1,13 @@
 // `specht replay` as a user runs it: outputs, determinism, exit codes, bad input.
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "specht/io/mcap.h"
+#include "specht/io/ros_messages.h"
 #include "specht/io/trajectory_io.h"
 #include "test_support.h"
 
@@ -141,6 +145,83 @@ TEST(SlamCliTest, MapArtefactReloadsForLocalization) {
 }
 
 // Continuing a map: the built-in log mapped to 30 s, then continued from 30 s on
+
+// The MCAP every replay records (run.mcap) read by the MCAP project's own reader and
+// its ROS 2 messages decoded by Foxglove's (tests/npm/read_mcap.mjs; `npm ci` in
+// tests/npm, which scripts/setup.sh runs): every channel with its schema and the
+// count written, the first scan, map and mount as our decoders read them. Replaying
+// the MCAP maps the same map and trajectory as the source did.
+TEST(SlamCliTest, WritesAnMcapFoxglovesReadersOpenAndThatReplaysToTheSameMap) {
+  SPECHT_REQUIRE_FILE(testing::BuiltInRawlog());
+  const std::string verifier = testing::SourceDir() + "/tests/npm";
+  if (std::system("node --version > /dev/null 2>&1") != 0 ||
+      !std::filesystem::is_directory(verifier + "/node_modules/@mcap/core"))
+    SPECHT_SKIP() << "node or tests/npm/node_modules missing (scripts/setup.sh installs them)";
+  const std::string dir = testing::TempDir("slam_mcap");
+  ASSERT_EQ(testing::RunSpecht("slam -q -o '" + dir + "/source'").exit_code, 0);
+  const auto source = Report(dir + "/source");
+  const std::string mcap = dir + "/source/run.mcap";
+  const std::string json_path = dir + "/read.json";
+  ASSERT_EQ(std::system(("node '" + verifier + "/read_mcap.mjs' '" + mcap + "' > '" + json_path + "'").c_str()), 0);
+  const auto read = nlohmann::json::parse(testing::ReadFile(json_path));
+  EXPECT_EQ(read["profile"], "ros2");
+  const auto& written = source["mcap"]["messages"];
+  const std::map<std::string, std::string> schemas = {
+      {"/scan", "sensor_msgs/msg/LaserScan"}, {"/odom", "nav_msgs/msg/Odometry"},
+      {"/tf", "tf2_msgs/msg/TFMessage"},      {"/tf_static", "tf2_msgs/msg/TFMessage"},
+      {"/map", "nav_msgs/msg/OccupancyGrid"}, {"/trajectory", "nav_msgs/msg/Path"}};
+  for (const auto& [topic, schema] : schemas) {
+    const auto& c = read["channels"][topic];
+    EXPECT_EQ(c["schema"], schema) << topic;
+    EXPECT_EQ(c["messageEncoding"], "cdr") << topic;
+    EXPECT_EQ(c["statistics"], written[topic]) << topic;
+    EXPECT_EQ(c["read"], written[topic]) << topic;
+  }
+  EXPECT_EQ(written["/scan"], source["counts"]["scans"]);
+  EXPECT_EQ(written["/odom"], source["counts"]["odometry"]);
+  EXPECT_GE(written["/map"].get<int>(), 2);  // every 10 s of data and at the end
+
+  // The first scan, map and mount as our own reader decodes them.
+  io::McapReader ours(mcap);
+  std::map<std::string, bool> seen;
+  while (auto m = ours.Next()) {
+    if (seen[m->topic]) continue;
+    seen[m->topic] = true;
+    const auto& theirs = read["first"][m->topic];
+    if (m->topic == "/scan") {
+      const auto scan = io::ros::DecodeLaserScan(m->data);
+      EXPECT_EQ(theirs["header"]["frame_id"], scan.header.frame_id);
+      EXPECT_EQ(theirs["header"]["stamp"]["sec"].get<int64_t>() * 1000000000 +
+                    theirs["header"]["stamp"]["nsec"].get<int64_t>(),
+                scan.header.stamp.ns);
+      EXPECT_FLOAT_EQ(theirs["angle_min"].get<float>(), scan.angle_min);
+      EXPECT_FLOAT_EQ(theirs["range_max"].get<float>(), scan.range_max);
+      double sum = 0;
+      int non_finite = 0;
+      for (float r : scan.ranges) std::isfinite(r) ? sum += r : ++non_finite;
+      EXPECT_EQ(theirs["ranges"]["length"].get<size_t>(), scan.ranges.size());
+      EXPECT_NEAR(theirs["ranges"]["finite_sum"].get<double>(), sum, 1e-6 * sum);
+      EXPECT_EQ(theirs["ranges"]["non_finite"].get<int>(), non_finite);
+    } else if (m->topic == "/map") {
+      EXPECT_EQ(theirs["info"]["width"].get<uint32_t>() * theirs["info"]["height"].get<uint32_t>(),
+                theirs["data"]["length"].get<uint32_t>());
+      EXPECT_GT(theirs["data"]["minus_one"].get<int>(), 0);  // unknown cells
+      EXPECT_NEAR(theirs["info"]["resolution"].get<double>(), 0.05, 1e-6);
+    } else if (m->topic == "/tf_static") {
+      const auto tf = io::ros::DecodeTfMessage(m->data);
+      ASSERT_EQ(theirs["transforms"].size(), tf.size());
+      EXPECT_EQ(theirs["transforms"][0]["child_frame_id"], tf[0].child_frame_id);
+      EXPECT_DOUBLE_EQ(theirs["transforms"][0]["transform"]["translation"]["x"].get<double>(), tf[0].transform.x);
+    }
+  }
+  EXPECT_TRUE(seen["/scan"] && seen["/map"] && seen["/tf_static"]);
+
+  // Replaying the MCAP: the same map and trajectory.
+  ASSERT_EQ(testing::RunSpecht("slam -q --no-mcap '" + mcap + "' -o '" + dir + "/again'").exit_code, 0);
+  EXPECT_EQ(Report(dir + "/again")["inputs"]["format"], "MCAP (ros2)");
+  EXPECT_EQ(testing::ReadFile(dir + "/again/map.pgm"), testing::ReadFile(dir + "/source/map.pgm"));
+  EXPECT_EQ(testing::ReadFile(dir + "/again/trajectory.tum"), testing::ReadFile(dir + "/source/trajectory.tum"));
+}
 
 // A team's ROS 2 bag (rosbag2 SQLite, CDR): `specht slam` maps the floor from its
 // scans, odometry and /tf_static mount, and scores the map against the team's own

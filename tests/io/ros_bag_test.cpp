@@ -42,7 +42,7 @@ void Header(eprosima::fastcdr::Cdr& cdr, int32_t sec, uint32_t nsec, const std::
 std::vector<uint8_t> Scan() {
   return Cdr([](eprosima::fastcdr::Cdr& cdr) {
     Header(cdr, 1663967375, 500000000u, "rplidar_link");
-    cdr << -3.1f << 3.1f << 0.1f << 0.0f << 0.1f << 0.15f << 12.0f;
+    cdr << -3.1f << -2.8f << 0.1f << 0.0f << 0.1f << 0.15f << 12.0f;  // 4 beams, 0.1 rad apart
     cdr << std::vector<float>{1.5f, 2.0f, INFINITY, 0.1f} << std::vector<float>{};
   });
 }

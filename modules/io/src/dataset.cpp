@@ -22,6 +22,7 @@ DatasetError::DatasetError(const std::string& file, int64_t record, int64_t byte
 std::unique_ptr<DatasetSource> OpenDataset(const std::string& path, OnBadRecord on_bad) {
   std::error_code ec;
   if (IsRos2Bag(path)) return OpenRos2Bag(path, {}, on_bad);
+  if (IsMcap(path)) return OpenMcap(path, {}, on_bad);
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path + ": no such dataset file");
   }

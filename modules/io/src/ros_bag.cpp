@@ -2,7 +2,6 @@
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
-#include <mrpt/poses/CPose3D.h>
 #include <sqlite3.h>
 #include <yaml-cpp/yaml.h>
 
@@ -11,13 +10,14 @@
 #include <filesystem>
 #include <map>
 
+#include "specht/io/mcap.h"
+#include "specht/io/ros_conversion.h"
 #include "specht/io/ros_messages.h"
 
 namespace specht::io {
 namespace {
 
 namespace fs = std::filesystem;
-using mrpt::poses::CPose3D;
 
 constexpr const char* kLaserScan = "sensor_msgs/msg/LaserScan";
 constexpr const char* kOdometry = "nav_msgs/msg/Odometry";
@@ -146,10 +146,6 @@ std::vector<std::string> Db3Files(const std::string& path) {
   return files;
 }
 
-CPose3D ToMrpt(const ros::Pose& p) {
-  return CPose3D(mrpt::math::CQuaternionDouble(p.qw, p.qx, p.qy, p.qz), p.x, p.y, p.z);
-}
-
 // The first topic of `type`, or `chosen` checked against the bag.
 std::string Pick(const std::vector<Db3::Topic>& topics, const std::string& chosen, const char* type,
                  const std::string& bag) {
@@ -208,8 +204,8 @@ class Ros2BagSource : public DatasetSource {
   const std::vector<std::string>& SkippedRecords() const override { return skipped_; }
   std::vector<std::string> Notes() const override {
     std::vector<std::string> notes = notes_;
-    for (const auto& [frame, mounted] : mounted_)
-      if (!mounted) notes.push_back("scan frame " + frame + " has no /tf_static path to " + base_ + ": mounted at it");
+    for (const auto& frame : convert_.Unmounted())
+      notes.push_back("scan frame " + frame + " has no /tf_static path to the base frame: mounted at it");
     return notes;
   }
 
@@ -231,80 +227,108 @@ class Ros2BagSource : public DatasetSource {
       if (t.type != kTf || t.name != "/tf_static") continue;
       db.Select({t.name});
       Db3::Row row;
-      while (db.Step(row))
-        for (const auto& tf : ros::DecodeTfMessage(row.data))
-          parent_of_[tf.child_frame_id] = {tf.header.frame_id, ToMrpt(tf.transform)};
+      while (db.Step(row)) convert_.AddStatic(ros::DecodeTfMessage(row.data));
     }
-  }
-  // The pose of `frame` on the base frame along /tf_static (identity when no path).
-  CPose3D Mount(const std::string& frame) {
-    CPose3D acc;
-    std::string f = frame;
-    for (int depth = 0; f != base_ && depth < 64; ++depth) {
-      const auto it = parent_of_.find(f);
-      if (it == parent_of_.end()) {
-        mounted_[frame] = false;
-        return {};
-      }
-      acc = it->second.second + acc;  // parent ← f, then f ← frame
-      f = it->second.first;
-    }
-    mounted_[frame] = f == base_;
-    return f == base_ ? acc : CPose3D();
-  }
-  static Stamp StampOf(const ros::Header& h, int64_t received_ns) {
-    return h.stamp.ns > 0 ? h.stamp : Stamp{received_ns};
   }
   std::optional<Observation> Convert(const Db3::Row& row) {
     if (row.topic == odometry_) {
       const ros::Odometry m = ros::DecodeOdometry(row.data);
-      if (!m.child_frame_id.empty()) base_ = m.child_frame_id;
-      auto odo = mrpt::obs::CObservationOdometry::Create();
-      const Stamp t = StampOf(m.header, row.received_ns);
+      auto odo = convert_.Odometry(m, row.topic);
+      const Stamp t = ros::RosObservations::StampOf(m.header, row.received_ns);
       odo->timestamp = ToMrpt(t);
-      odo->sensorLabel = row.topic;
-      odo->odometry = mrpt::poses::CPose2D(m.pose.x, m.pose.y, m.pose.Yaw());
-      odo->hasVelocities = true;
-      odo->velocityLocal = {m.vx, m.vy, m.wz};
       return Observation{t, odo, row.id};
     }
     const ros::LaserScan m = ros::DecodeLaserScan(row.data);
-    const size_t n = m.ranges.size();
-    if (n < 2 || !(std::abs(m.angle_increment) > 0)) throw InputError("a scan of " + std::to_string(n) + " beams");
-    auto scan = mrpt::obs::CObservation2DRangeScan::Create();
-    const Stamp t = StampOf(m.header, row.received_ns);
+    auto scan = convert_.Scan(m, row.topic);
+    const Stamp t = ros::RosObservations::StampOf(m.header, row.received_ns);
     scan->timestamp = ToMrpt(t);
-    scan->sensorLabel = row.topic;
-    scan->aperture = std::abs(m.angle_increment) * static_cast<float>(n - 1);
-    scan->rightToLeft = m.angle_increment > 0;
-    scan->maxRange = m.range_max;
-    scan->resizeScan(n);
-    for (size_t i = 0; i < n; ++i) {
-      const float r = m.ranges[i];
-      const bool valid = std::isfinite(r) && r >= m.range_min && r <= m.range_max;
-      scan->setScanRange(i, valid ? r : m.range_max);
-      scan->setScanRangeValidity(i, valid);
-    }
-    // MRPT's beams run symmetric about the sensor's x axis: turn the mount by the
-    // scan's mid angle.
-    const double mid = m.angle_min + m.angle_increment * static_cast<double>(n - 1) / 2;
-    scan->sensorPose = Mount(m.header.frame_id) + CPose3D(0, 0, 0, mid, 0, 0);
     return Observation{t, scan, row.id};
   }
 
   std::string path_;
   std::vector<std::string> files_;
   OnBadRecord on_bad_;
-  std::string scan_, odometry_, base_ = "base_link";
+  std::string scan_, odometry_;
   std::vector<std::string> notes_, skipped_;
-  std::map<std::string, std::pair<std::string, CPose3D>> parent_of_;  // /tf_static: child → (parent, pose)
-  std::map<std::string, bool> mounted_;                               // scan frames: found on the base?
+  ros::RosObservations convert_;
   std::unique_ptr<Db3> db_;
   size_t file_ = 0;
   int64_t total_ = 0, read_ = 0;
 };
 
+// An MCAP file (mcap.h) read linearly: /tf_static for the mounts, the chosen scan and
+// odometry topics (the first of each type when not chosen) as observations.
+class McapSource : public DatasetSource {
+ public:
+  McapSource(std::string path, BagTopicChoice choice, OnBadRecord on_bad)
+      : path_(std::move(path)), reader_(path_), choice_(std::move(choice)), on_bad_(on_bad) {}
+
+  std::optional<Observation> Next() override {
+    while (auto m = reader_.Next()) {
+      try {
+        if (auto obs = Convert(*m)) return obs;
+      } catch (const InputError& e) {
+        if (on_bad_ == OnBadRecord::kStop) throw DatasetError(path_, m->index, -1, m->topic + ": " + e.what());
+        skipped_.push_back(path_ + ":" + std::to_string(m->index) + ": " + m->topic + ": " + e.what());
+      }
+    }
+    return std::nullopt;
+  }
+  std::string Path() const override { return path_; }
+  std::string Format() const override { return "MCAP (ros2)"; }
+  double FractionRead() const override { return reader_.FractionRead(); }
+  const std::vector<std::string>& SkippedRecords() const override { return skipped_; }
+  std::vector<std::string> Notes() const override {
+    std::vector<std::string> notes;
+    for (const auto& [topic, n] : not_read_) notes.push_back(topic + ": " + std::to_string(n) + " messages not read");
+    for (const auto& frame : convert_.Unmounted())
+      notes.push_back("scan frame " + frame + " has no /tf_static path to the base frame: mounted at it");
+    return notes;
+  }
+
+ private:
+  // Takes `topic` as the one of its kind when none was chosen and none is yet.
+  static bool Claims(std::string& chosen, const std::string& topic) {
+    if (chosen.empty()) chosen = topic;
+    return chosen == topic;
+  }
+  std::optional<Observation> Convert(const McapMessage& m) {
+    if (m.message_encoding != "cdr") throw InputError("message encoding '" + m.message_encoding + "', not cdr");
+    if (m.schema_name == kTf && m.topic == "/tf_static") {
+      convert_.AddStatic(ros::DecodeTfMessage(m.data));
+    } else if (m.schema_name == kLaserScan && Claims(choice_.scan, m.topic)) {
+      const ros::LaserScan msg = ros::DecodeLaserScan(m.data);
+      auto scan = convert_.Scan(msg, m.topic);
+      const Stamp t = ros::RosObservations::StampOf(msg.header, static_cast<int64_t>(m.log_time_ns));
+      scan->timestamp = ToMrpt(t);
+      return Observation{t, scan, m.index};
+    } else if (m.schema_name == kOdometry && choice_.odometry != "none" && Claims(choice_.odometry, m.topic)) {
+      const ros::Odometry msg = ros::DecodeOdometry(m.data);
+      auto odo = convert_.Odometry(msg, m.topic);
+      const Stamp t = ros::RosObservations::StampOf(msg.header, static_cast<int64_t>(m.log_time_ns));
+      odo->timestamp = ToMrpt(t);
+      return Observation{t, odo, m.index};
+    } else {
+      ++not_read_[m.topic];
+    }
+    return std::nullopt;
+  }
+  std::string path_;
+  McapReader reader_;
+  BagTopicChoice choice_;
+  OnBadRecord on_bad_;
+  ros::RosObservations convert_;
+  std::map<std::string, long> not_read_;
+  std::vector<std::string> skipped_;
+};
+
 }  // namespace
+
+bool IsMcap(const std::string& path) { return fs::path(path).extension() == ".mcap"; }
+
+std::unique_ptr<DatasetSource> OpenMcap(const std::string& path, const BagTopicChoice& topics, OnBadRecord on_bad) {
+  return std::make_unique<McapSource>(path, topics, on_bad);
+}
 
 bool IsRos2Bag(const std::string& path) {
   std::error_code ec;

@@ -4,7 +4,11 @@
 #include <fastcdr/FastBuffer.h>
 #include <fastcdr/exceptions/Exception.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <map>
+#include <sstream>
 
 #include "specht/core/error.h"
 
@@ -81,6 +85,136 @@ std::vector<TransformStamped> DecodeTfMessage(const std::vector<uint8_t>& payloa
       out.push_back(std::move(t));
     }
   });
+}
+
+namespace {
+
+template <class Write>
+std::vector<uint8_t> EncodeWith(Write write) {
+  eprosima::fastcdr::FastBuffer buffer;  // grows as needed
+  Cdr cdr(buffer, Cdr::LITTLE_ENDIANNESS, Cdr::DDS_CDR);
+  cdr.serialize_encapsulation();
+  write(cdr);
+  const auto* bytes = reinterpret_cast<const uint8_t*>(buffer.getBuffer());
+  return {bytes, bytes + cdr.getSerializedDataLength()};
+}
+
+void Write(Cdr& cdr, const Header& h) {
+  cdr << static_cast<int32_t>(h.stamp.ns / 1000000000) << static_cast<uint32_t>(h.stamp.ns % 1000000000) << h.frame_id;
+}
+void WritePose(Cdr& cdr, const Pose& p) { cdr << p.x << p.y << p.z << p.qx << p.qy << p.qz << p.qw; }
+
+const char* const kRule = "================================================================================\n";
+
+// The definitions, dependencies named as ros2msg schemas name them ("MSG: pkg/Type").
+const std::map<std::string, std::string>& Definitions() {
+  static const std::map<std::string, std::string> d = {
+      {"builtin_interfaces/Time", "int32 sec\nuint32 nanosec\n"},
+      {"std_msgs/Header", "builtin_interfaces/Time stamp\nstring frame_id\n"},
+      {"geometry_msgs/Point", "float64 x\nfloat64 y\nfloat64 z\n"},
+      {"geometry_msgs/Vector3", "float64 x\nfloat64 y\nfloat64 z\n"},
+      {"geometry_msgs/Quaternion", "float64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n"},
+      {"geometry_msgs/Pose", "Point position\nQuaternion orientation\n"},
+      {"geometry_msgs/Transform", "Vector3 translation\nQuaternion rotation\n"},
+      {"geometry_msgs/Twist", "Vector3 linear\nVector3 angular\n"},
+      {"geometry_msgs/PoseWithCovariance", "Pose pose\nfloat64[36] covariance\n"},
+      {"geometry_msgs/TwistWithCovariance", "Twist twist\nfloat64[36] covariance\n"},
+      {"geometry_msgs/PoseStamped", "std_msgs/Header header\nPose pose\n"},
+      {"geometry_msgs/TransformStamped", "std_msgs/Header header\nstring child_frame_id\nTransform transform\n"},
+      {"nav_msgs/MapMetaData",
+       "builtin_interfaces/Time map_load_time\nfloat32 resolution\nuint32 width\nuint32 height\n"
+       "geometry_msgs/Pose origin\n"},
+      {"sensor_msgs/LaserScan",
+       "std_msgs/Header header\nfloat32 angle_min\nfloat32 angle_max\nfloat32 angle_increment\n"
+       "float32 time_increment\nfloat32 scan_time\nfloat32 range_min\nfloat32 range_max\nfloat32[] ranges\n"
+       "float32[] intensities\n"},
+      {"nav_msgs/Odometry",
+       "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/PoseWithCovariance pose\n"
+       "geometry_msgs/TwistWithCovariance twist\n"},
+      {"tf2_msgs/TFMessage", "geometry_msgs/TransformStamped[] transforms\n"},
+      {"nav_msgs/OccupancyGrid", "std_msgs/Header header\nMapMetaData info\nint8[] data\n"},
+      {"nav_msgs/Path", "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n"},
+  };
+  return d;
+}
+
+// The types a definition uses, in the order they first appear, depth first.
+void Dependencies(const std::string& type, std::vector<std::string>& out) {
+  const std::string package = type.substr(0, type.find('/'));
+  std::istringstream lines(Definitions().at(type));
+  for (std::string line; std::getline(lines, line);) {
+    std::string field = line.substr(0, line.find(' '));
+    field = field.substr(0, field.find('['));
+    if (field.empty() || std::islower(static_cast<unsigned char>(field[0])) && field.find('/') == std::string::npos)
+      continue;  // a primitive
+    const std::string dep = field.find('/') == std::string::npos ? package + "/" + field : field;
+    if (std::find(out.begin(), out.end(), dep) != out.end()) continue;
+    out.push_back(dep);
+    Dependencies(dep, out);
+  }
+}
+
+}  // namespace
+
+std::vector<uint8_t> Encode(const LaserScan& m) {
+  return EncodeWith([&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << m.angle_min << m.angle_max << m.angle_increment << m.time_increment << m.scan_time << m.range_min
+        << m.range_max << m.ranges << m.intensities;
+  });
+}
+
+std::vector<uint8_t> Encode(const Odometry& m) {
+  return EncodeWith([&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << m.child_frame_id;
+    WritePose(cdr, m.pose);
+    cdr << m.pose_covariance << m.vx << m.vy << m.vz << m.wx << m.wy << m.wz << m.twist_covariance;
+  });
+}
+
+std::vector<uint8_t> Encode(const std::vector<TransformStamped>& tf) {
+  return EncodeWith([&](Cdr& cdr) {
+    cdr << static_cast<uint32_t>(tf.size());
+    for (const auto& t : tf) {
+      Write(cdr, t.header);
+      cdr << t.child_frame_id;
+      WritePose(cdr, t.transform);
+    }
+  });
+}
+
+std::vector<uint8_t> Encode(const OccupancyGrid& m) {
+  return EncodeWith([&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << static_cast<int32_t>(m.map_load_time.ns / 1000000000)
+        << static_cast<uint32_t>(m.map_load_time.ns % 1000000000);
+    cdr << m.resolution << m.width << m.height;
+    WritePose(cdr, m.origin);
+    cdr << m.data;
+  });
+}
+
+std::vector<uint8_t> Encode(const Path& m) {
+  return EncodeWith([&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << static_cast<uint32_t>(m.poses.size());
+    for (const auto& [h, p] : m.poses) {
+      Write(cdr, h);
+      WritePose(cdr, p);
+    }
+  });
+}
+
+std::string Definition(const std::string& type) {
+  std::string key = type;
+  if (const auto at = key.find("/msg/"); at != std::string::npos) key.erase(at, 4);
+  if (!Definitions().count(key)) throw InputError("no ros2msg definition of " + type + " here");
+  std::vector<std::string> deps;
+  Dependencies(key, deps);
+  std::string text = Definitions().at(key);
+  for (const auto& d : deps) text += std::string(kRule) + "MSG: " + d + "\n" + Definitions().at(d);
+  return text;
 }
 
 }  // namespace specht::io::ros

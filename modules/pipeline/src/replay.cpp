@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "internal/map_outputs.h"
+#include "internal/mcap_recorder.h"
 #include "internal/perception_video.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
@@ -123,6 +124,7 @@ struct Replay::State {
   std::string reference_map;  // map_server YAML, or ""
   MapArtefact saved;
   std::unique_ptr<PerceptionPipeline> perception;
+  std::unique_ptr<internal::McapRecorder> mcap;  // --mcap
 
   // The parts of one run.
   Estimate Localize(io::ReplayClock& clock, PerceptionPipeline& perception, io::StageTimer& timer,
@@ -134,14 +136,15 @@ struct Replay::State {
 
 Replay::Replay(const params::Params& params, ReplayInputs in, std::string command)
     : state_(std::make_unique<State>(
-          State{params, std::move(in), std::move(command), nullptr, "", {}, {}, "", {}, nullptr})) {
+          State{params, std::move(in), std::move(command), nullptr, "", {}, {}, "", {}, nullptr, nullptr})) {
   State& s = *state_;
   if (s.in.dataset.empty()) s.in.dataset = io::DefaultRawlog();
   const auto& replay = params.Get<io::ReplayOptions>("replay");
   const auto on_bad = replay.on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop;
-  s.source = io::IsRos2Bag(s.in.dataset)
-                 ? io::OpenRos2Bag(s.in.dataset, {replay.scan_topic, replay.odometry_topic}, on_bad)
-                 : io::OpenDataset(s.in.dataset, on_bad);
+  const io::BagTopicChoice topics{replay.scan_topic, replay.odometry_topic};
+  s.source = io::IsRos2Bag(s.in.dataset) ? io::OpenRos2Bag(s.in.dataset, topics, on_bad)
+             : io::IsMcap(s.in.dataset)  ? io::OpenMcap(s.in.dataset, topics, on_bad)
+                                         : io::OpenDataset(s.in.dataset, on_bad);
   s.reference_path =
       s.in.ground_truth.empty() ? io::DefaultReferencePath(s.in.dataset, s.source->Format()) : s.in.ground_truth;
   if (!s.reference_path.empty()) s.reference = io::ReadReference(s.reference_path);
@@ -180,6 +183,12 @@ Estimate Replay::State::Localize(io::ReplayClock& clock, PerceptionPipeline& per
         {
           auto timing = timer.Time("slam");
           localizer.Add(t, o);
+        }
+        if (mcap) {
+          auto timing = timer.Time("mcap");
+          mcap->Observation(t, o);
+          const auto& p = localizer.trajectory();
+          if (p.size() > placed) mcap->Pose(p.back().stamp, p.back().pose);
         }
         auto timing = timer.Time("perception");
         perception.Add(t, o);
@@ -225,6 +234,10 @@ Estimate Replay::State::Map(io::ReplayClock& clock, PerceptionPipeline& percepti
           auto timing = timer.Time("slam");
           slam.Add(t, o);
         }
+        if (mcap) {
+          auto timing = timer.Time("mcap");
+          mcap->Observation(t, o);
+        }
         auto timing = timer.Time("perception");
         perception.Add(t, o);
         if (slam.front_end_stats().scans > scans_placed) {
@@ -234,6 +247,11 @@ Estimate Replay::State::Map(io::ReplayClock& clock, PerceptionPipeline& percepti
           // The static layer as the map grows, and at once after a loop closure moved it.
           const bool moved = slam.stats().optimizations > optimizations;
           optimizations = slam.stats().optimizations;
+          if (mcap) {
+            auto timing = timer.Time("mcap");
+            mcap->Pose(latest->stamp, latest->pose);
+            mcap->Keyframes(slam.keyframes(), moved, latest->stamp);
+          }
           if (perception.active() && (moved || perception.StaticMapDue(t)))
             perception.SetStaticMap(slam::BuildGrid(slam.keyframes(), grid_options), latest->stamp);
         }
@@ -331,6 +349,12 @@ int Replay::Run(const std::string& out, bool quiet) {
   int exit_code = 0;
   PerceptionPipeline& perception = *s.perception;
   perception.WriteVideosTo(out);
+  if (!s.in.mcap.empty())
+    s.mcap = std::make_unique<internal::McapRecorder>(
+        std::filesystem::path(s.in.mcap).is_absolute() || s.in.mcap.find('/') != std::string::npos
+            ? s.in.mcap
+            : out + "/" + s.in.mcap,
+        s.params.Get<io::ReplayOptions>("replay").mcap_map_every_s, s.params.Get<slam::GridOptions>("grid"));
   DriveResult run;
   const Estimate e = s.in.map_dir.empty() ? s.Map(clock, perception, timer, report, frames, run, out, quiet, exit_code)
                                           : s.Localize(clock, perception, timer, report, frames, run, quiet, exit_code);
@@ -376,6 +400,12 @@ int Replay::Run(const std::string& out, bool quiet) {
     WritePerception(perception, e.grid, run.last ? *run.last : Stamp{}, out, report);
   }
   for (const char* f : {"map.png", "trajectory.tum", "params.yaml"}) report.AddOutput(f);
+  if (s.mcap) {
+    auto t = timer.Time("mcap");
+    s.mcap->Finish(e.grid, e.trajectory, run.last ? *run.last : Stamp{});
+    report.AddOutput(s.in.mcap);
+    j["mcap"] = {{"file", s.in.mcap}, {"messages", s.mcap->Counts()}};
+  }
   j["timing"]["stages"] = timer.ToJson();
   j["timing"]["wall_s"] = run.wall_s;
   j["timing"]["data_s"] = data_s;

@@ -257,15 +257,21 @@ ScanMatchingOptions GoodOdometry(ScanMatchingOptions options) {
 }
 
 mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes, const GridOptions& options) {
-  const float res = static_cast<float>(options.resolution_m);
-  mrpt::maps::COccupancyGridMap2D grid(-10.0f, 10.0f, -10.0f, 10.0f, res);
+  mrpt::maps::COccupancyGridMap2D grid(-10.0f, 10.0f, -10.0f, 10.0f, static_cast<float>(options.resolution_m));
+  InsertIntoGrid(keyframes, 0, options, grid);
+  return grid;
+}
+
+void InsertIntoGrid(const std::vector<Keyframe>& keyframes, size_t from, const GridOptions& options,
+                    mrpt::maps::COccupancyGridMap2D& grid) {
   auto& ins = grid.insertionOptions;
   ins.maxDistanceInsertion = static_cast<float>(options.max_insert_range_m);
   ins.maxOccupancyUpdateCertainty = static_cast<float>(options.occupied_update);
   ins.maxFreenessUpdateCertainty = static_cast<float>(options.free_update);
   ins.considerInvalidRangesAsFreeSpace = options.invalid_ranges_are_free;
   ins.wideningBeamsWithDistance = false;
-  for (const Keyframe& kf : keyframes) {
+  for (size_t i = from; i < keyframes.size(); ++i) {
+    const Keyframe& kf = keyframes[i];
     // Grow the grid to hold every return of this scan before inserting it.
     const CPose3D robot(kf.pose);
     const double reach = std::min<double>(kf.scan->maxRange, options.max_insert_range_m) + 1.0;
@@ -275,7 +281,6 @@ mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes
                     static_cast<float>(std::max<double>(grid.getYMax(), robot.y() + reach)), 0.5f, false);
     grid.insertObservation(*kf.scan, robot);
   }
-  return grid;
 }
 
 }  // namespace specht::slam

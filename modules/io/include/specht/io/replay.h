@@ -21,6 +21,7 @@ struct ReplayOptions {
   double to_s = 0.0;    // 0 = to the end
   std::string on_bad_record = "stop";
   std::string scan_topic, odometry_topic;  // ROS bags; "" = the first of its type
+  double mcap_map_every_s = 10;
 
   template <class V>
   void Visit(V& v) {
@@ -33,6 +34,10 @@ struct ReplayOptions {
     v.Param("scan_topic", scan_topic, "ROS bags: the sensor_msgs/msg/LaserScan topic to map with; \"\" = the first");
     v.Param("odometry_topic", odometry_topic,
             "ROS bags: the nav_msgs/msg/Odometry topic; \"\" = the first, \"none\" = map without odometry");
+    v.Param("mcap_map_every_s", mcap_map_every_s,
+            "--mcap: the map (nav_msgs/OccupancyGrid) is recorded this often in data time, and at the end; 0 = "
+            "only at the end",
+            Range::AtLeast(0));
   }
   std::vector<std::string> Relations() const;
 };

@@ -1,16 +1,12 @@
-// specht/io/ros_bag.h: ROS 2 bags (rosbag2's sqlite3 storage: a folder with
-// metadata.yaml and its .db3 files, or one .db3) as a dataset source. SQLite reads
-// the tables, Fast CDR the payloads (ros_messages.h).
+// specht/io/ros_bag.h: ROS 2 recordings as dataset sources — rosbag2's sqlite3
+// storage (a folder with metadata.yaml and its .db3 files, or one .db3; SQLite reads
+// the tables) and MCAP files (mcap.h, read linearly); Fast CDR decodes the payloads
+// (ros_messages.h).
 //
-// What becomes an observation (in the order of the messages' header stamps):
-//   sensor_msgs/msg/LaserScan  a CObservation2DRangeScan, mounted where /tf_static puts
-//                              its frame on the base frame (odometry's child frame,
-//                              else base_link); beams outside [range_min, range_max]
-//                              invalid; a scan not centred on its x axis is rotated
-//                              by its mid angle (MRPT's scans are symmetric)
-//   nav_msgs/msg/Odometry      a CObservationOdometry (x, y, yaw; the twist as its
-//                              local velocity)
-// Other types are counted and skipped (Notes()); /tf_static is read for the mounts.
+// sensor_msgs/msg/LaserScan and nav_msgs/msg/Odometry become observations
+// (ros_conversion.h: scans mounted where /tf_static puts their frame), in the order
+// the recording holds them (rosbag2: receive time), stamped by their headers. Other
+// topics are listed in Notes(), not read.
 #pragma once
 
 #include <memory>
@@ -35,6 +31,11 @@ struct BagTopic {
 
 // A folder holding metadata.yaml, or a file ending in .db3.
 bool IsRos2Bag(const std::string& path);
+
+// A file ending in .mcap.
+bool IsMcap(const std::string& path);
+std::unique_ptr<DatasetSource> OpenMcap(const std::string& path, const BagTopicChoice& topics = {},
+                                        OnBadRecord on_bad = OnBadRecord::kStop);
 
 // Every topic of the bag, by name.
 std::vector<BagTopic> ListRos2Bag(const std::string& path);

@@ -46,10 +46,37 @@ struct TransformStamped {  // geometry_msgs/msg/TransformStamped
   Pose transform;
 };
 
+struct OccupancyGrid {  // nav_msgs/msg/OccupancyGrid
+  Header header;
+  Stamp map_load_time;
+  float resolution = 0;
+  uint32_t width = 0, height = 0;
+  Pose origin;
+  std::vector<int8_t> data;  // row-major from the origin; -1 unknown, 0..100 occupancy
+};
+
+struct Path {  // nav_msgs/msg/Path of geometry_msgs/msg/PoseStamped
+  Header header;
+  std::vector<std::pair<Header, Pose>> poses;
+};
+
 // Each throws InputError naming the type and why when the payload is not one: too
 // short for its fields ("ends inside"), or an encapsulation other than CDR.
 LaserScan DecodeLaserScan(const std::vector<uint8_t>& cdr);
 Odometry DecodeOdometry(const std::vector<uint8_t>& cdr);
 std::vector<TransformStamped> DecodeTfMessage(const std::vector<uint8_t>& cdr);  // tf2_msgs/msg/TFMessage
+
+// CDR payloads (little-endian, with the encapsulation header) of the same messages,
+// as rosbag2 and MCAP store them.
+std::vector<uint8_t> Encode(const LaserScan& m);
+std::vector<uint8_t> Encode(const Odometry& m);
+std::vector<uint8_t> Encode(const std::vector<TransformStamped>& tf_message);
+std::vector<uint8_t> Encode(const OccupancyGrid& m);
+std::vector<uint8_t> Encode(const Path& m);
+
+// The ros2msg definition of `type` (e.g. "sensor_msgs/msg/LaserScan") with every
+// type it uses appended, as MCAP's ros2msg schema encoding and Foxglove expect.
+// Throws InputError for a type not listed here.
+std::string Definition(const std::string& type);
 
 }  // namespace specht::io::ros

@@ -28,6 +28,7 @@ struct ReplayInputs {
   std::string map_dir;                              // localize on this saved map instead of mapping
   std::string continue_dir;                         // continue this saved map
   std::string data_dir;                             // the detector's models
+  std::string mcap;                                 // record the replay into this MCAP file, or ""
   std::vector<std::string> param_files, overrides;  // recorded in the report
 };
 

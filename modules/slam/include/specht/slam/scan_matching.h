@@ -307,5 +307,9 @@ class ScanMatchingMapper {
 
 // The occupancy grid of the given keyframes at their poses.
 mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes, const GridOptions& options);
+// Inserts keyframes[from…] into `grid` (grown to hold them), as BuildGrid does: a map
+// kept up to date as keyframes come, rebuilt only when their poses move.
+void InsertIntoGrid(const std::vector<Keyframe>& keyframes, size_t from, const GridOptions& options,
+                    mrpt::maps::COccupancyGridMap2D& grid);
 
 }  // namespace specht::slam
