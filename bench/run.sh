@@ -43,5 +43,8 @@ run "$build/bench/classify_bench"
 if [[ -d "$data/ais" ]]; then
   run "$build/bench/ais_bench" "$data"
 fi
+if [[ -d "$data/ros" ]]; then
+  run "$build/bench/bag_bench" "$data"
+fi
 run "$build/bench/plan_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 echo "bench: results in $out" >&2
