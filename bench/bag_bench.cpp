@@ -75,8 +75,10 @@ int main(int argc, char** argv) {
     double bytes = 0;
     while (auto m = r.Next()) {
       bytes += m->data.size();
-      if (m->topic == "/scan") io::ros::DecodeLaserScan(m->data);
-      else io::ros::DecodeOdometry(m->data);
+      if (m->topic == "/scan")
+        io::ros::DecodeLaserScan(m->data);
+      else
+        io::ros::DecodeOdometry(m->data);
     }
     return bytes;
   });

@@ -25,6 +25,7 @@ PACKAGES=(
   libsqlite3-dev     # ROS 2 bags (rosbag2's sqlite3 storage, .db3)
   libfastcdr-dev     # eProsima Fast CDR: the CDR payloads of ROS 2 messages
   libzstd-dev liblz4-dev  # MCAP chunk compression (zstd written; zstd and lz4 read)
+  librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev  # ROS 1 bags and their messages
   libshp-dev         # coastline shapefile (AIS distance to coast)
   libnanoflann-dev   # k-d tree (AIS nearest coast vertex / harbour)
   # configuration, CLI, output

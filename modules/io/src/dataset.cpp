@@ -23,6 +23,7 @@ std::unique_ptr<DatasetSource> OpenDataset(const std::string& path, OnBadRecord 
   std::error_code ec;
   if (IsRos2Bag(path)) return OpenRos2Bag(path, {}, on_bad);
   if (IsMcap(path)) return OpenMcap(path, {}, on_bad);
+  if (IsRos1Bag(path)) return OpenRos1Bag(path, {}, on_bad);
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path + ": no such dataset file");
   }

@@ -145,7 +145,7 @@ void Dependencies(const std::string& type, std::vector<std::string>& out) {
   for (std::string line; std::getline(lines, line);) {
     std::string field = line.substr(0, line.find(' '));
     field = field.substr(0, field.find('['));
-    if (field.empty() || std::islower(static_cast<unsigned char>(field[0])) && field.find('/') == std::string::npos)
+    if (field.empty() || (std::islower(static_cast<unsigned char>(field[0])) && field.find('/') == std::string::npos))
       continue;  // a primitive
     const std::string dep = field.find('/') == std::string::npos ? package + "/" + field : field;
     if (std::find(out.begin(), out.end(), dep) != out.end()) continue;

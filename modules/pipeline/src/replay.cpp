@@ -142,9 +142,10 @@ Replay::Replay(const params::Params& params, ReplayInputs in, std::string comman
   const auto& replay = params.Get<io::ReplayOptions>("replay");
   const auto on_bad = replay.on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop;
   const io::BagTopicChoice topics{replay.scan_topic, replay.odometry_topic};
-  s.source = io::IsRos2Bag(s.in.dataset) ? io::OpenRos2Bag(s.in.dataset, topics, on_bad)
-             : io::IsMcap(s.in.dataset)  ? io::OpenMcap(s.in.dataset, topics, on_bad)
-                                         : io::OpenDataset(s.in.dataset, on_bad);
+  s.source = io::IsRos2Bag(s.in.dataset)   ? io::OpenRos2Bag(s.in.dataset, topics, on_bad)
+             : io::IsMcap(s.in.dataset)    ? io::OpenMcap(s.in.dataset, topics, on_bad)
+             : io::IsRos1Bag(s.in.dataset) ? io::OpenRos1Bag(s.in.dataset, topics, on_bad)
+                                           : io::OpenDataset(s.in.dataset, on_bad);
   s.reference_path =
       s.in.ground_truth.empty() ? io::DefaultReferencePath(s.in.dataset, s.source->Format()) : s.in.ground_truth;
   if (!s.reference_path.empty()) s.reference = io::ReadReference(s.reference_path);

@@ -32,6 +32,12 @@ struct BagTopic {
 // A folder holding metadata.yaml, or a file ending in .db3.
 bool IsRos2Bag(const std::string& path);
 
+// A ROS 1 bag (format 2.0), read through Debian's rosbag_storage; an unindexed bag
+// (a recording cut short) is an input error naming `rosbag reindex`.
+bool IsRos1Bag(const std::string& path);
+std::unique_ptr<DatasetSource> OpenRos1Bag(const std::string& path, const BagTopicChoice& topics = {},
+                                           OnBadRecord on_bad = OnBadRecord::kStop);
+
 // A file ending in .mcap.
 bool IsMcap(const std::string& path);
 std::unique_ptr<DatasetSource> OpenMcap(const std::string& path, const BagTopicChoice& topics = {},

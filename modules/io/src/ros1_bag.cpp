@@ -1,0 +1,164 @@
+// ROS 1 bags through Debian's rosbag_storage (rosbag::Bag, rosbag::View) and the ROS 1
+// message headers Debian ships (sensor_msgs, nav_msgs, tf2_msgs): the messages are
+// copied into specht's ROS message structs (ros_messages.h) and converted as the
+// ROS 2 sources convert theirs (ros_conversion.h).
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <fstream>
+#include <map>
+
+#include "specht/io/ros_bag.h"
+#include "specht/io/ros_conversion.h"
+
+namespace specht::io {
+namespace {
+
+ros::Header Copy(const std_msgs::Header& h) {
+  return {Stamp{static_cast<int64_t>(h.stamp.sec) * 1000000000LL + h.stamp.nsec}, h.frame_id};
+}
+
+ros::LaserScan Copy(const sensor_msgs::LaserScan& m) {
+  ros::LaserScan s;
+  s.header = Copy(m.header);
+  s.angle_min = m.angle_min, s.angle_max = m.angle_max, s.angle_increment = m.angle_increment;
+  s.time_increment = m.time_increment, s.scan_time = m.scan_time;
+  s.range_min = m.range_min, s.range_max = m.range_max;
+  s.ranges = m.ranges, s.intensities = m.intensities;
+  return s;
+}
+
+ros::Odometry Copy(const nav_msgs::Odometry& m) {
+  ros::Odometry o;
+  o.header = Copy(m.header);
+  o.child_frame_id = m.child_frame_id;
+  const auto& p = m.pose.pose;
+  o.pose = {p.position.x,    p.position.y,    p.position.z,   p.orientation.x,
+            p.orientation.y, p.orientation.z, p.orientation.w};
+  o.vx = m.twist.twist.linear.x, o.vy = m.twist.twist.linear.y, o.wz = m.twist.twist.angular.z;
+  return o;
+}
+
+std::vector<ros::TransformStamped> Copy(const tf2_msgs::TFMessage& m) {
+  std::vector<ros::TransformStamped> out;
+  for (const auto& t : m.transforms) {
+    const auto& tr = t.transform;
+    out.push_back({Copy(t.header),
+                   t.child_frame_id,
+                   {tr.translation.x, tr.translation.y, tr.translation.z, tr.rotation.x, tr.rotation.y, tr.rotation.z,
+                    tr.rotation.w}});
+  }
+  return out;
+}
+
+class Ros1BagSource : public DatasetSource {
+ public:
+  Ros1BagSource(std::string path, BagTopicChoice choice, OnBadRecord on_bad)
+      : path_(std::move(path)), choice_(std::move(choice)), on_bad_(on_bad) {
+    try {
+      bag_.open(path_, rosbag::bagmode::Read);
+      // The mounts first: /tf_static anywhere in the bag.
+      rosbag::View statics(bag_, rosbag::TopicQuery("/tf_static"));
+      for (const auto& m : statics)
+        if (auto tf = m.instantiate<tf2_msgs::TFMessage>()) convert_.AddStatic(Copy(*tf));
+      rosbag::View all(bag_);
+      for (const auto* c : all.getConnections()) {
+        if (c->datatype == "sensor_msgs/LaserScan" && choice_.scan.empty()) choice_.scan = c->topic;
+        if (c->datatype == "nav_msgs/Odometry" && choice_.odometry.empty()) choice_.odometry = c->topic;
+      }
+      if (choice_.scan.empty()) throw InputError(path_ + ": no sensor_msgs/LaserScan topic to map with");
+      std::vector<std::string> topics{choice_.scan};
+      if (!choice_.odometry.empty() && choice_.odometry != "none") topics.push_back(choice_.odometry);
+      for (const auto* c : all.getConnections())
+        if (c->topic != choice_.scan && c->topic != choice_.odometry && c->topic != "/tf_static")
+          not_read_[c->topic] = c->datatype;
+      view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics));
+      total_ = view_->size();
+      it_ = view_->begin();
+    } catch (const rosbag::BagException& e) {
+      throw InputError(path_ + ": " + e.what() + Hint(e.what()));
+    }
+  }
+
+  std::optional<Observation> Next() override {
+    try {
+      for (; it_ != view_->end(); ++it_, ++read_) {
+        const rosbag::MessageInstance& m = *it_;
+        const int64_t index = read_;
+        try {
+          if (auto scan = m.instantiate<sensor_msgs::LaserScan>()) {
+            const ros::LaserScan s = Copy(*scan);
+            auto obs = convert_.Scan(s, m.getTopic());
+            const Stamp t = ros::RosObservations::StampOf(s.header, static_cast<int64_t>(m.getTime().toNSec()));
+            obs->timestamp = ToMrpt(t);
+            ++it_, ++read_;
+            return Observation{t, obs, index};
+          }
+          if (auto odo = m.instantiate<nav_msgs::Odometry>()) {
+            const ros::Odometry o = Copy(*odo);
+            auto obs = convert_.Odometry(o, m.getTopic());
+            const Stamp t = ros::RosObservations::StampOf(o.header, static_cast<int64_t>(m.getTime().toNSec()));
+            obs->timestamp = ToMrpt(t);
+            ++it_, ++read_;
+            return Observation{t, obs, index};
+          }
+        } catch (const InputError& e) {
+          if (on_bad_ == OnBadRecord::kStop) throw DatasetError(path_, index, -1, m.getTopic() + ": " + e.what());
+          skipped_.push_back(path_ + ":" + std::to_string(index) + ": " + m.getTopic() + ": " + e.what());
+        }
+      }
+    } catch (const rosbag::BagException& e) {
+      throw DatasetError(path_, read_, -1, e.what());
+    } catch (const ::ros::Exception& e) {  // a message shorter than its type
+      throw DatasetError(path_, read_, -1, std::string("cannot deserialize: ") + e.what());
+    }
+    return std::nullopt;
+  }
+  std::string Path() const override { return path_; }
+  std::string Format() const override { return "ROS 1 bag"; }
+  double FractionRead() const override { return total_ > 0 ? static_cast<double>(read_) / total_ : 1.0; }
+  const std::vector<std::string>& SkippedRecords() const override { return skipped_; }
+  std::vector<std::string> Notes() const override {
+    std::vector<std::string> notes;
+    for (const auto& [topic, type] : not_read_) notes.push_back(topic + " (" + type + ") not read");
+    for (const auto& frame : convert_.Unmounted())
+      notes.push_back("scan frame " + frame + " has no /tf_static path to the base frame: mounted at it");
+    return notes;
+  }
+
+ private:
+  // What a bag that does not open most likely is: a recording cut short, whose index
+  // (written at its end) is missing.
+  static std::string Hint(const std::string&) {
+    return " (its index, written at the end of a bag, is missing or cut: a recording cut short? `rosbag reindex` "
+           "rebuilds it)";
+  }
+  std::string path_;
+  BagTopicChoice choice_;
+  OnBadRecord on_bad_;
+  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  ros::RosObservations convert_;
+  std::map<std::string, std::string> not_read_;
+  std::vector<std::string> skipped_;
+  int64_t total_ = 0, read_ = 0;
+};
+
+}  // namespace
+
+bool IsRos1Bag(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[13] = {};
+  in.read(head, 13);
+  return in && std::string(head, 13) == "#ROSBAG V2.0\n";
+}
+
+std::unique_ptr<DatasetSource> OpenRos1Bag(const std::string& path, const BagTopicChoice& topics, OnBadRecord on_bad) {
+  return std::make_unique<Ros1BagSource>(path, topics, on_bad);
+}
+
+}  // namespace specht::io
