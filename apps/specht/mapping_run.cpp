@@ -21,8 +21,8 @@ std::string Real(double v) {
 
 void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& default_out) {
   cmd.add_option("dataset", args.dataset,
-                 "MRPT rawlog, CARMEN log or ROS 2 bag (a folder with metadata.yaml, or its .db3) (default: the rawlog "
-                 "shipped by Debian's mrpt-common, " +
+                 "MRPT rawlog, CARMEN log, ROS 2 bag (a folder with metadata.yaml, or its .db3), ROS 1 bag or MCAP "
+                 "file (default: the rawlog shipped by Debian's mrpt-common, " +
                      io::DefaultRawlog() + ")");
   AddCommonOptions(cmd, args.common, default_out);
   cmd.add_option("--ground-truth", args.ground_truth,
@@ -49,16 +49,16 @@ void AddMappingOptions(CLI::App& cmd, MappingArgs& args, const std::string& defa
                  "Foxglove; a bare file name goes into the output folder")
       ->capture_default_str();
   cmd.add_flag("--no-mcap", args.no_mcap, "write no MCAP");
-  cmd.add_flag("--list", args.list, "print the topics of a ROS bag (type, messages, rate) and stop");
+  cmd.add_flag("--list", args.list,
+               "print the topics of a ROS 1 or 2 bag or an MCAP file (type, messages, rate) and stop");
   cmd.add_option("--from", args.from_s, "start S seconds into the data (replay.from_s)");
   cmd.add_option("--to", args.to_s, "stop S seconds into the data (replay.to_s)");
 }
 
 int RunMapping(MappingArgs a, const std::string& command) {
   if (a.list) {
-    if (!io::IsRos2Bag(a.dataset)) throw InputError(a.dataset + ": --list reads ROS 2 bags only");
     std::printf("%-32s %-32s %9s %9s\n", "topic", "type", "messages", "rate_hz");
-    for (const auto& t : io::ListRos2Bag(a.dataset))
+    for (const auto& t : io::ListRosBag(a.dataset))
       std::printf("%-32s %-32s %9lld %9.2f\n", t.name.c_str(), t.type.c_str(), static_cast<long long>(t.messages),
                   t.rate_hz);
     return 0;

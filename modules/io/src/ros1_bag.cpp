@@ -150,6 +150,26 @@ class Ros1BagSource : public DatasetSource {
 
 }  // namespace
 
+std::vector<BagTopic> ListRos1Bag(const std::string& path) {
+  std::vector<BagTopic> out;
+  try {
+    rosbag::Bag bag(path, rosbag::bagmode::Read);
+    rosbag::View all(bag);
+    std::map<std::string, BagTopic> by_name;
+    for (const auto* c : all.getConnections()) by_name[c->topic] = {c->topic, c->datatype, 0, 0};
+    for (auto& [topic, t] : by_name) {
+      rosbag::View one(bag, rosbag::TopicQuery(topic));
+      t.messages = one.size();
+      const double span = (one.getEndTime() - one.getBeginTime()).toSec();
+      if (t.messages > 1 && span > 0) t.rate_hz = (t.messages - 1) / span;
+      out.push_back(t);
+    }
+  } catch (const rosbag::BagException& e) {
+    throw InputError(path + ": " + e.what());
+  }
+  return out;
+}
+
 bool IsRos1Bag(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   char head[13] = {};

@@ -336,6 +336,28 @@ bool IsRos2Bag(const std::string& path) {
   return fs::path(path).extension() == ".db3";
 }
 
+std::vector<BagTopic> ListRosBag(const std::string& path) {
+  if (IsRos2Bag(path)) return ListRos2Bag(path);
+  if (IsRos1Bag(path)) return ListRos1Bag(path);
+  if (!IsMcap(path)) throw InputError(path + ": not a ROS bag or MCAP file");
+  std::map<std::string, BagTopic> by_name;
+  std::map<std::string, std::pair<uint64_t, uint64_t>> span;
+  McapReader reader(path);
+  while (auto m = reader.Next()) {
+    auto& t = by_name[m->topic];
+    t.name = m->topic, t.type = m->schema_name, ++t.messages;
+    auto& s = span.try_emplace(m->topic, m->log_time_ns, m->log_time_ns).first->second;
+    s = {std::min(s.first, m->log_time_ns), std::max(s.second, m->log_time_ns)};
+  }
+  std::vector<BagTopic> out;
+  for (auto& [name, t] : by_name) {
+    const auto [first, last] = span[name];
+    if (t.messages > 1 && last > first) t.rate_hz = (t.messages - 1) / ((last - first) * 1e-9);
+    out.push_back(t);
+  }
+  return out;
+}
+
 std::vector<BagTopic> ListRos2Bag(const std::string& path) {
   std::map<std::string, BagTopic> by_name;
   std::map<std::string, std::pair<int64_t, int64_t>> span;

@@ -43,6 +43,10 @@ bool IsMcap(const std::string& path);
 std::unique_ptr<DatasetSource> OpenMcap(const std::string& path, const BagTopicChoice& topics = {},
                                         OnBadRecord on_bad = OnBadRecord::kStop);
 
+// Every topic of a ROS 2 bag, a ROS 1 bag or an MCAP file, by name (an MCAP file is
+// read through).
+std::vector<BagTopic> ListRosBag(const std::string& path);
+std::vector<BagTopic> ListRos1Bag(const std::string& path);
 // Every topic of the bag, by name.
 std::vector<BagTopic> ListRos2Bag(const std::string& path);
 
