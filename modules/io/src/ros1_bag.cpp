@@ -89,21 +89,15 @@ class Ros1BagSource : public DatasetSource {
         const rosbag::MessageInstance& m = *it_;
         const int64_t index = read_;
         try {
-          if (auto scan = m.instantiate<sensor_msgs::LaserScan>()) {
-            const ros::LaserScan s = Copy(*scan);
-            auto obs = convert_.Scan(s, m.getTopic());
-            const Stamp t = ros::RosObservations::StampOf(s.header, static_cast<int64_t>(m.getTime().toNSec()));
-            obs->timestamp = ToMrpt(t);
+          const auto received = static_cast<int64_t>(m.getTime().toNSec());
+          std::optional<Observation> obs;
+          if (auto scan = m.instantiate<sensor_msgs::LaserScan>())
+            obs = convert_.Observe(Copy(*scan), m.getTopic(), received, index);
+          else if (auto odo = m.instantiate<nav_msgs::Odometry>())
+            obs = convert_.Observe(Copy(*odo), m.getTopic(), received, index);
+          if (obs) {
             ++it_, ++read_;
-            return Observation{t, obs, index};
-          }
-          if (auto odo = m.instantiate<nav_msgs::Odometry>()) {
-            const ros::Odometry o = Copy(*odo);
-            auto obs = convert_.Odometry(o, m.getTopic());
-            const Stamp t = ros::RosObservations::StampOf(o.header, static_cast<int64_t>(m.getTime().toNSec()));
-            obs->timestamp = ToMrpt(t);
-            ++it_, ++read_;
-            return Observation{t, obs, index};
+            return obs;
           }
         } catch (const InputError& e) {
           if (on_bad_ == OnBadRecord::kStop) throw DatasetError(path_, index, -1, m.getTopic() + ": " + e.what());
@@ -124,8 +118,7 @@ class Ros1BagSource : public DatasetSource {
   std::vector<std::string> Notes() const override {
     std::vector<std::string> notes;
     for (const auto& [topic, type] : not_read_) notes.push_back(topic + " (" + type + ") not read");
-    for (const auto& frame : convert_.Unmounted())
-      notes.push_back("scan frame " + frame + " has no /tf_static path to the base frame: mounted at it");
+    for (const auto& note : convert_.MountNotes()) notes.push_back(note);
     return notes;
   }
 

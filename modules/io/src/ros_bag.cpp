@@ -204,8 +204,7 @@ class Ros2BagSource : public DatasetSource {
   const std::vector<std::string>& SkippedRecords() const override { return skipped_; }
   std::vector<std::string> Notes() const override {
     std::vector<std::string> notes = notes_;
-    for (const auto& frame : convert_.Unmounted())
-      notes.push_back("scan frame " + frame + " has no /tf_static path to the base frame: mounted at it");
+    for (const auto& note : convert_.MountNotes()) notes.push_back(note);
     return notes;
   }
 
@@ -231,18 +230,9 @@ class Ros2BagSource : public DatasetSource {
     }
   }
   std::optional<Observation> Convert(const Db3::Row& row) {
-    if (row.topic == odometry_) {
-      const ros::Odometry m = ros::DecodeOdometry(row.data);
-      auto odo = convert_.Odometry(m, row.topic);
-      const Stamp t = ros::RosObservations::StampOf(m.header, row.received_ns);
-      odo->timestamp = ToMrpt(t);
-      return Observation{t, odo, row.id};
-    }
-    const ros::LaserScan m = ros::DecodeLaserScan(row.data);
-    auto scan = convert_.Scan(m, row.topic);
-    const Stamp t = ros::RosObservations::StampOf(m.header, row.received_ns);
-    scan->timestamp = ToMrpt(t);
-    return Observation{t, scan, row.id};
+    if (row.topic == odometry_)
+      return convert_.Observe(ros::DecodeOdometry(row.data), row.topic, row.received_ns, row.id);
+    return convert_.Observe(ros::DecodeLaserScan(row.data), row.topic, row.received_ns, row.id);
   }
 
   std::string path_;
@@ -254,6 +244,31 @@ class Ros2BagSource : public DatasetSource {
   std::unique_ptr<Db3> db_;
   size_t file_ = 0;
   int64_t total_ = 0, read_ = 0;
+};
+
+// Topics with their message counts and first and last receive times, for --list.
+class TopicTally {
+ public:
+  void Add(const std::string& name, const std::string& type, int64_t count, int64_t first_ns, int64_t last_ns) {
+    auto& [topic, span] = by_name_[name];
+    topic.name = name, topic.type = type, topic.messages += count;
+    if (count > 0)
+      span = topic.messages == count ? std::make_pair(first_ns, last_ns)
+                                     : std::make_pair(std::min(span.first, first_ns), std::max(span.second, last_ns));
+  }
+  std::vector<BagTopic> Topics() const {
+    std::vector<BagTopic> out;
+    for (auto [name, entry] : by_name_) {
+      auto& [topic, span] = entry;
+      if (topic.messages > 1 && span.second > span.first)
+        topic.rate_hz = (topic.messages - 1) / ((span.second - span.first) * 1e-9);
+      out.push_back(topic);
+    }
+    return out;
+  }
+
+ private:
+  std::map<std::string, std::pair<BagTopic, std::pair<int64_t, int64_t>>> by_name_;
 };
 
 // An MCAP file (mcap.h) read linearly: /tf_static for the mounts, the chosen scan and
@@ -281,8 +296,7 @@ class McapSource : public DatasetSource {
   std::vector<std::string> Notes() const override {
     std::vector<std::string> notes;
     for (const auto& [topic, n] : not_read_) notes.push_back(topic + ": " + std::to_string(n) + " messages not read");
-    for (const auto& frame : convert_.Unmounted())
-      notes.push_back("scan frame " + frame + " has no /tf_static path to the base frame: mounted at it");
+    for (const auto& note : convert_.MountNotes()) notes.push_back(note);
     return notes;
   }
 
@@ -297,17 +311,9 @@ class McapSource : public DatasetSource {
     if (m.schema_name == kTf && m.topic == "/tf_static") {
       convert_.AddStatic(ros::DecodeTfMessage(m.data));
     } else if (m.schema_name == kLaserScan && Claims(choice_.scan, m.topic)) {
-      const ros::LaserScan msg = ros::DecodeLaserScan(m.data);
-      auto scan = convert_.Scan(msg, m.topic);
-      const Stamp t = ros::RosObservations::StampOf(msg.header, static_cast<int64_t>(m.log_time_ns));
-      scan->timestamp = ToMrpt(t);
-      return Observation{t, scan, m.index};
+      return convert_.Observe(ros::DecodeLaserScan(m.data), m.topic, static_cast<int64_t>(m.log_time_ns), m.index);
     } else if (m.schema_name == kOdometry && choice_.odometry != "none" && Claims(choice_.odometry, m.topic)) {
-      const ros::Odometry msg = ros::DecodeOdometry(m.data);
-      auto odo = convert_.Odometry(msg, m.topic);
-      const Stamp t = ros::RosObservations::StampOf(msg.header, static_cast<int64_t>(m.log_time_ns));
-      odo->timestamp = ToMrpt(t);
-      return Observation{t, odo, m.index};
+      return convert_.Observe(ros::DecodeOdometry(m.data), m.topic, static_cast<int64_t>(m.log_time_ns), m.index);
     } else {
       ++not_read_[m.topic];
     }
@@ -340,44 +346,25 @@ std::vector<BagTopic> ListRosBag(const std::string& path) {
   if (IsRos2Bag(path)) return ListRos2Bag(path);
   if (IsRos1Bag(path)) return ListRos1Bag(path);
   if (!IsMcap(path)) throw InputError(path + ": not a ROS bag or MCAP file");
-  std::map<std::string, BagTopic> by_name;
-  std::map<std::string, std::pair<uint64_t, uint64_t>> span;
+  TopicTally tally;
   McapReader reader(path);
   while (auto m = reader.Next()) {
-    auto& t = by_name[m->topic];
-    t.name = m->topic, t.type = m->schema_name, ++t.messages;
-    auto& s = span.try_emplace(m->topic, m->log_time_ns, m->log_time_ns).first->second;
-    s = {std::min(s.first, m->log_time_ns), std::max(s.second, m->log_time_ns)};
+    const auto t = static_cast<int64_t>(m->log_time_ns);
+    tally.Add(m->topic, m->schema_name, 1, t, t);
   }
-  std::vector<BagTopic> out;
-  for (auto& [name, t] : by_name) {
-    const auto [first, last] = span[name];
-    if (t.messages > 1 && last > first) t.rate_hz = (t.messages - 1) / ((last - first) * 1e-9);
-    out.push_back(t);
-  }
-  return out;
+  return tally.Topics();
 }
 
 std::vector<BagTopic> ListRos2Bag(const std::string& path) {
-  std::map<std::string, BagTopic> by_name;
-  std::map<std::string, std::pair<int64_t, int64_t>> span;
+  TopicTally tally;
   for (const auto& f : Db3Files(path)) {
     Db3 db(f);
     for (const auto& t : db.topics()) {
       const auto [count, first, last] = db.Span(t.id);
-      auto& b = by_name[t.name];
-      b.name = t.name, b.type = t.type, b.messages += count;
-      auto& s = span.try_emplace(t.name, first, last).first->second;
-      if (count > 0) s = {std::min(s.first, first), std::max(s.second, last)};
+      tally.Add(t.name, t.type, count, first, last);
     }
   }
-  std::vector<BagTopic> out;
-  for (auto& [name, b] : by_name) {
-    const auto [first, last] = span[name];
-    if (b.messages > 1 && last > first) b.rate_hz = (b.messages - 1) / ((last - first) * 1e-9);
-    out.push_back(b);
-  }
-  return out;
+  return tally.Topics();
 }
 
 std::unique_ptr<DatasetSource> OpenRos2Bag(const std::string& path, const BagTopicChoice& topics, OnBadRecord on_bad) {

@@ -71,11 +71,26 @@ CPose3D RosObservations::Mount(const std::string& frame) {
   return f == base_ ? acc : CPose3D();
 }
 
-std::vector<std::string> RosObservations::Unmounted() const {
+std::vector<std::string> RosObservations::MountNotes() const {
   std::vector<std::string> out;
   for (const auto& [frame, mounted] : mounted_)
-    if (!mounted) out.push_back(frame);
+    if (!mounted) out.push_back("scan frame " + frame + " has no /tf_static path to the base frame: mounted at it");
   return out;
+}
+
+Observation RosObservations::Observe(const LaserScan& m, const std::string& topic, int64_t received_ns, int64_t index) {
+  auto scan = Scan(m, topic);
+  const Stamp t = StampOf(m.header, received_ns);
+  scan->timestamp = specht::ToMrpt(t);
+  return {t, scan, index};
+}
+
+Observation RosObservations::Observe(const ros::Odometry& m, const std::string& topic, int64_t received_ns,
+                                     int64_t index) {
+  auto odo = Odometry(m, topic);
+  const Stamp t = StampOf(m.header, received_ns);
+  odo->timestamp = specht::ToMrpt(t);
+  return {t, odo, index};
 }
 
 mrpt::obs::CObservationOdometry::Ptr RosObservations::Odometry(const ros::Odometry& m, const std::string& topic) {

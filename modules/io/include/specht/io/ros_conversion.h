@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "specht/io/dataset.h"
 #include "specht/io/ros_messages.h"
 
 namespace specht::io::ros {
@@ -40,8 +41,12 @@ class RosObservations {
   mrpt::obs::CObservation2DRangeScan::Ptr Scan(const LaserScan& m, const std::string& topic);
   mrpt::obs::CObservationOdometry::Ptr Odometry(const ros::Odometry& m, const std::string& topic);
   static Stamp StampOf(const Header& h, int64_t received_ns) { return h.stamp.ns > 0 ? h.stamp : Stamp{received_ns}; }
-  // Scan frames with no /tf_static path to the base frame (mounted at it).
-  std::vector<std::string> Unmounted() const;
+  // The same as dataset observations, stamped by their headers (else `received_ns`),
+  // `index` naming the message in its recording.
+  Observation Observe(const LaserScan& m, const std::string& topic, int64_t received_ns, int64_t index);
+  Observation Observe(const ros::Odometry& m, const std::string& topic, int64_t received_ns, int64_t index);
+  // Notes for the report: scan frames with no /tf_static path to the base frame.
+  std::vector<std::string> MountNotes() const;
 
  private:
   mrpt::poses::CPose3D Mount(const std::string& frame);
