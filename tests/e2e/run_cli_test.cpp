@@ -106,6 +106,11 @@ TEST(RunCliTest, TheFullStackDrivesOnSlamPerceivedTracksAndTheLocalPlannersPaths
   EXPECT_GT(fs::file_size(dir + "/full/run-101.mp4"), 10000u);
   EXPECT_EQ(report["runs"][1]["video"], "");
   EXPECT_FALSE(fs::exists(dir + "/full/run-102.mp4"));
+  // …and its MCAP (closed_loop.mcap first), which replays as a dataset.
+  EXPECT_EQ(report["runs"][0]["mcap"], "run-101.mcap");
+  const auto replayed =
+      testing::RunSpecht("slam -q --no-mcap '" + dir + "/full/run-101.mcap' -o '" + dir + "/replayed'");
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.err;
   const auto truth = RunParked("parking-lot.yaml", "101-102", dir + "/truth", "--stack truth");
   EXPECT_EQ(truth["metrics"]["stack"], "truth");
   EXPECT_EQ(truth["metrics"]["localization_ate_max_m"].get<double>(), 0.0);

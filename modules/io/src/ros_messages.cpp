@@ -134,6 +134,7 @@ const std::map<std::string, std::string>& Definitions() {
       {"tf2_msgs/TFMessage", "geometry_msgs/TransformStamped[] transforms\n"},
       {"nav_msgs/OccupancyGrid", "std_msgs/Header header\nMapMetaData info\nint8[] data\n"},
       {"nav_msgs/Path", "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n"},
+      {"geometry_msgs/PoseArray", "std_msgs/Header header\nPose[] poses\n"},
   };
   return d;
 }
@@ -203,6 +204,14 @@ std::vector<uint8_t> Encode(const Path& m) {
       Write(cdr, h);
       WritePose(cdr, p);
     }
+  });
+}
+
+std::vector<uint8_t> Encode(const PoseArray& m) {
+  return EncodeWith([&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << static_cast<uint32_t>(m.poses.size());
+    for (const auto& p : m.poses) WritePose(cdr, p);
   });
 }
 

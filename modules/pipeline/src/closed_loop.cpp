@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "internal/loop_localization.h"
 #include "internal/loop_perception.h"
 #include "internal/loop_video.h"
+#include "internal/mcap_recorder.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/sim/simulator.h"
@@ -661,7 +663,31 @@ class LoopPoseCheck {
   int lost_ = 0, relocalized_ = 0;
 };
 
+mrpt::poses::CPose3D Pose3(const sim::Pose2& p) { return {p.x, p.y, 0, p.yaw_rad, 0, 0}; }
+
 }  // namespace
+
+namespace internal {
+
+// The MCAP's closed-loop topics, twice a second: the static layer when it changed,
+// the path the car follows, the tracks' poses.
+void Record(McapRecorder& record, const world::Snapshot& snapshot, const Perceived& seen,
+            const std::vector<cv::Point2d>& path, Stamp t, RecordedState& state) {
+  if (t.Seconds() - state.last_s < 0.5) return;
+  state.last_s = t.Seconds();
+  if (snapshot.static_map && snapshot.static_map != state.map) {
+    record.Map(*snapshot.static_map, t);
+    state.map = snapshot.static_map;
+  }
+  std::vector<mrpt::poses::CPose3D> ahead, tracks;
+  for (size_t i = 0; i + 1 < path.size(); ++i)
+    ahead.emplace_back(path[i].x, path[i].y, 0, std::atan2(path[i + 1].y - path[i].y, path[i + 1].x - path[i].x), 0, 0);
+  for (const auto& o : seen.tracks) tracks.emplace_back(o.box.x, o.box.y, 0, o.box.theta, 0, 0);
+  record.Path("/path", ahead, t);
+  record.Poses("/tracks", tracks, t);
+}
+
+}  // namespace internal
 
 std::vector<std::string> ClosedLoopOptions::Relations() const {
   if (blind_stop_s <= blind_slow_s) return {"blind_stop_s must be above blind_slow_s"};
@@ -723,7 +749,10 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   };
   const auto run_start = Clock::now();
+  std::optional<internal::McapRecorder> record;  // the run as MCAP (config.mcap)
+  if (!config.mcap.empty()) record.emplace(config.mcap, 0.0, config.slam.grid);
   const auto observe = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
+    if (record) record->Observation(t, obs);
     const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
     if (!scan) return where.Observe(t, obs);
     returns.clear();
@@ -733,6 +762,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     const auto tracks = internal::PerceivedFrom(*world.snapshot()).tracks;
     const auto kept = internal::WithoutReturnsOn(*scan, where.Believed(sim), tracks);
     where.Observe(t, kept);
+    if (record) record->Pose(t, Pose3(where.AtLatestScan(sim)));
     if (lidar) lidar->Insert(*kept, where.AtLatestScan(sim));
     if (pose_check) pose_check->Observe(*kept, sim.time_s(), where, sim, machine);
   };
@@ -752,6 +782,8 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     };
   const double frame_rate_hz = camera ? scenario.stereo->rate_hz : config.detection.rate_hz;
   const double warmup_s = loop.perception == "truth" ? 0.0 : config.tracking.confirm_window / frame_rate_hz;
+  Trajectory believed_path;          // for the MCAP's /trajectory
+  internal::RecordedState recorded;  // what the MCAP holds already
   std::optional<internal::LoopVideo> video;
   if (!config.video.empty()) video.emplace(config.video, true_grid, config.world, sim.stamp());
   double map_updated_s = -INFINITY;
@@ -793,6 +825,12 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
       video->Step(sim, *snapshot, where.Believed(sim), machine.PathAhead());
       r.stage_ms["video"] += since(t0);
     }
+    if (record) {
+      t0 = Clock::now();
+      Record(*record, *snapshot, seen, machine.PathAhead(), sim.stamp(), recorded);
+      believed_path.push_back({sim.stamp(), Pose3(where.Believed(sim))});
+      r.stage_ms["mcap"] += since(t0);
+    }
     if (on_step)
       on_step({t, decide::Name(machine.state()), pose, believed, static_cast<int>(seen.tracks.size()),
                machine.OnLocalPath()});
@@ -808,6 +846,11 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   }
   r.time_s = sim.time_s();
   if (video) r.video = video->Close();
+  if (record) {
+    const auto last = world.snapshot();
+    record->Finish(last->static_map ? *last->static_map : true_grid, believed_path, sim.stamp());
+    r.mcap = std::filesystem::path(config.mcap).filename().string();
+  }
   // What ran inside the simulator's step belongs to its own stage; rendering is its own.
   r.stage_ms["simulate"] -= r.stage_ms["localize"] + r.stage_ms["camera_in_simulate"] + 1e3 * sim.render_seconds();
   r.stage_ms.erase("camera_in_simulate");
@@ -874,6 +917,7 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"stack", stack},
           {"static_layer", static_layer},
           {"video", video},
+          {"mcap", mcap},
           {"localization", localization},
           {"perception", perception},
           {"interrupted", interrupted},

@@ -103,6 +103,20 @@ std::map<std::string, uint64_t> McapRecorder::Counts() const {
   return counts;
 }
 
+void McapRecorder::Path(const std::string& topic, const std::vector<CPose3D>& poses, Stamp t) {
+  io::ros::Path path;
+  path.header = {t, kMap};
+  for (const auto& p : poses) path.poses.push_back({{t, kMap}, io::ros::FromMrpt(p)});
+  writer_.Write(Channel(topic, "nav_msgs/msg/Path"), static_cast<uint64_t>(t.ns), io::ros::Encode(path));
+}
+
+void McapRecorder::Poses(const std::string& topic, const std::vector<CPose3D>& poses, Stamp t) {
+  io::ros::PoseArray array;
+  array.header = {t, kMap};
+  for (const auto& p : poses) array.poses.push_back(io::ros::FromMrpt(p));
+  writer_.Write(Channel(topic, "geometry_msgs/msg/PoseArray"), static_cast<uint64_t>(t.ns), io::ros::Encode(array));
+}
+
 void McapRecorder::Finish(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& trajectory, Stamp end) {
   Map(grid, end);
   io::ros::Path path;

@@ -143,9 +143,12 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
   ProgressLine progress("run", "runs", !quiet, 0.0);
   for (uint64_t seed = first; seed <= last; ++seed) {
     std::string steps;
-    const std::string& filmed = config.loop.video;
-    config.video =
-        filmed == "all" || (filmed == "first" && seed == first) ? out + "/run-" + std::to_string(seed) + ".mp4" : "";
+    const auto chosen = [&](const std::string& which, const char* extension) {
+      return which == "all" || (which == "first" && seed == first) ? out + "/run-" + std::to_string(seed) + extension
+                                                                   : std::string();
+    };
+    config.video = chosen(config.loop.video, ".mp4");
+    config.mcap = chosen(config.loop.mcap, ".mcap");
     const ClosedLoopResult r = RunClosedLoop(scenario, seed, mission, config, [&](const LoopStep& k) {
       char line[256];
       std::snprintf(line, sizeof(line),

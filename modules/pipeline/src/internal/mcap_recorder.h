@@ -7,6 +7,8 @@
 //   /tf_static   base_link → each scan frame (its mount)
 //   /map         nav_msgs/msg/OccupancyGrid every map_every_s of data and at the end
 //   /trajectory  nav_msgs/msg/Path, the estimate at the end
+// The closed loop adds /path (the path the car follows) and /tracks (the tracks'
+// poses, geometry_msgs/msg/PoseArray), and its map is the world model's static layer.
 // Messages are logged at their stamps. Replaying the file (`specht slam run.mcap`)
 // reads the scans and odometry back.
 #pragma once
@@ -26,6 +28,12 @@
 
 namespace specht::pipeline::internal {
 
+// What a closed loop's MCAP already holds (closed_loop.cpp's Record).
+struct RecordedState {
+  double last_s = -1e18;
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> map;
+};
+
 class McapRecorder {
  public:
   McapRecorder(const std::string& path, double map_every_s, const slam::GridOptions& grid);
@@ -36,6 +44,11 @@ class McapRecorder {
   // At every scan placed: /map when one is due, drawn from the keyframes added since
   // the last (`moved`: a loop closure moved their poses: drawn again from all).
   void Keyframes(const std::vector<slam::Keyframe>& keyframes, bool moved, Stamp t);
+  // A map that is not drawn from keyframes here (the closed loop's static layer).
+  void Map(const mrpt::maps::COccupancyGridMap2D& grid, Stamp t);
+  // A path (map frame) on `topic` as nav_msgs/Path; poses as geometry_msgs/PoseArray.
+  void Path(const std::string& topic, const std::vector<mrpt::poses::CPose3D>& poses, Stamp t);
+  void Poses(const std::string& topic, const std::vector<mrpt::poses::CPose3D>& poses, Stamp t);
   // The final map, the trajectory; closes the file.
   void Finish(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& trajectory, Stamp end);
   // Messages written, by topic (for the report).
@@ -43,7 +56,6 @@ class McapRecorder {
 
  private:
   uint16_t Channel(const std::string& topic, const std::string& type);
-  void Map(const mrpt::maps::COccupancyGridMap2D& grid, Stamp t);
   void Tf(Stamp t, const std::string& parent, const std::string& child, const mrpt::poses::CPose3D& pose,
           bool is_static = false);
   io::McapWriter writer_;

@@ -55,6 +55,11 @@ struct OccupancyGrid {  // nav_msgs/msg/OccupancyGrid
   std::vector<int8_t> data;  // row-major from the origin; -1 unknown, 0..100 occupancy
 };
 
+struct PoseArray {  // geometry_msgs/msg/PoseArray
+  Header header;
+  std::vector<Pose> poses;
+};
+
 struct Path {  // nav_msgs/msg/Path of geometry_msgs/msg/PoseStamped
   Header header;
   std::vector<std::pair<Header, Pose>> poses;
@@ -73,6 +78,7 @@ std::vector<uint8_t> Encode(const Odometry& m);
 std::vector<uint8_t> Encode(const std::vector<TransformStamped>& tf_message);
 std::vector<uint8_t> Encode(const OccupancyGrid& m);
 std::vector<uint8_t> Encode(const Path& m);
+std::vector<uint8_t> Encode(const PoseArray& m);
 
 // The ros2msg definition of `type` (e.g. "sensor_msgs/msg/LaserScan") with every
 // type it uses appended, as MCAP's ros2msg schema encoding and Foxglove expect.

@@ -143,6 +143,7 @@ struct ClosedLoopOptions {
   double kidnap_m = 2.0;
   double kidnap_deg = 20.0;
   std::string video = "first";
+  std::string mcap = "first";
   double relocalize_timeout_s = 30.0;
   double blind_slow_s = 0.5;
   double blind_stop_s = 1.5;
@@ -221,6 +222,9 @@ struct ClosedLoopOptions {
     v.Choice("video", video, {"first", "all", "off"},
              "which drives of a run get a video (run-<seed>.mp4: the truth beside the world model the car drives "
              "on): the first seed's, every seed's, or none");
+    v.Choice("mcap", mcap, {"first", "all", "off"},
+             "which drives of a run are recorded as MCAP (run-<seed>.mcap, ROS 2 schemas, for Foxglove): the "
+             "first seed's, every seed's, or none");
     v.Param("kidnap_at_s", kidnap_at_s, "a fault: from this time on the believed pose is off (< 0: never)",
             Range::Of(-1.0, 36000.0));
     v.Param("kidnap_m", kidnap_m, "…by this much ahead of the car", Range::Of(-50.0, 50.0));
@@ -280,6 +284,7 @@ struct ClosedLoopResult {
   std::string stack;                   // ClosedLoopOptions::Stack()
   std::string static_layer;            // what the static layer started from: "site map", "true grid", "lidar"
   std::string video;                   // the run video written (file name), or ""
+  std::string mcap;                    // the run's MCAP written (file name), or ""
   nlohmann::json localization;         // mode and trajectory error against the truth
   nlohmann::json perception;           // mode, frames, recall and precision per class
   // localization slam: the map this drive drew, in the scenario's frame (a mapping
@@ -328,8 +333,12 @@ struct ClosedLoopConfig {
   track::TrackerOptions tracking;
   world::WorldModelOptions world;
   // The run video (.mp4): the truth beside the world model the car drives on, from
-  // above, 10 frames a simulated second; "" for none.
+  // above, 5 frames a simulated second played at 2×; "" for none.
   std::string video;
+  // The run as MCAP (ROS 2 schemas, for Foxglove): the simulated LiDAR and odometry,
+  // TF at the believed pose, the static layer, the path followed, the tracks, the
+  // believed trajectory; "" for none.
+  std::string mcap;
 };
 
 // One control step as it happened: the state, the true pose and the believed one
