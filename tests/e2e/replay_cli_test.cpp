@@ -221,6 +221,17 @@ TEST(SlamCliTest, WritesAnMcapFoxglovesReadersOpenAndThatReplaysToTheSameMap) {
   EXPECT_EQ(Report(dir + "/again")["inputs"]["format"], "MCAP (ros2)");
   EXPECT_EQ(testing::ReadFile(dir + "/again/map.pgm"), testing::ReadFile(dir + "/source/map.pgm"));
   EXPECT_EQ(testing::ReadFile(dir + "/again/trajectory.tum"), testing::ReadFile(dir + "/source/trajectory.tum"));
+
+  // The same file as a ROS 2 bag folder of MCAP storage (ROS 2 Iron's default).
+  std::filesystem::create_directories(dir + "/bag");
+  std::filesystem::copy_file(mcap, dir + "/bag/bag_0.mcap");
+  testing::WriteFile(dir + "/bag/metadata.yaml",
+                     "rosbag2_bagfile_information:\n  version: 8\n  storage_identifier: mcap\n"
+                     "  relative_file_paths:\n    - bag_0.mcap\n");
+  const auto list = testing::RunSpecht("replay '" + dir + "/bag' --list");
+  EXPECT_EQ(list.exit_code, 0) << list.err;
+  EXPECT_THAT(list.out, ::testing::ContainsRegex("/scan +sensor_msgs/msg/LaserScan +" +
+                                                 std::to_string(written["/scan"].get<int>())));
 }
 
 // A ROS 1 bag with scans only (CCNY's scan_tools demo, read through Debian's

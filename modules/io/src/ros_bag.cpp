@@ -115,8 +115,15 @@ class Db3 {
 };
 
 // The .db3 files of a bag: the folder's metadata.yaml lists them.
-std::vector<std::string> Db3Files(const std::string& path) {
-  if (fs::is_regular_file(path)) return {path};
+// A bag folder's storage ("sqlite3" or "mcap", since ROS 2 Iron) and its files, as
+// its metadata.yaml lists them; a lone .db3 is sqlite3.
+struct BagFiles {
+  std::string storage = "sqlite3";
+  std::vector<std::string> files;
+};
+
+BagFiles ListedFiles(const std::string& path) {
+  if (fs::is_regular_file(path)) return {"sqlite3", {path}};
   const std::string meta = path + "/metadata.yaml";
   if (!fs::is_regular_file(meta)) throw InputError(path + ": not a ROS 2 bag (no metadata.yaml)");
   YAML::Node info;
@@ -129,21 +136,28 @@ std::vector<std::string> Db3Files(const std::string& path) {
   const auto text = [&](const char* key) {
     return info[key] && info[key].IsScalar() ? info[key].as<std::string>() : std::string();
   };
-  if (const std::string storage = text("storage_identifier"); !storage.empty() && storage != "sqlite3")
-    throw InputError(meta + ": storage_identifier '" + storage + "': only sqlite3 bags are read");
+  BagFiles bag;
+  if (const std::string storage = text("storage_identifier"); !storage.empty()) bag.storage = storage;
+  if (bag.storage != "sqlite3" && bag.storage != "mcap")
+    throw InputError(meta + ": storage_identifier '" + bag.storage + "': sqlite3 and mcap bags are read");
   if (const std::string c = text("compression_format"); !c.empty())
     throw InputError(meta + ": compression_format '" + c + "' is not read (decompress with `ros2 bag convert`)");
-  std::vector<std::string> files;
   if (const auto list = info["relative_file_paths"]; list && list.IsSequence()) {
     for (const auto& f : list) {
       const std::string p = path + "/" + f.as<std::string>();
       if (!fs::is_regular_file(p))
         throw InputError(meta + ": relative_file_paths lists " + f.as<std::string>() + ", which is missing");
-      files.push_back(p);
+      bag.files.push_back(p);
     }
   }
-  if (files.empty()) throw InputError(meta + ": relative_file_paths lists no .db3 file");
-  return files;
+  if (bag.files.empty()) throw InputError(meta + ": relative_file_paths lists no file");
+  return bag;
+}
+
+std::vector<std::string> Db3Files(const std::string& path) {
+  BagFiles bag = ListedFiles(path);
+  if (bag.storage != "sqlite3") throw InputError(path + ": a " + bag.storage + " bag, not sqlite3");
+  return bag.files;
 }
 
 // The first topic of `type`, or `chosen` checked against the bag.
@@ -343,6 +357,7 @@ bool IsRos2Bag(const std::string& path) {
 }
 
 std::vector<BagTopic> ListRosBag(const std::string& path) {
+  if (IsRos2Bag(path) && ListedFiles(path).storage == "mcap") return ListRosBag(ListedFiles(path).files.front());
   if (IsRos2Bag(path)) return ListRos2Bag(path);
   if (IsRos1Bag(path)) return ListRos1Bag(path);
   if (!IsMcap(path)) throw InputError(path + ": not a ROS bag or MCAP file");
@@ -368,6 +383,13 @@ std::vector<BagTopic> ListRos2Bag(const std::string& path) {
 }
 
 std::unique_ptr<DatasetSource> OpenRos2Bag(const std::string& path, const BagTopicChoice& topics, OnBadRecord on_bad) {
+  const BagFiles bag = ListedFiles(path);
+  if (bag.storage == "mcap") {  // ROS 2 Iron's default storage: one MCAP file a bag split
+    if (bag.files.size() > 1)
+      throw InputError(path + ": an MCAP bag split into " + std::to_string(bag.files.size()) +
+                       " files; give one .mcap file at a time");
+    return OpenMcap(bag.files.front(), topics, on_bad);
+  }
   return std::make_unique<Ros2BagSource>(path, topics, on_bad);
 }
 

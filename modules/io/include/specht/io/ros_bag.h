@@ -29,7 +29,8 @@ struct BagTopic {
   double rate_hz = 0;  // messages over the topic's first-to-last span
 };
 
-// A folder holding metadata.yaml, or a file ending in .db3.
+// A folder holding metadata.yaml (its storage sqlite3, or mcap as ROS 2 Iron records
+// by default), or a file ending in .db3.
 bool IsRos2Bag(const std::string& path);
 
 // A ROS 1 bag (format 2.0), read through Debian's rosbag_storage; an unindexed bag
