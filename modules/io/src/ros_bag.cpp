@@ -27,10 +27,17 @@ constexpr const char* kTf = "tf2_msgs/msg/TFMessage";
 class Db3 {
  public:
   explicit Db3(std::string path) : path_(std::move(path)) {
-    if (sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) Fail("cannot open");
+    // A constructor that throws runs no destructor: the handle (allocated even when
+    // opening fails) is closed here.
+    const auto refuse = [&](const char* why) {
+      const std::string message = Message(why);
+      sqlite3_close(db_);
+      throw InputError(message);
+    };
+    if (sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) refuse("cannot open");
     sqlite3_stmt* probe = nullptr;  // a file that is no rosbag2 store fails here, not later
     if (sqlite3_prepare_v2(db_, "SELECT id, name, type FROM topics", -1, &probe, nullptr) != SQLITE_OK)
-      Fail("not a rosbag2 SQLite file");
+      refuse("not a rosbag2 SQLite file");
     while (sqlite3_step(probe) == SQLITE_ROW)
       topics_.push_back({sqlite3_column_int64(probe, 0), Text(probe, 1), Text(probe, 2)});
     sqlite3_finalize(probe);
@@ -105,9 +112,10 @@ class Db3 {
     sqlite3_finalize(s);
     return v;
   }
-  [[noreturn]] void Fail(const std::string& why) const {
-    throw InputError(path_ + ": " + why + " (SQLite: " + (db_ ? sqlite3_errmsg(db_) : "no handle") + ")");
+  std::string Message(const std::string& why) const {
+    return path_ + ": " + why + " (SQLite: " + (db_ ? sqlite3_errmsg(db_) : "no handle") + ")";
   }
+  [[noreturn]] void Fail(const std::string& why) const { throw InputError(Message(why)); }
   std::string path_;
   sqlite3* db_ = nullptr;
   sqlite3_stmt* stmt_ = nullptr;
