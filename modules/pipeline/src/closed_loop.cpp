@@ -53,7 +53,7 @@ class LidarMap {
 
   // A scan (its returns on road users already removed) at the pose believed for it.
   void Insert(const mrpt::obs::CObservation2DRangeScan& scan, const sim::Pose2& ego) {
-    grid_.insertObservation(scan, mrpt::poses::CPose3D(ego.x, ego.y, 0, ego.yaw_rad, 0, 0));
+    grid_.insertObservation(scan, internal::Pose3(ego));
     changed_ = true;
   }
 
@@ -104,12 +104,11 @@ class Machine {
 
   MissionState state() const { return machine_.state(); }
   // The path the car follows, from where it is on (rear axle, map frame); empty when none.
-  std::vector<cv::Point2d> PathAhead() const {
-    std::vector<cv::Point2d> ahead;
+  std::vector<plan::Pose> PathAhead() const {
+    std::vector<plan::Pose> ahead;
     if (!tracker_ || Final()) return ahead;
     const auto& points = tracker_->path().points;
-    for (size_t i = tracker_->progress_index(); i < points.size(); ++i)
-      ahead.emplace_back(points[i].pose.x, points[i].pose.y);
+    for (size_t i = tracker_->progress_index(); i < points.size(); ++i) ahead.push_back(points[i].pose);
     return ahead;
   }
   bool Final() const { return machine_.Final(); }
@@ -663,31 +662,39 @@ class LoopPoseCheck {
   int lost_ = 0, relocalized_ = 0;
 };
 
-mrpt::poses::CPose3D Pose3(const sim::Pose2& p) { return {p.x, p.y, 0, p.yaw_rad, 0, 0}; }
+// The closed loop as MCAP (internal/mcap_recorder.h): every observation, and at each
+// control step the believed pose for /trajectory and, twice a second, the static
+// layer when it changed, the path the car follows and the tracks' poses.
+class LoopRecording {
+ public:
+  LoopRecording(const std::string& path, const slam::GridOptions& grid) : record_(path, 0.0, grid) {}
+  void Observation(Stamp t, const mrpt::obs::CObservation::Ptr& o) { record_.Observation(t, o); }
+  void ScanPose(Stamp t, const sim::Pose2& believed) { record_.Pose(t, internal::Pose3(believed)); }
+  void Step(Stamp t, const sim::Pose2& believed, const world::Snapshot& snapshot, const Perceived& seen,
+            const std::vector<plan::Pose>& path) {
+    believed_.push_back({t, internal::Pose3(believed)});
+    if (t.Seconds() - last_s_ < 0.5) return;
+    last_s_ = t.Seconds();
+    if (snapshot.static_map && snapshot.static_map != map_) {
+      record_.Map(*snapshot.static_map, t);
+      map_ = snapshot.static_map;
+    }
+    std::vector<mrpt::poses::CPose3D> ahead, tracks;
+    for (const auto& p : path) ahead.emplace_back(p.x, p.y, 0, p.theta, 0, 0);
+    for (const auto& o : seen.tracks) tracks.emplace_back(o.box.x, o.box.y, 0, o.box.theta, 0, 0);
+    record_.Path("/path", ahead, t);
+    record_.Poses("/tracks", tracks, t);
+  }
+  void Finish(const mrpt::maps::COccupancyGridMap2D& grid, Stamp end) { record_.Finish(grid, believed_, end); }
+
+ private:
+  internal::McapRecorder record_;
+  Trajectory believed_;  // at the control rate, for /trajectory
+  double last_s_ = -INFINITY;
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> map_;  // the static layer recorded last
+};
 
 }  // namespace
-
-namespace internal {
-
-// The MCAP's closed-loop topics, twice a second: the static layer when it changed,
-// the path the car follows, the tracks' poses.
-void Record(McapRecorder& record, const world::Snapshot& snapshot, const Perceived& seen,
-            const std::vector<cv::Point2d>& path, Stamp t, RecordedState& state) {
-  if (t.Seconds() - state.last_s < 0.5) return;
-  state.last_s = t.Seconds();
-  if (snapshot.static_map && snapshot.static_map != state.map) {
-    record.Map(*snapshot.static_map, t);
-    state.map = snapshot.static_map;
-  }
-  std::vector<mrpt::poses::CPose3D> ahead, tracks;
-  for (size_t i = 0; i + 1 < path.size(); ++i)
-    ahead.emplace_back(path[i].x, path[i].y, 0, std::atan2(path[i + 1].y - path[i].y, path[i + 1].x - path[i].x), 0, 0);
-  for (const auto& o : seen.tracks) tracks.emplace_back(o.box.x, o.box.y, 0, o.box.theta, 0, 0);
-  record.Path("/path", ahead, t);
-  record.Poses("/tracks", tracks, t);
-}
-
-}  // namespace internal
 
 std::vector<std::string> ClosedLoopOptions::Relations() const {
   if (blind_stop_s <= blind_slow_s) return {"blind_stop_s must be above blind_slow_s"};
@@ -749,8 +756,8 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   };
   const auto run_start = Clock::now();
-  std::optional<internal::McapRecorder> record;  // the run as MCAP (config.mcap)
-  if (!config.mcap.empty()) record.emplace(config.mcap, 0.0, config.slam.grid);
+  std::optional<LoopRecording> record;  // the run as MCAP (config.mcap)
+  if (!config.mcap.empty()) record.emplace(config.mcap, config.slam.grid);
   const auto observe = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
     if (record) record->Observation(t, obs);
     const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
@@ -762,7 +769,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     const auto tracks = internal::PerceivedFrom(*world.snapshot()).tracks;
     const auto kept = internal::WithoutReturnsOn(*scan, where.Believed(sim), tracks);
     where.Observe(t, kept);
-    if (record) record->Pose(t, Pose3(where.AtLatestScan(sim)));
+    if (record) record->ScanPose(t, where.AtLatestScan(sim));
     if (lidar) lidar->Insert(*kept, where.AtLatestScan(sim));
     if (pose_check) pose_check->Observe(*kept, sim.time_s(), where, sim, machine);
   };
@@ -782,8 +789,6 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     };
   const double frame_rate_hz = camera ? scenario.stereo->rate_hz : config.detection.rate_hz;
   const double warmup_s = loop.perception == "truth" ? 0.0 : config.tracking.confirm_window / frame_rate_hz;
-  Trajectory believed_path;          // for the MCAP's /trajectory
-  internal::RecordedState recorded;  // what the MCAP holds already
   std::optional<internal::LoopVideo> video;
   if (!config.video.empty()) video.emplace(config.video, true_grid, config.world, sim.stamp());
   double map_updated_s = -INFINITY;
@@ -820,15 +825,15 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     r.trajectory.push_back(pose);
+    const std::vector<plan::Pose> ahead = video || record ? machine.PathAhead() : std::vector<plan::Pose>{};
     if (video) {
       t0 = Clock::now();
-      video->Step(sim, *snapshot, where.Believed(sim), machine.PathAhead());
+      video->Step(sim, *snapshot, where.Believed(sim), ahead);
       r.stage_ms["video"] += since(t0);
     }
     if (record) {
       t0 = Clock::now();
-      Record(*record, *snapshot, seen, machine.PathAhead(), sim.stamp(), recorded);
-      believed_path.push_back({sim.stamp(), Pose3(where.Believed(sim))});
+      record->Step(sim.stamp(), where.Believed(sim), *snapshot, seen, ahead);
       r.stage_ms["mcap"] += since(t0);
     }
     if (on_step)
@@ -848,7 +853,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   if (video) r.video = video->Close();
   if (record) {
     const auto last = world.snapshot();
-    record->Finish(last->static_map ? *last->static_map : true_grid, believed_path, sim.stamp());
+    record->Finish(last->static_map ? *last->static_map : true_grid, sim.stamp());
     r.mcap = std::filesystem::path(config.mcap).filename().string();
   }
   // What ran inside the simulator's step belongs to its own stage; rendering is its own.

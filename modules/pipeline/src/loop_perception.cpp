@@ -132,8 +132,7 @@ void LoopPerception::Step(const sim::Simulator& sim, const sim::Pose2& believed)
 void LoopPerception::Camera(const sim::Simulator& sim, const sim::StereoFrame& frame, const sim::Pose2& believed) {
   if (!camera_ || blind_.Covers(sim.time_s())) return;
   const sim::StereoSpec& spec = *sim.scenario().stereo;
-  const mrpt::poses::CPose3D map_from_base(believed.x, believed.y, 0, believed.yaw_rad, 0, 0);
-  PerceivedFrame seen = camera_->Process(*SimStereoObservation(sim.stamp(), spec, frame), map_from_base, sim.stamp());
+  PerceivedFrame seen = camera_->Process(*SimStereoObservation(sim.stamp(), spec, frame), Pose3(believed), sim.stamp());
   const PerceptionEvalOptions counted;  // which agents in the image count as seeable
   std::vector<sim::AgentTruth> in_view;
   for (const auto& a : sim.agents())

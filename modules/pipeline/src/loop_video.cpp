@@ -3,15 +3,11 @@
 #include <algorithm>
 #include <opencv2/core.hpp>
 
+#include "internal/loop_geometry.h"
 #include "internal/loop_perception.h"
 #include "internal/perception_video.h"
 
 namespace specht::pipeline::internal {
-namespace {
-
-mrpt::poses::CPose3D Pose3(const sim::Pose2& p) { return {p.x, p.y, 0, p.yaw_rad, 0, 0}; }
-
-}  // namespace
 
 LoopVideo::LoopVideo(const std::string& path, const mrpt::maps::COccupancyGridMap2D& true_grid,
                      const world::WorldModelOptions& options, Stamp start)
@@ -25,7 +21,7 @@ LoopVideo::LoopVideo(const std::string& path, const mrpt::maps::COccupancyGridMa
 }
 
 void LoopVideo::Step(const sim::Simulator& sim, const world::Snapshot& seen, const sim::Pose2& believed,
-                     const std::vector<cv::Point2d>& path) {
+                     const std::vector<plan::Pose>& path) {
   const double t = sim.time_s();
   if (t + 1e-9 < next_s_) return;
   next_s_ = t + 1 / kVideoHz;
@@ -36,7 +32,9 @@ void LoopVideo::Step(const sim::Simulator& sim, const world::Snapshot& seen, con
   AgentsAsPerceived(sim.agents(), sim.stamp(), *u.tracks, boxes);
   truth_.Apply(u);
   cv::Mat left = BirdsEye(*truth_.snapshot(), Pose3(sim.ego().pose), t, view_);
-  cv::Mat right = BirdsEye(seen, Pose3(believed), t, view_, path);
+  std::vector<cv::Point2d> line;
+  for (const auto& p : path) line.emplace_back(p.x, p.y);
+  cv::Mat right = BirdsEye(seen, Pose3(believed), t, view_, line);
   Label(left, "truth", {4, kSidePx - 8}, cv::Scalar(255, 255, 255));
   Label(right, "world model: what the car drives on", {4, kSidePx - 8}, cv::Scalar(255, 255, 255));
   cv::Mat frame;

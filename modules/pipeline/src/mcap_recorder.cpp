@@ -34,10 +34,7 @@ io::ros::OccupancyGrid ToRos(const mrpt::maps::COccupancyGridMap2D& g, Stamp t) 
 }  // namespace
 
 McapRecorder::McapRecorder(const std::string& path, double map_every_s, const slam::GridOptions& grid)
-    : writer_(path),
-      map_every_s_(map_every_s),
-      grid_options_(grid),
-      grid_(-10.0f, 10.0f, -10.0f, 10.0f, static_cast<float>(grid.resolution_m)) {}
+    : writer_(path), map_every_s_(map_every_s), grid_options_(grid), grid_(slam::EmptyGrid(grid)) {}
 
 uint16_t McapRecorder::Channel(const std::string& topic, const std::string& type) {
   if (const auto it = channels_.find(topic); it != channels_.end()) return it->second;
@@ -62,25 +59,23 @@ void McapRecorder::Observation(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
     writer_.Write(Channel("/scan", "sensor_msgs/msg/LaserScan"), log,
                   io::ros::Encode(io::ros::FromMrpt(*scan, t, frame)));
   } else if (const auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
-    odometry_ = odo->odometry;
+    odom_from_base_ = CPose3D(odo->odometry.x(), odo->odometry.y(), 0, odo->odometry.phi(), 0, 0);
     writer_.Write(Channel("/odom", "nav_msgs/msg/Odometry"), log,
                   io::ros::Encode(io::ros::FromMrpt(*odo, t, kOdom, kBase)));
-    Tf(t, kOdom, kBase, CPose3D(odometry_.x(), odometry_.y(), 0, odometry_.phi(), 0, 0));
+    Tf(t, kOdom, kBase, odom_from_base_);
   }
 }
 
 void McapRecorder::Pose(Stamp t, const CPose3D& map_from_base) {
   // map → odom = (map → base) ⊕ (odom → base)⁻¹, with the latest odometry.
-  const CPose3D odom_from_base(odometry_.x(), odometry_.y(), 0, odometry_.phi(), 0, 0);
-  Tf(t, kMap, kOdom, map_from_base + (-odom_from_base));
+  Tf(t, kMap, kOdom, map_from_base + (-odom_from_base_));
 }
 
 void McapRecorder::Keyframes(const std::vector<slam::Keyframe>& keyframes, bool moved, Stamp t) {
   stale_ |= moved;
   if (map_every_s_ <= 0 || t.Seconds() - last_map_s_ < map_every_s_) return;
   if (stale_ || inserted_ > keyframes.size()) {
-    grid_ =
-        mrpt::maps::COccupancyGridMap2D(-10.0f, 10.0f, -10.0f, 10.0f, static_cast<float>(grid_options_.resolution_m));
+    grid_ = slam::EmptyGrid(grid_options_);
     inserted_ = 0, stale_ = false;
   }
   slam::InsertIntoGrid(keyframes, inserted_, grid_options_, grid_);

@@ -256,8 +256,12 @@ ScanMatchingOptions GoodOdometry(ScanMatchingOptions options) {
   return options;
 }
 
+mrpt::maps::COccupancyGridMap2D EmptyGrid(const GridOptions& options) {
+  return {-10.0f, 10.0f, -10.0f, 10.0f, static_cast<float>(options.resolution_m)};
+}
+
 mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes, const GridOptions& options) {
-  mrpt::maps::COccupancyGridMap2D grid(-10.0f, 10.0f, -10.0f, 10.0f, static_cast<float>(options.resolution_m));
+  mrpt::maps::COccupancyGridMap2D grid = EmptyGrid(options);
   InsertIntoGrid(keyframes, 0, options, grid);
   return grid;
 }

@@ -2,11 +2,14 @@
 // perceived tracks as oriented rectangles, and their distances.
 #pragma once
 
+#include <mrpt/poses/CPose3D.h>
+
 #include <opencv2/core.hpp>
 #include <vector>
 
 #include "specht/plan/car.h"
 #include "specht/plan/distance_map.h"
+#include "specht/sim/scenario.h"
 
 namespace specht::pipeline::internal {
 
@@ -14,6 +17,9 @@ namespace specht::pipeline::internal {
 struct Box {
   double x, y, theta, hl, hw;
 };
+
+// A planar pose (the simulator's, or a believed one) as MRPT's 3D pose.
+inline mrpt::poses::CPose3D Pose3(const sim::Pose2& p) { return {p.x, p.y, 0, p.yaw_rad, 0, 0}; }
 
 // The car's footprint at a rear-axle pose.
 Box CarBox(const plan::CarOptions& car, const plan::Pose& p);

@@ -15,6 +15,7 @@
 
 #include "internal/perception_video.h"
 #include "specht/io/video.h"
+#include "specht/plan/car.h"
 #include "specht/sim/simulator.h"
 #include "specht/world/world_model.h"
 
@@ -30,7 +31,7 @@ class LoopVideo {
   // Once per control step; draws a frame when one is due. `believed`: the car's box
   // centre as it believes it; `path`: what it follows (map frame).
   void Step(const sim::Simulator& sim, const world::Snapshot& seen, const sim::Pose2& believed,
-            const std::vector<cv::Point2d>& path);
+            const std::vector<plan::Pose>& path);
   // Finishes the file; returns what was written (io::VideoSink::Close).
   std::string Close() { return sink_.Close(); }
 

@@ -28,12 +28,6 @@
 
 namespace specht::pipeline::internal {
 
-// What a closed loop's MCAP already holds (closed_loop.cpp's Record).
-struct RecordedState {
-  double last_s = -1e18;
-  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> map;
-};
-
 class McapRecorder {
  public:
   McapRecorder(const std::string& path, double map_every_s, const slam::GridOptions& grid);
@@ -62,8 +56,8 @@ class McapRecorder {
   double map_every_s_;
   slam::GridOptions grid_options_;
   std::map<std::string, uint16_t> schemas_, channels_;
-  std::set<std::string> mounted_;  // scan frames on /tf_static
-  mrpt::poses::CPose2D odometry_;  // the latest odometry reading (odom → base_link)
+  std::set<std::string> mounted_;        // scan frames on /tf_static
+  mrpt::poses::CPose3D odom_from_base_;  // the latest odometry reading
   mrpt::maps::COccupancyGridMap2D grid_;
   size_t inserted_ = 0;
   bool stale_ = false;

@@ -305,6 +305,8 @@ class ScanMatchingMapper {
   MappingStats stats_;
 };
 
+// An empty grid (20 m square about the origin; InsertIntoGrid grows it).
+mrpt::maps::COccupancyGridMap2D EmptyGrid(const GridOptions& options);
 // The occupancy grid of the given keyframes at their poses.
 mrpt::maps::COccupancyGridMap2D BuildGrid(const std::vector<Keyframe>& keyframes, const GridOptions& options);
 // Inserts keyframes[from…] into `grid` (grown to hold them), as BuildGrid does: a map
