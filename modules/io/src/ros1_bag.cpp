@@ -100,8 +100,7 @@ class Ros1BagSource : public DatasetSource {
             return obs;
           }
         } catch (const InputError& e) {
-          if (on_bad_ == OnBadRecord::kStop) throw DatasetError(path_, index, -1, m.getTopic() + ": " + e.what());
-          skipped_.push_back(path_ + ":" + std::to_string(index) + ": " + m.getTopic() + ": " + e.what());
+          ros::OnBadMessage(on_bad_, path_, index, m.getTopic(), e.what(), skipped_);
         }
       }
     } catch (const rosbag::BagException& e) {

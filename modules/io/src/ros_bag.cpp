@@ -214,8 +214,7 @@ class Ros2BagSource : public DatasetSource {
       try {
         if (auto obs = Convert(row)) return obs;
       } catch (const InputError& e) {
-        if (on_bad_ == OnBadRecord::kStop) throw DatasetError(db_->path(), row.id, -1, row.topic + ": " + e.what());
-        skipped_.push_back(db_->path() + ":" + std::to_string(row.id) + ": " + row.topic + ": " + e.what());
+        ros::OnBadMessage(on_bad_, db_->path(), row.id, row.topic, e.what(), skipped_);
       }
     }
     return std::nullopt;
@@ -305,8 +304,7 @@ class McapSource : public DatasetSource {
       try {
         if (auto obs = Convert(*m)) return obs;
       } catch (const InputError& e) {
-        if (on_bad_ == OnBadRecord::kStop) throw DatasetError(path_, m->index, -1, m->topic + ": " + e.what());
-        skipped_.push_back(path_ + ":" + std::to_string(m->index) + ": " + m->topic + ": " + e.what());
+        ros::OnBadMessage(on_bad_, path_, m->index, m->topic, e.what(), skipped_);
       }
     }
     return std::nullopt;

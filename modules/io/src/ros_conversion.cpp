@@ -46,6 +46,12 @@ Odometry FromMrpt(const mrpt::obs::CObservationOdometry& o, Stamp stamp, const s
   return m;
 }
 
+void OnBadMessage(OnBadRecord on_bad, const std::string& file, int64_t index, const std::string& topic,
+                  const std::string& why, std::vector<std::string>& skipped) {
+  if (on_bad == OnBadRecord::kStop) throw DatasetError(file, index, -1, topic + ": " + why);
+  skipped.push_back(file + ":" + std::to_string(index) + ": " + topic + ": " + why);
+}
+
 std::string FrameName(const std::string& label) {
   std::string f = label;
   while (!f.empty() && f.front() == '/') f.erase(0, 1);

@@ -33,6 +33,11 @@ Odometry FromMrpt(const mrpt::obs::CObservationOdometry& odometry, Stamp stamp, 
 // A TF frame name for a sensor label ("/scan" → "scan"; "" → "laser").
 std::string FrameName(const std::string& label);
 
+// A message that did not decode or convert (`why`): with kStop a DatasetError naming
+// the file, the message's index and its topic; with kSkip the same line in `skipped`.
+void OnBadMessage(OnBadRecord on_bad, const std::string& file, int64_t index, const std::string& topic,
+                  const std::string& why, std::vector<std::string>& skipped);
+
 class RosObservations {
  public:
   // /tf_static transforms, before the scans that need them.
