@@ -4,9 +4,12 @@
 # graphs, AIS feeds and calibrations, MRPT's shipped rawlogs and specht's own
 # parameter, scenario, mission and tune files. Seeds are the first 16 KB of each file
 # (libFuzzer mutates short inputs far faster); the corpora live in a scratch folder,
-# never in the project. Two targets run at a time (one per core).
+# never in the project. Two targets run at a time (one per core; SPECHT_FUZZ_JOBS).
 #
 #   scripts/fuzz.sh [seconds per target, default 30] [target ...]
+#
+# SPECHT_FUZZ_RUNS=N also ends each target after N executions (a long campaign:
+# SPECHT_FUZZ_RUNS=10000000 with a large time bound).
 #
 # A finding (crash, sanitizer report, an exception that is not specht's own error)
 # fails the script; its reproducer is kept in $SPECHT_FUZZ_DIR/<target>/ (crash-*),
@@ -67,7 +70,9 @@ run() {
   # -seed: the same mutations every run (SPECHT_FUZZ_SEED to explore others), so a
   # CI run does not turn red on a finding another run missed by chance.
   local rc=0
-  (cd "$dir" && "$bin/$t" "${mode[@]}" -seed="${SPECHT_FUZZ_SEED:-1}" -max_total_time="$seconds" -max_len=16384 -timeout=10 \
+  local runs=() start=$SECONDS
+  [[ -n "${SPECHT_FUZZ_RUNS:-}" ]] && runs=(-runs="$SPECHT_FUZZ_RUNS")
+  (cd "$dir" && "$bin/$t" "${mode[@]}" "${runs[@]}" -seed="${SPECHT_FUZZ_SEED:-1}" -max_total_time="$seconds" -max_len=16384 -timeout=10 \
     -rss_limit_mb=2048 -print_final_stats=1 corpus seeds > log.txt 2>&1) || rc=$?
   # Fork mode exits with the last job's code even when it ignored it (libFuzzer 14):
   # 70 (a timeout) or 71 (out of memory) with no sanitizer or libFuzzer error in the
@@ -83,7 +88,7 @@ run() {
     cov=$(grep -o 'cov: [0-9]*' "$dir/log.txt" | tail -1 | grep -o '[0-9]*' || echo '?')
     local skipped
     skipped=$(grep -o 'oom/timeout/crash: [0-9/]*' "$dir/log.txt" | tail -1 || true)
-    echo "fuzz: $t: $execs executions in ${seconds} s, coverage $cov edges, no finding${skipped:+ ($skipped)}"
+    echo "fuzz: $t: $execs executions in $((SECONDS - start)) s, coverage $cov edges, no finding${skipped:+ ($skipped)}"
   else
     echo "fuzz: $t: FINDING (see $dir/log.txt; reproducer in $dir)" >&2
     tail -40 "$dir/log.txt" >&2
@@ -96,7 +101,7 @@ pids=()
 for t in "${targets[@]}"; do
   run "$t" &
   pids+=($!)
-  if [[ ${#pids[@]} -ge 2 ]]; then
+  if [[ ${#pids[@]} -ge ${SPECHT_FUZZ_JOBS:-2} ]]; then
     wait "${pids[0]}" || failed=1
     pids=("${pids[@]:1}")
   fi
