@@ -274,6 +274,7 @@ Estimate Replay::State::Map(io::ReplayClock& clock, PerceptionPipeline& percepti
                  {"loop_searches", be.loop_searches},
                  {"loops_found", be.loops_found},
                  {"loops_accepted", be.loops_accepted},
+                 {"loops_rejected_degenerate", be.loops_rejected_degenerate},
                  {"optimizations", be.optimizations}};
   j["metrics"]["graph_chi2"] = be.final_chi2;
   j["timing"]["loop_search_ms"] = be.loop_search_ms;
@@ -294,6 +295,7 @@ void AddCounts(const slam::MappingStats& fe, const io::DatasetSource& source, co
   counts["observations"] = run.observations;
   counts["scans"] = fe.scans;
   counts["rejected_matches"] = fe.rejected_matches;
+  counts["degenerate_matches"] = fe.degenerate_matches;
   counts["recovered_matches"] = fe.recovered_matches;
   counts["rechecked_steps"] = fe.rechecked_steps;
   counts["odometry"] = fe.odometry;

@@ -192,6 +192,7 @@ void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
   // are added here in candidate order, so they do not depend on the threads.
   struct Verified {
     bool found = false;               // the search scored min_score or more
+    bool degenerate = false;          // ICP confirmed it, but it pins one direction too weakly
     std::optional<CPose2D> accepted;  // ICP confirmed it: the loop's measurement
   };
   std::vector<Verified> verified(candidates.size());
@@ -206,10 +207,14 @@ void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
       if (!match) continue;
       verified[i].found = true;
       const IcpResult refined = icp.Align(s.points, scan, match->pose);
-      if (refined.goodness >= loops_.min_icp_goodness &&
-          (refined.pose - match->pose).norm() <= 2 * loops_.resolution_m) {
+      if (refined.goodness < loops_.min_icp_goodness || (refined.pose - match->pose).norm() > 2 * loops_.resolution_m)
+        continue;
+      // A match that slides along one direction (a corridor's walls) is as good
+      // anywhere along it: its pose there is the guess's, not the scan's.
+      if (refined.weakest_axis_points < loops_.min_weakest_axis_points)
+        verified[i].degenerate = true;
+      else
         verified[i].accepted = refined.pose;
-      }
     }
   };
   std::optional<std::thread> second;
@@ -219,6 +224,7 @@ void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
   for (size_t i = 0; i < candidates.size(); ++i) {
     ++stats_.loop_searches;
     stats_.loops_found += verified[i].found;
+    stats_.loops_rejected_degenerate += verified[i].degenerate;
     if (!verified[i].accepted) continue;
     graph_.edges.push_back({static_cast<int>(candidates[i].submap->anchor), static_cast<int>(candidates[i].keyframe),
                             *verified[i].accepted, Information(slam_.loop_sigma_m, slam_.loop_sigma_deg), true});

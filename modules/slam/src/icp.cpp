@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -25,6 +26,9 @@ constexpr int kMinLinePairs = 10;
 // Neighbours whose spread across their line exceeds this fraction of the spread along
 // it are a corner or clutter, not a line.
 constexpr double kMaxLineFlatness = 0.1;
+// Neighbours spread along their line by less than this (Σ of squared offsets, m²: five
+// points 0.3 mm apart) sit on one spot, whatever direction rounding gives them.
+constexpr double kMinLineSpread = 1e-6;
 // ICP's pose and the guess closer than this in heading (and half the gate apart) refine
 // to the same pose: the guess is not refined separately.
 constexpr double kSameBasinRad = M_PI / 180;
@@ -54,7 +58,9 @@ std::optional<Line> LineNear(const IndexedPoints& reference, double qx, double q
     spread += v * v.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(spread);
-  if (eig.eigenvalues()(0) > kMaxLineFlatness * eig.eigenvalues()(1)) return std::nullopt;
+  // (Neighbours on one spot, a point seen again from the same pose, have no line.)
+  if (!(eig.eigenvalues()(1) > kMinLineSpread) || eig.eigenvalues()(0) > kMaxLineFlatness * eig.eigenvalues()(1))
+    return std::nullopt;
   line.normal = eig.eigenvectors().col(0);
   return line;
 }
@@ -66,7 +72,8 @@ std::optional<Line> LineNear(const IndexedPoints& reference, double qx, double q
 struct LineFit {
   mrpt::poses::CPose2D pose;
   double cost = 0;
-  int pairs = 0;  // scan points with a line near them
+  int pairs = 0;             // scan points with a line near them
+  std::vector<bool> paired;  // which (the last pass)
 };
 
 // The point-to-line refinement of `pose` (see icp.h): Gauss–Newton on the Huber-weighted
@@ -86,6 +93,7 @@ LineFit RefinePointToLine(const IndexedPoints& reference, const mrpt::maps::CSim
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     fit = LineFit{pose};
+    fit.paired.assign(xs.size(), false);
     for (size_t i = 0; i < xs.size(); ++i) {
       const double qx = pose.x() + c * xs[i] - s * ys[i], qy = pose.y() + s * xs[i] + c * ys[i];
       const auto line = LineNear(reference, qx, qy, o, near);
@@ -102,6 +110,7 @@ LineFit RefinePointToLine(const IndexedPoints& reference, const mrpt::maps::CSim
       h += w * j * j.transpose();
       g += w * r * j;
       ++fit.pairs;
+      fit.paired[i] = true;
     }
     if (prior) {
       const Eigen::Matrix3d w = prior->point_sigma_m * prior->point_sigma_m * prior->information;
@@ -123,6 +132,56 @@ LineFit RefinePointToLine(const IndexedPoints& reference, const mrpt::maps::CSim
   }
   fit.pose = pose;  // without `score`, the last step's pose (fit.cost is from before it)
   return fit;
+}
+
+// The scan's own surface normals, in its frame: at each point, the normal of the chord
+// between the nearest beams on either side at least kChordM apart, when the beams
+// between step less than kSameSurfaceM and the point lies within kCornerM of the
+// chord (not a corner). A chord of 0.2 m tilts with 1 cm of range noise by about 4°,
+// so a straight wall's normals stay near one direction.
+constexpr double kChordM = 0.2, kSameSurfaceM = 0.3, kCornerM = 0.03;
+constexpr int kMaxChordHalfBeams = 20;
+// Only points with `use` (all when empty).
+std::vector<Eigen::Vector2d> ScanNormals(const mrpt::maps::CSimplePointsMap& scan, const std::vector<bool>& use) {
+  const auto& xs = scan.getPointsBufferRef_x();
+  const auto& ys = scan.getPointsBufferRef_y();
+  const int n = static_cast<int>(xs.size());
+  auto p = [&](int i) { return Eigen::Vector2d(xs[i], ys[i]); };
+  std::vector<Eigen::Vector2d> normals;
+  for (int i = 0; i < n; ++i) {
+    if (!use.empty() && !use[i]) continue;
+    int a = i, b = i;
+    while ((p(b) - p(a)).norm() < kChordM && b - a < 2 * kMaxChordHalfBeams) {
+      const bool left = a > 0 && (p(a - 1) - p(a)).norm() < kSameSurfaceM;
+      const bool right = b + 1 < n && (p(b + 1) - p(b)).norm() < kSameSurfaceM;
+      if (!left && !right) break;
+      if (left) --a;
+      if (right) ++b;
+    }
+    const Eigen::Vector2d chord = p(b) - p(a);
+    if (chord.norm() < kChordM) continue;
+    const Eigen::Vector2d normal(-chord.y() / chord.norm(), chord.x() / chord.norm());
+    if (std::abs(normal.dot(p(i) - p(a))) > kCornerM) continue;
+    normals.push_back(normal);
+  }
+  return normals;
+}
+
+// The direction the scan's normals pin least, v = argmin Σ (n_i·v)² (the eigenvector
+// of the smallest eigenvalue of Σ n_i n_iᵀ), turned into the reference frame, and how
+// many points pin it: those whose normal lies within 60° of it, |n_i·v| ≥ ½. Only
+// points with a line near them in the reference count (`paired`; all when empty):
+// what the reference does not hold pins nothing.
+void SetWeakestAxis(const mrpt::maps::CSimplePointsMap& scan, const std::vector<bool>& paired, double heading,
+                    IcpResult& out) {
+  const std::vector<Eigen::Vector2d> normals = ScanNormals(scan, paired);
+  Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+  for (const auto& n : normals) sum += n * n.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(sum);  // eigenvalues ascending
+  const Eigen::Vector2d v = axes.eigenvectors().col(0);
+  out.weakest_axis_points = 0;
+  for (const auto& n : normals) out.weakest_axis_points += std::abs(n.dot(v)) >= 0.5;
+  out.weakest_axis = Eigen::Rotation2Dd(heading) * v;
 }
 
 }  // namespace
@@ -149,6 +208,7 @@ IcpResult IcpAligner::Align(const IndexedPoints& reference, const mrpt::maps::CS
   mrpt::slam::CICP::TReturnInfo info;
   const auto pdf = impl_->icp.Align(&reference.AsIcpReference(), &scan, guess, info);
   mrpt::poses::CPose2D pose = pdf->getMeanVal();
+  std::vector<bool> paired;
   const auto& o = impl_->options;
   const IndexedPoints& fitted = lines ? *lines : reference;
   if (o.point_to_line_iterations > 0 && fitted.size() >= static_cast<size_t>(o.point_to_line_neighbours)) {
@@ -156,14 +216,17 @@ IcpResult IcpAligner::Align(const IndexedPoints& reference, const mrpt::maps::CS
     // settle in one basin, from the guess too; the lower cost wins, the guess on a tie.
     const mrpt::poses::CPose2D moved = pose - guess;
     const bool two_starts = moved.norm() > 0.5 * o.point_to_line_gate_m || std::abs(moved.phi()) > kSameBasinRad;
-    const LineFit from_icp = RefinePointToLine(fitted, scan, pose, o, two_starts, prior, impl_->neighbours);
-    pose = from_icp.pose;
+    LineFit fit = RefinePointToLine(fitted, scan, pose, o, two_starts, prior, impl_->neighbours);
     if (two_starts) {
-      const LineFit from_guess = RefinePointToLine(fitted, scan, guess, o, true, prior, impl_->neighbours);
-      if (!(from_icp.cost < from_guess.cost)) pose = from_guess.pose;
+      LineFit from_guess = RefinePointToLine(fitted, scan, guess, o, true, prior, impl_->neighbours);
+      if (!(fit.cost < from_guess.cost)) fit = std::move(from_guess);
     }
+    pose = fit.pose;
+    paired = std::move(fit.paired);
   }
-  return IcpResult{pose, info.goodness, static_cast<int>(info.nIterations)};
+  IcpResult out{pose, info.goodness, static_cast<int>(info.nIterations)};
+  SetWeakestAxis(scan, paired, pose.phi(), out);
+  return out;
 }
 
 mrpt::maps::CSimplePointsMap ScanToPoints(const mrpt::obs::CObservation2DRangeScan& scan) {

@@ -117,6 +117,15 @@ class Searcher {
   CSimplePointsMap query_;
 };
 
+// Solution remapping (Zhang, Kaess & Singh, ICRA 2016): along a direction v the scan
+// pins hardly at all, ICP's update is noise or a pull towards no motion (point to
+// point, identical corridor scans pair with themselves), so the guess keeps it:
+//   t = t_icp + v vᵀ (t_guess − t_icp),   θ = θ_icp.
+CPose2D KeepGuessAlong(const Eigen::Vector2d& v, const CPose2D& match, const CPose2D& guess) {
+  const double along = v.x() * (guess.x() - match.x()) + v.y() * (guess.y() - match.y());
+  return CPose2D(match.x() + along * v.x(), match.y() + along * v.y(), match.phi());
+}
+
 }  // namespace
 
 MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, const CSimplePointsMap& points,
@@ -154,6 +163,10 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, c
   stats.icp_iterations += match.iterations;
   // An accepted ICP pose; with the refinement off the prior is fused with it here.
   const auto accepted = [&]() -> MatchResult {
+    if (!prior && match.weakest_axis_points < options.degenerate_axis_points) {
+      ++stats.degenerate_matches;
+      return {KeepGuessAlong(match.weakest_axis, match.pose, guess), MatchSource::kIcp};
+    }
     if (!prior || prior_in_icp) return {match.pose, MatchSource::kIcp};
     return {FuseWithPrior(match.pose, MatchInformation(points, match.pose, options.point_sigma_m), guess,
                           prior->information),

@@ -86,6 +86,7 @@ struct ScanMatchingOptions {
   int submap_keyframes = 60;
   double submap_resolution_m = 0.0;
   double min_goodness = 0.6;
+  int degenerate_axis_points = 0;
   double max_correction_m = 1.0;
   double max_correction_deg = 20.0;
   double recovery_window_m = 2.0;
@@ -130,6 +131,10 @@ struct ScanMatchingOptions {
             Range::Of(0.0, 0.5));
     v.Param("min_goodness", min_goodness, "reject a match when fewer than this fraction of points paired",
             Range::Of(0.0, 1.0));
+    v.Param("degenerate_axis_points", degenerate_axis_points,
+            "along a direction fewer than this many scan points pin in an ICP match (icp.h: a straight corridor's "
+            "walls), the guess's position stands (0: off; unused with fuse_odometry, whose prior decides)",
+            Range::Of(0, 1000));
     v.Param("max_correction_m", max_correction_m, "reject a match that moves the guess further than this",
             Range::Of(0.05, 10.0));
     v.Param("max_correction_deg", max_correction_deg, "reject a match that turns the guess more than this",
@@ -242,9 +247,10 @@ struct MappingStats {
   long imu = 0;
   long ignored = 0;  // observations of other kinds
   long keyframes = 0;
-  long rejected_matches = 0;   // ICP matches rejected (and not recovered)
-  long recovered_matches = 0;  // rejected by ICP, recovered by the correlative matcher
-  long rechecked_steps = 0;    // searched steps moved by a recheck with the keyframes after them
+  long rejected_matches = 0;    // ICP matches rejected (and not recovered)
+  long recovered_matches = 0;   // rejected by ICP, recovered by the correlative matcher
+  long rechecked_steps = 0;     // searched steps moved by a recheck with the keyframes after them
+  long degenerate_matches = 0;  // ICP matches whose weakest direction the guess decided
   long icp_iterations = 0;
 };
 
