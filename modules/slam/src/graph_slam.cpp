@@ -211,7 +211,7 @@ void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
         continue;
       // A match that slides along one direction (a corridor's walls) is as good
       // anywhere along it: its pose there is the guess's, not the scan's.
-      if (refined.weakest_axis_points < loops_.min_weakest_axis_points)
+      if (loops_.min_weakest_axis_points > 0 && WeakestAxisOf(scan, refined).points < loops_.min_weakest_axis_points)
         verified[i].degenerate = true;
       else
         verified[i].accepted = refined.pose;

@@ -92,8 +92,7 @@ LineFit RefinePointToLine(const IndexedPoints& reference, const mrpt::maps::CSim
     const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    fit = LineFit{pose};
-    fit.paired.assign(xs.size(), false);
+    fit = LineFit{pose, 0, 0, std::vector<bool>(xs.size(), false)};
     for (size_t i = 0; i < xs.size(); ++i) {
       const double qx = pose.x() + c * xs[i] - s * ys[i], qy = pose.y() + s * xs[i] + c * ys[i];
       const auto line = LineNear(reference, qx, qy, o, near);
@@ -167,23 +166,6 @@ std::vector<Eigen::Vector2d> ScanNormals(const mrpt::maps::CSimplePointsMap& sca
   return normals;
 }
 
-// The direction the scan's normals pin least, v = argmin Σ (n_i·v)² (the eigenvector
-// of the smallest eigenvalue of Σ n_i n_iᵀ), turned into the reference frame, and how
-// many points pin it: those whose normal lies within 60° of it, |n_i·v| ≥ ½. Only
-// points with a line near them in the reference count (`paired`; all when empty):
-// what the reference does not hold pins nothing.
-void SetWeakestAxis(const mrpt::maps::CSimplePointsMap& scan, const std::vector<bool>& paired, double heading,
-                    IcpResult& out) {
-  const std::vector<Eigen::Vector2d> normals = ScanNormals(scan, paired);
-  Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
-  for (const auto& n : normals) sum += n * n.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(sum);  // eigenvalues ascending
-  const Eigen::Vector2d v = axes.eigenvectors().col(0);
-  out.weakest_axis_points = 0;
-  for (const auto& n : normals) out.weakest_axis_points += std::abs(n.dot(v)) >= 0.5;
-  out.weakest_axis = Eigen::Rotation2Dd(heading) * v;
-}
-
 }  // namespace
 
 IcpAligner::IcpAligner(const IcpOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -224,8 +206,20 @@ IcpResult IcpAligner::Align(const IndexedPoints& reference, const mrpt::maps::CS
     pose = fit.pose;
     paired = std::move(fit.paired);
   }
-  IcpResult out{pose, info.goodness, static_cast<int>(info.nIterations)};
-  SetWeakestAxis(scan, paired, pose.phi(), out);
+  return IcpResult{pose, info.goodness, static_cast<int>(info.nIterations), std::move(paired)};
+}
+
+// v is the eigenvector of the smallest eigenvalue of Σ n_i n_iᵀ, turned into the
+// reference frame; a point pins it when |n_i·v| ≥ ½.
+WeakestAxis WeakestAxisOf(const mrpt::maps::CSimplePointsMap& scan, const IcpResult& result) {
+  const std::vector<Eigen::Vector2d> normals = ScanNormals(scan, result.line_paired);
+  Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+  for (const auto& n : normals) sum += n * n.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(sum);  // eigenvalues ascending
+  const Eigen::Vector2d v = axes.eigenvectors().col(0);
+  WeakestAxis out;
+  for (const auto& n : normals) out.points += std::abs(n.dot(v)) >= 0.5;
+  out.axis = Eigen::Rotation2Dd(result.pose.phi()) * v;
   return out;
 }
 

@@ -163,9 +163,12 @@ MatchResult MatchWithRecovery(IcpAligner& icp, const IndexedPoints& reference, c
   stats.icp_iterations += match.iterations;
   // An accepted ICP pose; with the refinement off the prior is fused with it here.
   const auto accepted = [&]() -> MatchResult {
-    if (!prior && match.weakest_axis_points < options.degenerate_axis_points) {
-      ++stats.degenerate_matches;
-      return {KeepGuessAlong(match.weakest_axis, match.pose, guess), MatchSource::kIcp};
+    if (!prior && options.degenerate_axis_points > 0) {
+      const WeakestAxis weakest = WeakestAxisOf(points, match);
+      if (weakest.points < options.degenerate_axis_points) {
+        ++stats.degenerate_matches;
+        return {KeepGuessAlong(weakest.axis, match.pose, guess), MatchSource::kIcp};
+      }
     }
     if (!prior || prior_in_icp) return {match.pose, MatchSource::kIcp};
     return {FuseWithPrior(match.pose, MatchInformation(points, match.pose, options.point_sigma_m), guess,

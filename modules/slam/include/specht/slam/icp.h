@@ -41,6 +41,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <vector>
 
 #include "specht/core/params.h"
 #include "specht/slam/indexed_points.h"
@@ -87,13 +88,9 @@ struct IcpResult {
   mrpt::poses::CPose2D pose;  // of the scan's frame in the reference's frame
   double goodness = 0;        // fraction of scan points that found a partner
   int iterations = 0;
-  // How firmly the scan's own shape pins the translation along the direction it pins
-  // least, v = argmin Σ (n_i·v)² over the scan's surface normals n_i (chords of
-  // 0.2 m between beams): the number of scan points whose normal lies within 60° of v.
-  // A straight corridor gives about 0 (every normal across it), a room tens or
-  // hundreds.
-  int weakest_axis_points = 0;
-  Eigen::Vector2d weakest_axis = Eigen::Vector2d::UnitX();  // v, unit, reference frame
+  // Which scan points had a line near them in the reference at `pose` (empty without
+  // the point-to-line refinement): what WeakestAxis counts.
+  std::vector<bool> line_paired;
 };
 
 class IcpAligner {
@@ -114,6 +111,18 @@ class IcpAligner {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// How firmly `scan`, aligned as `result` says, pins the translation along the
+// direction it pins least, v = argmin Σ (n_i·v)² over the scan's own surface normals
+// n_i (chords of 0.2 m between beams) at the points the reference holds
+// (result.line_paired; every point when empty). A straight corridor gives about 0
+// points (every normal across it), a room tens or hundreds. Computed on request: only
+// the corridor settings use it.
+struct WeakestAxis {
+  Eigen::Vector2d axis = Eigen::Vector2d::UnitX();  // v, unit, reference frame
+  int points = 0;                                   // scan points whose normal lies within 60° of v
+};
+WeakestAxis WeakestAxisOf(const mrpt::maps::CSimplePointsMap& scan, const IcpResult& result);
 
 // The valid returns of a scan as points in the car's frame (sensor mount applied).
 mrpt::maps::CSimplePointsMap ScanToPoints(const mrpt::obs::CObservation2DRangeScan& scan);
