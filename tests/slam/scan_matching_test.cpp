@@ -17,70 +17,24 @@
 #include "specht/slam/correlative_matcher.h"
 #include "specht/slam/graph_slam.h"
 #include "specht/slam/icp.h"
+#include "synthetic_scans.h"
 #include "test_support.h"
 
 namespace specht::slam {
 namespace {
 
 using mrpt::poses::CPose2D;
-
-// An axis-aligned box: a wall outline or a pillar.
-struct Box {
-  double x0, x1, y0, y1;
-};
-
-// Distance along a ray to the nearest side of any of the boxes (1e9 when none).
-double RayCast(const std::vector<Box>& boxes, double x, double y, double angle) {
-  const double dx = std::cos(angle), dy = std::sin(angle);
-  double best = 1e9;
-  for (const Box& b : boxes) {
-    for (double wx : {b.x0, b.x1}) {
-      if (std::abs(dx) < 1e-12) continue;
-      const double t = (wx - x) / dx, hy = y + t * dy;
-      if (t > 1e-9 && hy >= b.y0 && hy <= b.y1) best = std::min(best, t);
-    }
-    for (double wy : {b.y0, b.y1}) {
-      if (std::abs(dy) < 1e-12) continue;
-      const double t = (wy - y) / dy, hx = x + t * dx;
-      if (t > 1e-9 && hx >= b.x0 && hx <= b.x1) best = std::min(best, t);
-    }
-  }
-  return best;
-}
+using synthetic::Box;
+using synthetic::OdometryAt;
+using synthetic::RayCast;
+using synthetic::Scan180;
 
 // A 10 m x 6 m room with a 1 m x 1 m pillar at (6.5, 2.5).
 const std::vector<Box> kRoom = {{0, 10, 0, 6}, {6, 7, 2, 3}};
 
-// A 180°, 361-beam scan whose beam at world heading `angle` measures range(angle)
-// (beyond 29 m: no return).
-mrpt::obs::CObservation2DRangeScan::Ptr Scan180(const CPose2D& pose, Stamp stamp,
-                                                const std::function<double(double)>& range) {
-  auto scan = mrpt::obs::CObservation2DRangeScan::Create();
-  const size_t n = 361;
-  scan->aperture = static_cast<float>(M_PI);
-  scan->rightToLeft = true;
-  scan->maxRange = 30.0f;
-  scan->resizeScan(n);
-  for (size_t i = 0; i < n; ++i) {
-    const double r = range(pose.phi() - M_PI / 2 + M_PI * static_cast<double>(i) / (n - 1));
-    const bool valid = r > 0 && r < 29.0;
-    scan->setScanRange(i, valid ? static_cast<float>(r) : 30.0f);
-    scan->setScanRangeValidity(i, valid);
-  }
-  scan->timestamp = ToMrpt(stamp);
-  scan->sensorLabel = "LASER";
-  return scan;
-}
-
 mrpt::obs::CObservation2DRangeScan::Ptr ScanAt(const CPose2D& pose, Stamp stamp,
                                                const std::vector<Box>& world = kRoom) {
   return Scan180(pose, stamp, [&](double a) { return RayCast(world, pose.x(), pose.y(), a); });
-}
-
-mrpt::obs::CObservationOdometry::Ptr OdometryAt(const CPose2D& pose) {
-  auto odo = mrpt::obs::CObservationOdometry::Create();
-  odo->odometry = pose;
-  return odo;
 }
 
 // Two scans of the room from poses 0.4 m and 7 degrees apart sample its walls at
@@ -366,102 +320,6 @@ TEST(ScanMatchingTest, InACorridorOdometryDecidesTheMotionAlongTheWalls) {
   EXPECT_NEAR(estimated.x(), truth.x(), 0.05);
   EXPECT_NEAR(estimated.y(), truth.y(), 0.02);
   EXPECT_NEAR(mrpt::RAD2DEG(estimated.phi()), 2.0, 0.3);
-}
-
-// An 80 m x 2.5 m corridor, closed at both ends. The car turns once on the spot at
-// x = 4, drives to x = 76, turns round and drives back; its odometry is exact on the
-// way out and 4 % short on the way back (a slipping wheel), so on the way back the
-// graph places it up to 3 m short of where it was on the way out. Between the ends
-// every scan sees two parallel walls only. Ranges carry 1 cm of noise.
-struct CorridorDrive {
-  std::vector<std::pair<Stamp, CPose2D>> truth;
-  std::unique_ptr<GraphSlam> slam;
-};
-
-CorridorDrive DriveTheCorridorAndBack(const LoopClosureOptions& loops, const ScanMatchingOptions& matching = {}) {
-  const std::vector<Box> corridor = {{0, 80, 0, 2.5}};
-  CorridorDrive d;
-  d.slam = std::make_unique<GraphSlam>(SlamOptions{}, matching, loops, PoseGraphOptions{}, nullptr, "base_link");
-  CPose2D odometry(4, 1.25, 0), previous(4, 1.25, 0);
-  std::mt19937 random(7);
-  std::normal_distribution<double> range_noise(0.0, 0.01);
-  int64_t t = 0;
-  auto step = [&](const CPose2D& pose, double odometry_scale) {
-    CPose2D delta = pose - previous;
-    delta = CPose2D(delta.x() * odometry_scale, delta.y() * odometry_scale, delta.phi());
-    odometry = odometry + delta, previous = pose;
-    t += 100'000'000;
-    d.slam->Add(Stamp{t}, OdometryAt(odometry));
-    d.slam->Add(Stamp{t + 1}, Scan180(pose, Stamp{t + 1}, [&](double a) {
-                  return RayCast(corridor, pose.x(), pose.y(), a) + range_noise(random);
-                }));
-    d.truth.emplace_back(Stamp{t + 1}, pose);
-  };
-  for (int i = 0; i <= 36; ++i) step(CPose2D(4, 1.25, mrpt::DEG2RAD(10.0 * i)), 1.0);
-  for (double x = 4.2; x <= 76.01; x += 0.2) step(CPose2D(x, 1.25, 0), 1.0);
-  for (int i = 1; i <= 18; ++i) step(CPose2D(76, 1.25, mrpt::DEG2RAD(10.0 * i)), 1.0);
-  for (double x = 75.8; x >= 3.99; x -= 0.2) step(CPose2D(x, 1.25, M_PI), 0.96);
-  d.slam->Finish();
-  return d;
-}
-
-// Each loop edge's measurement against the true relative pose of its two keyframes.
-std::vector<double> LoopEdgeErrors(const CorridorDrive& d) {
-  std::map<int64_t, CPose2D> truth;
-  for (const auto& [stamp, pose] : d.truth) truth[stamp.ns] = pose;
-  const auto& kfs = d.slam->keyframes();
-  std::vector<double> errors;
-  for (const auto& e : d.slam->graph().edges) {
-    if (!e.robust) continue;
-    const CPose2D true_relative = truth.at(kfs[e.to].stamp.ns) - truth.at(kfs[e.from].stamp.ns);
-    errors.push_back((e.measurement - true_relative).norm());
-  }
-  return errors;
-}
-
-// How far the front end carried the car on the way out (true: 72 m).
-double OutwardDistance(const CorridorDrive& d) {
-  const Trajectory t = d.slam->trajectory();
-  size_t far_end = 0;
-  while (d.truth[far_end].second.x() < 75.99) ++far_end;
-  return CPose2D(t[far_end].pose).x() - CPose2D(t[0].pose).x();
-}
-
-// The corridor settings (off at the defaults: docs/slam-experiments.md, 2026-12-05).
-ScanMatchingOptions CorridorFrontEnd() {
-  ScanMatchingOptions o;
-  o.degenerate_axis_points = 3;
-  return o;
-}
-
-TEST(ScanMatchingTest, InAFeaturelessCorridorTheOdometryCarriesTheCarAlongTheWalls) {
-  // Identical scans pair with themselves: ICP alone holds the car still (measured:
-  // 24 m of the 72, the rest where an end wall came into view); along the direction
-  // no scan point pins, the odometry's guess stands (its error is 0 on the way out).
-  LoopClosureOptions no_loops;
-  no_loops.enabled = false;
-  const CorridorDrive d = DriveTheCorridorAndBack(no_loops, CorridorFrontEnd());
-  EXPECT_NEAR(OutwardDistance(d), 72.0, 0.2);
-  EXPECT_GT(d.slam->front_end_stats().degenerate_matches, 300);
-
-  EXPECT_LT(OutwardDistance(DriveTheCorridorAndBack(no_loops, ScanMatchingOptions{})), 50.0);
-}
-
-TEST(GraphSlamTest, ACorridorClosesLoopsOnlyWhereItsEndsPinTheScan) {
-  // With the gate, loops close only where the scan's points that the submap holds
-  // see an end wall: every one measures the true relative pose to a centimetre
-  // (measured 6 mm at most). Without it, the middle closes loops along the walls:
-  // metres off.
-  LoopClosureOptions gate;
-  gate.min_weakest_axis_points = 10;
-  const CorridorDrive gated = DriveTheCorridorAndBack(gate, CorridorFrontEnd());
-  const std::vector<double> errors = LoopEdgeErrors(gated);
-  ASSERT_GE(errors.size(), 3u);
-  for (double e : errors) EXPECT_LT(e, 0.03);
-  EXPECT_GT(gated.slam->stats().loops_rejected_degenerate, 0);
-
-  const std::vector<double> wrong = LoopEdgeErrors(DriveTheCorridorAndBack(LoopClosureOptions{}, CorridorFrontEnd()));
-  EXPECT_GT(*std::max_element(wrong.begin(), wrong.end()), 0.5);
 }
 
 TEST(ScanMatchingTest, SensorMountFromFramesOverridesTheRecordedOne) {
