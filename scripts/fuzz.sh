@@ -9,7 +9,9 @@
 #   scripts/fuzz.sh [seconds per target, default 30] [target ...]
 #
 # SPECHT_FUZZ_RUNS=N also ends each target after N executions (a long campaign:
-# SPECHT_FUZZ_RUNS=10000000 with a large time bound).
+# SPECHT_FUZZ_RUNS=10000000 with a large time bound); SPECHT_FUZZ_MAX_LEN caps an
+# input's bytes (default 16384; shorter inputs run faster). ASAN_OPTIONS passes
+# through (a campaign may trade allocation stack traces for speed: docs/testing.md).
 #
 # A finding (crash, sanitizer report, an exception that is not specht's own error)
 # fails the script; its reproducer is kept in $SPECHT_FUZZ_DIR/<target>/ (crash-*),
@@ -64,15 +66,19 @@ run() {
   # before reading them, so a corrupt rawlog record may allocate and fill gigabytes
   # before it fails (cleanly, as a DatasetError): an upstream limit, not ours.
   # Filling those takes seconds and gigabytes: that target runs in libFuzzer's fork
-  # mode, which counts out-of-memory and slow inputs and goes on; crashes still fail.
+  # mode, which counts out-of-memory and slow inputs and goes on. A count too large
+  # to allocate at all throws std::bad_alloc in the release build (the reader turns
+  # it into a DatasetError) but is fatal under ASan, whose operator new never throws:
+  # fork mode goes on past crashes too, and each crash it kept is replayed below;
+  # only that allocation failure is no finding.
   local mode=()
-  [[ $t == fuzz_rawlog ]] && mode=(-fork=1 -ignore_ooms=1 -ignore_timeouts=1 -ignore_crashes=0)
+  [[ $t == fuzz_rawlog ]] && mode=(-fork=1 -ignore_ooms=1 -ignore_timeouts=1 -ignore_crashes=1)
   # -seed: the same mutations every run (SPECHT_FUZZ_SEED to explore others), so a
   # CI run does not turn red on a finding another run missed by chance.
   local rc=0
   local runs=() start=$SECONDS
   [[ -n "${SPECHT_FUZZ_RUNS:-}" ]] && runs=(-runs="$SPECHT_FUZZ_RUNS")
-  (cd "$dir" && "$bin/$t" "${mode[@]}" "${runs[@]}" -seed="${SPECHT_FUZZ_SEED:-1}" -max_total_time="$seconds" -max_len=16384 -timeout=10 \
+  (cd "$dir" && "$bin/$t" "${mode[@]}" "${runs[@]}" -seed="${SPECHT_FUZZ_SEED:-1}" -max_total_time="$seconds" -max_len="${SPECHT_FUZZ_MAX_LEN:-16384}" -timeout=10 \
     -rss_limit_mb=2048 -print_final_stats=1 corpus seeds > log.txt 2>&1) || rc=$?
   # Fork mode exits with the last job's code even when it ignored it (libFuzzer 14):
   # 70 (a timeout) or 71 (out of memory) with no sanitizer or libFuzzer error in the
@@ -81,6 +87,18 @@ run() {
     ! grep -qE "ERROR: (AddressSanitizer|UndefinedBehaviorSanitizer|libFuzzer: deadly)|runtime error:" "$dir/log.txt"; then
     rc=0
   fi
+  local unallocatable=0
+  if [[ $rc -eq 0 && ${#mode[@]} -gt 0 ]]; then
+    for crash in "$dir"/crash-*; do
+      [[ -e $crash ]] || continue
+      if ("$bin/$t" "$crash" 2>&1 || true) | grep -qE "SUMMARY: AddressSanitizer: (out-of-memory|allocation-size-too-big)"; then
+        unallocatable=$((unallocatable + 1))
+      else
+        rc=1
+        echo "fuzz: $t: $crash crashes" >> "$dir/log.txt"
+      fi
+    done
+  fi
   if [[ $rc -eq 0 ]]; then
     local execs cov
     execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$dir/log.txt" | grep -o '[0-9]*$' ||
@@ -88,6 +106,7 @@ run() {
     cov=$(grep -o 'cov: [0-9]*' "$dir/log.txt" | tail -1 | grep -o '[0-9]*' || echo '?')
     local skipped
     skipped=$(grep -o 'oom/timeout/crash: [0-9/]*' "$dir/log.txt" | tail -1 || true)
+    [[ $unallocatable -gt 0 ]] && skipped="${skipped:+$skipped, }$unallocatable unallocatable counts"
     echo "fuzz: $t: $execs executions in $((SECONDS - start)) s, coverage $cov edges, no finding${skipped:+ ($skipped)}"
   else
     echo "fuzz: $t: FINDING (see $dir/log.txt; reproducer in $dir)" >&2

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 #include "specht/core/error.h"
 #include "specht/io/dataset.h"
@@ -93,7 +94,11 @@ LineReader::LineReader(const std::string& path) : path_(path), file_(nullptr) {
   }
   file_ = gzopen(path.c_str(), "rb");
   if (file_ == nullptr) throw InputError(path + ": cannot open");
-  gzbuffer(Gz(file_), 1 << 17);
+  // A large buffer speeds up reading a long log; a short file (a relations file, a
+  // fuzzer's input) needs none, and zlib allocates three times the size on every open.
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  gzbuffer(Gz(file_), static_cast<unsigned>(std::clamp<uintmax_t>(ec ? 0 : size, 1 << 13, 1 << 17)));
 }
 
 LineReader::~LineReader() {
