@@ -274,7 +274,7 @@ Estimate Replay::State::Map(io::ReplayClock& clock, PerceptionPipeline& percepti
                  {"loop_searches", be.loop_searches},
                  {"loops_found", be.loops_found},
                  {"loops_accepted", be.loops_accepted},
-                 {"loops_rejected_degenerate", be.loops_rejected_degenerate},
+                 {"loops_free_along_axis", be.loops_free_along_axis},
                  {"optimizations", be.optimizations}};
   j["metrics"]["graph_chi2"] = be.final_chi2;
   j["timing"]["loop_search_ms"] = be.loop_search_ms;

@@ -1,5 +1,6 @@
 #include "specht/slam/graph_slam.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,6 +30,18 @@ namespace {
 Eigen::Matrix3d Information(double sigma_m, double sigma_deg) {
   const double r = mrpt::DEG2RAD(sigma_deg);
   return Eigen::Vector3d(1 / (sigma_m * sigma_m), 1 / (sigma_m * sigma_m), 1 / (r * r)).asDiagonal();
+}
+
+// A loop's information with one direction of its position left (almost) free. The
+// edge's position error is in the measurement's frame (pose_graph.h), the axis in the
+// submap's, so there it is u = R(θ_z)ᵀ axis; with the isotropic Ω_t = I/σ² of
+// Information(), Ω_t' = (I − (1 − ε) u uᵀ)/σ² keeps ε of it along u (σ 100× larger)
+// and stays positive definite.
+Eigen::Matrix3d FreeAlong(Eigen::Matrix3d information, const Eigen::Vector2d& axis, double measurement_phi) {
+  constexpr double kKept = 1e-8;
+  const Eigen::Vector2d u = Eigen::Rotation2Dd(-measurement_phi) * axis.normalized();
+  information.topLeftCorner<2, 2>() -= (1 - kKept) * information(0, 0) * u * u.transpose();
+  return information;
 }
 
 double MillisSince(std::chrono::steady_clock::time_point t0) {
@@ -191,9 +204,9 @@ void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
   // scan: every other candidate runs on a second thread (with its own ICP). The edges
   // are added here in candidate order, so they do not depend on the threads.
   struct Verified {
-    bool found = false;               // the search scored min_score or more
-    bool degenerate = false;          // ICP confirmed it, but it pins one direction too weakly
-    std::optional<CPose2D> accepted;  // ICP confirmed it: the loop's measurement
+    bool found = false;                        // the search scored min_score or more
+    std::optional<CPose2D> accepted;           // ICP confirmed it: the loop's measurement
+    std::optional<Eigen::Vector2d> free_axis;  // the direction it does not pin (submap frame)
   };
   std::vector<Verified> verified(candidates.size());
   auto verify = [&](size_t first, IcpAligner& icp) {
@@ -210,11 +223,12 @@ void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
       if (refined.goodness < loops_.min_icp_goodness || (refined.pose - match->pose).norm() > 2 * loops_.resolution_m)
         continue;
       // A match that slides along one direction (a corridor's walls) is as good
-      // anywhere along it: its pose there is the guess's, not the scan's.
-      if (loops_.min_weakest_axis_points > 0 && WeakestAxisOf(scan, refined).points < loops_.min_weakest_axis_points)
-        verified[i].degenerate = true;
-      else
-        verified[i].accepted = refined.pose;
+      // anywhere along it: there the loop says nothing, only across it.
+      if (loops_.weak_axis_points > 0) {
+        const WeakestAxis weakest = WeakestAxisOf(scan, refined);
+        if (weakest.points < loops_.weak_axis_points) verified[i].free_axis = weakest.axis;
+      }
+      verified[i].accepted = refined.pose;
     }
   };
   std::optional<std::thread> second;
@@ -224,10 +238,14 @@ void GraphSlam::VerifyLoops(const std::vector<LoopCandidate>& candidates) {
   for (size_t i = 0; i < candidates.size(); ++i) {
     ++stats_.loop_searches;
     stats_.loops_found += verified[i].found;
-    stats_.loops_rejected_degenerate += verified[i].degenerate;
     if (!verified[i].accepted) continue;
+    Eigen::Matrix3d information = Information(slam_.loop_sigma_m, slam_.loop_sigma_deg);
+    if (verified[i].free_axis) {
+      information = FreeAlong(information, *verified[i].free_axis, verified[i].accepted->phi());
+      ++stats_.loops_free_along_axis;
+    }
     graph_.edges.push_back({static_cast<int>(candidates[i].submap->anchor), static_cast<int>(candidates[i].keyframe),
-                            *verified[i].accepted, Information(slam_.loop_sigma_m, slam_.loop_sigma_deg), true});
+                            *verified[i].accepted, information, true});
     ++stats_.loops_accepted;
     if (closed_.size() <= candidates[i].keyframe) closed_.resize(candidates[i].keyframe + 1, false);
     closed_[candidates[i].keyframe] = true;

@@ -51,7 +51,7 @@ struct LoopClosureOptions {
   double window_deg = 30.0;
   double min_score = 0.55;
   double min_icp_goodness = 0.75;
-  int min_weakest_axis_points = 0;
+  int weak_axis_points = 0;
   int optimize_every = 3;
 
   template <class V>
@@ -77,9 +77,9 @@ struct LoopClosureOptions {
     v.Param("min_score", min_score, "accept a loop match from this mean likelihood", Range::Of(0.2, 0.99));
     v.Param("min_icp_goodness", min_icp_goodness, "accept a loop when ICP pairs this fraction of points",
             Range::Of(0.1, 1.0));
-    v.Param("min_weakest_axis_points", min_weakest_axis_points,
-            "accept a loop only when this many scan points pin the direction its ICP fit pins least (icp.h; a "
-            "straight corridor pins one direction hardly at all; 0: off)",
+    v.Param("weak_axis_points", weak_axis_points,
+            "a loop whose scan pins the direction its ICP fit pins least (icp.h) with fewer points constrains "
+            "only the other directions (a straight corridor pins its length hardly at all; 0: off)",
             Range::Of(0, 1000));
     v.Param("optimize_every", optimize_every, "optimise the graph after this many new loops", Range::Of(1, 1000));
   }
@@ -108,10 +108,10 @@ struct SlamOptions {
 };
 
 struct GraphSlamStats {
-  long loop_searches = 0;              // (keyframe, submap) pairs searched
-  long loops_found = 0;                // matches above min_score
-  long loops_accepted = 0;             // also verified by ICP: edges in the graph
-  long loops_rejected_degenerate = 0;  // verified, but pinned too weakly along one direction
+  long loop_searches = 0;          // (keyframe, submap) pairs searched
+  long loops_found = 0;            // matches above min_score
+  long loops_accepted = 0;         // also verified by ICP: edges in the graph
+  long loops_free_along_axis = 0;  // accepted, but pinned too weakly along one direction: free there
   long optimizations = 0;
   double optimize_ms = 0;
   double loop_search_ms = 0;
