@@ -80,22 +80,21 @@ run() {
   [[ -n "${SPECHT_FUZZ_RUNS:-}" ]] && runs=(-runs="$SPECHT_FUZZ_RUNS")
   (cd "$dir" && "$bin/$t" "${mode[@]}" "${runs[@]}" -seed="${SPECHT_FUZZ_SEED:-1}" -max_total_time="$seconds" -max_len="${SPECHT_FUZZ_MAX_LEN:-16384}" -timeout=10 \
     -rss_limit_mb=2048 -print_final_stats=1 corpus seeds > log.txt 2>&1) || rc=$?
-  # Fork mode exits with the last job's code even when it ignored it (libFuzzer 14):
-  # 70 (a timeout) or 71 (out of memory) with no sanitizer or libFuzzer error in the
-  # log is no finding.
-  if [[ $rc -ne 0 && ${#mode[@]} -gt 0 && ($rc -eq 70 || $rc -eq 71) ]] &&
-    ! grep -qE "ERROR: (AddressSanitizer|UndefinedBehaviorSanitizer|libFuzzer: deadly)|runtime error:" "$dir/log.txt"; then
-    rc=0
-  fi
+  # Fork mode exits with the last job's code even when it ignored it (libFuzzer 14),
+  # and copies a failed job's log (sanitizer report included) into ours. Its verdict
+  # is therefore the replay of every input it kept as a crash or a leak: one that is
+  # not an unallocatable count is a finding. A run that did not reach its end is one
+  # too.
   local unallocatable=0
-  if [[ $rc -eq 0 && ${#mode[@]} -gt 0 ]]; then
-    for crash in "$dir"/crash-*; do
-      [[ -e $crash ]] || continue
-      if ("$bin/$t" "$crash" 2>&1 || true) | grep -qE "SUMMARY: AddressSanitizer: (out-of-memory|allocation-size-too-big)"; then
+  if [[ ${#mode[@]} -gt 0 ]] && grep -q "^INFO: exiting:" "$dir/log.txt"; then
+    rc=0
+    for kept in "$dir"/crash-* "$dir"/leak-*; do
+      [[ -e $kept ]] || continue
+      if ("$bin/$t" "$kept" 2>&1 || true) | grep -qE "SUMMARY: AddressSanitizer: (out-of-memory|allocation-size-too-big)"; then
         unallocatable=$((unallocatable + 1))
       else
         rc=1
-        echo "fuzz: $t: $crash crashes" >> "$dir/log.txt"
+        echo "fuzz: $t: $kept fails when replayed" >> "$dir/log.txt"
       fi
     done
   fi
