@@ -17,10 +17,7 @@ namespace specht::slam {
 namespace {
 
 using mrpt::poses::CPose2D;
-using synthetic::Box;
-using synthetic::OdometryAt;
-using synthetic::RayCast;
-using synthetic::Scan180;
+using namespace synthetic;  // the ray-cast scanner of synthetic_scans.h
 
 // An 80 m x 2.5 m corridor, closed at both ends. The car turns once on the spot at
 // x = 4, drives to x = 76, turns round and drives back; its odometry is exact on the

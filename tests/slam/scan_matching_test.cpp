@@ -24,10 +24,7 @@ namespace specht::slam {
 namespace {
 
 using mrpt::poses::CPose2D;
-using synthetic::Box;
-using synthetic::OdometryAt;
-using synthetic::RayCast;
-using synthetic::Scan180;
+using namespace synthetic;  // the ray-cast scanner of synthetic_scans.h
 
 // A 10 m x 6 m room with a 1 m x 1 m pillar at (6.5, 2.5).
 const std::vector<Box> kRoom = {{0, 10, 0, 6}, {6, 7, 2, 3}};

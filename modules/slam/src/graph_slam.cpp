@@ -35,7 +35,7 @@ Eigen::Matrix3d Information(double sigma_m, double sigma_deg) {
 // A loop's information with one direction of its position left (almost) free. The
 // edge's position error is in the measurement's frame (pose_graph.h), the axis in the
 // submap's, so there it is u = R(θ_z)ᵀ axis; with the isotropic Ω_t = I/σ² of
-// Information(), Ω_t' = (I − (1 − ε) u uᵀ)/σ² keeps ε of it along u (σ 100× larger)
+// Information(), Ω_t' = (I − (1 − ε) u uᵀ)/σ² keeps ε of it along u (σ 10⁴× larger)
 // and stays positive definite.
 Eigen::Matrix3d FreeAlong(Eigen::Matrix3d information, const Eigen::Vector2d& axis, double measurement_phi) {
   constexpr double kKept = 1e-8;
