@@ -216,6 +216,20 @@ TEST(ParamsTest, ShippedPresetsLoad) {
 TEST(ParamsTest, EditDistance) {
   EXPECT_EQ(params::EditDistance("kitten", "sitting"), 3u);
   EXPECT_EQ(params::EditDistance("", "abc"), 3u);
+  // Bounded: past the cap the count stops at cap + 1, whichever way it got there.
+  EXPECT_EQ(params::EditDistance("kitten", "sitting", 3), 3u);
+  EXPECT_EQ(params::EditDistance("kitten", "sitting", 2), 3u);
+  EXPECT_EQ(params::EditDistance("a", std::string(5000, 'b'), 10), 11u);
+  EXPECT_EQ(params::EditDistance("abcdefgh", "hgfedcba", 1), 2u);
+}
+
+TEST(ParamsTest, NearestKeySuggestsOnlyWithinAThirdOfTheKey) {
+  const std::vector<std::string> keys = {"slam.max_range", "slam.min_range", "grid.resolution"};
+  EXPECT_EQ(params::NearestKey("slam.max_rnage", keys), "slam.max_range");
+  EXPECT_EQ(params::NearestKey("grid.resolutoin", keys), "grid.resolution");
+  EXPECT_EQ(params::NearestKey("stereo.disparities", keys), "");
+  EXPECT_EQ(params::NearestKey(std::string(4096, 'x'), keys), "");
+  EXPECT_EQ(params::NearestKey("stereo", keys, SIZE_MAX - 1), "slam.max_range");  // nearest at any distance
 }
 
 }  // namespace

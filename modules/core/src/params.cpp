@@ -338,17 +338,40 @@ void Describer::Choice(const char* key, std::string& field, const std::vector<st
 
 // --- registry ------------------------------------------------------------------------
 
-size_t EditDistance(const std::string& a, const std::string& b) {
+// Row by row over a, keeping only the previous row of the table
+//   D(i, j) = min(D(i-1, j) + 1, D(i, j-1) + 1, D(i-1, j-1) + [a_i ≠ b_j]).
+// A row's minimum never decreases down the table, so once it passes `cap` the
+// distance does too; |len a − len b| bounds it from below before any row.
+size_t EditDistance(const std::string& a, const std::string& b, size_t cap) {
+  const size_t length_gap = a.size() > b.size() ? a.size() - b.size() : b.size() - a.size();
+  if (length_gap > cap) return cap + 1;
   std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
   for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
   for (size_t i = 1; i <= a.size(); ++i) {
     cur[0] = i;
+    size_t row_min = cur[0];
     for (size_t j = 1; j <= b.size(); ++j) {
       cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      row_min = std::min(row_min, cur[j]);
     }
+    if (row_min > cap) return cap + 1;
     std::swap(prev, cur);
   }
-  return prev[b.size()];
+  return std::min(prev[b.size()], cap + 1);
+}
+
+std::string NearestKey(const std::string& key, const std::vector<std::string>& candidates, size_t max_distance) {
+  std::string best;
+  size_t best_distance = max_distance + 1;
+  for (const std::string& c : candidates) {
+    // Only a strictly nearer candidate can win: count no further than that.
+    if (const size_t d = EditDistance(key, c, best_distance - 1); d < best_distance) best_distance = d, best = c;
+  }
+  return best;
+}
+
+std::string NearestKey(const std::string& key, const std::vector<std::string>& candidates) {
+  return NearestKey(key, candidates, std::max<size_t>(3, key.size() / 3));
 }
 
 namespace {
@@ -361,14 +384,10 @@ std::string UnknownKeyMessage(const std::string& key, const Leaf& leaf, const st
       return message + ": '" + key + "' is a group of parameters and needs a map";
     }
   }
-  size_t best = std::string::npos;
-  std::string suggestion;
-  for (const ParamInfo& info : known) {
-    const size_t d = EditDistance(key, info.key);
-    if (d < best) best = d, suggestion = info.key;
-  }
-  if (!suggestion.empty() && best <= std::max<size_t>(3, key.size() / 3)) {
-    message += " (did you mean '" + suggestion + "'?)";
+  std::vector<std::string> keys;
+  for (const ParamInfo& info : known) keys.push_back(info.key);
+  if (const std::string nearest = NearestKey(key, keys); !nearest.empty()) {
+    message += " (did you mean '" + nearest + "'?)";
   }
   return message;
 }

@@ -53,14 +53,9 @@ class Reader {
     for (const auto& kv : map) {
       const std::string key = kv.first.Scalar();
       if (allowed.count(key) != 0) continue;
-      std::string best;
-      size_t best_d = 1000;
-      for (const auto& a : allowed) {
-        const size_t d = params::EditDistance(key, a);
-        if (d < best_d) best_d = d, best = a;
-      }
       std::string why = "unknown key";
-      if (best_d <= std::max<size_t>(2, key.size() / 3)) why += " (did you mean '" + best + "'?)";
+      const std::string nearest = params::NearestKey(key, {allowed.begin(), allowed.end()});
+      if (!nearest.empty()) why += " (did you mean '" + nearest + "'?)";
       Error(kv.first, Join(ctx, key), why);
     }
     return true;

@@ -6,7 +6,6 @@
 #include <map>
 #include <sstream>
 
-#include "internal/nearest.h"
 #include "specht/core/error.h"
 
 namespace specht::tune {
@@ -22,7 +21,7 @@ std::string Number(double v, bool integer) {
 std::string NearestKey(const std::vector<params::ParamInfo>& declared, const std::string& key) {
   std::vector<std::string> keys;
   for (const auto& p : declared) keys.push_back(p.key);
-  const std::string nearest = internal::Nearest(keys, key);
+  const std::string nearest = params::NearestKey(key, keys, 4);
   return nearest.empty() ? "" : " (did you mean '" + nearest + "'?)";
 }
 

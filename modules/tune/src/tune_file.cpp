@@ -11,7 +11,6 @@
 #include <sstream>
 #include <thread>
 
-#include "internal/nearest.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 
@@ -109,7 +108,7 @@ double MetricFromReport(const std::string& report_path, const std::string& metri
   if (node && node->is_number()) return node->get<double>();
   std::vector<std::string> numeric;
   Flatten(j, "", numeric);
-  const std::string nearest = internal::Nearest(numeric, metric, 1000);
+  const std::string nearest = params::NearestKey(metric, numeric, SIZE_MAX - 1);
   throw InputError(report_path + ": no number at '" + metric + "'" +
                    (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)"));
 }

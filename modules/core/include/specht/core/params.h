@@ -28,6 +28,7 @@
 
 #include <any>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <map>
@@ -371,7 +372,13 @@ O FromYaml(const std::string& yaml, const std::string& source) {
   return options;
 }
 
-// Edit distance, for "did you mean" suggestions.
-size_t EditDistance(const std::string& a, const std::string& b);
+// Edit distance (Levenshtein), for "did you mean" suggestions. Counting stops past
+// `cap`: the result is then cap + 1.
+size_t EditDistance(const std::string& a, const std::string& b, size_t cap = SIZE_MAX - 1);
+
+// The candidate nearest to `key` by edit distance, for "did you mean" hints; empty when
+// none is within `max_distance` edits (by default a third of the key, at least 3).
+std::string NearestKey(const std::string& key, const std::vector<std::string>& candidates);
+std::string NearestKey(const std::string& key, const std::vector<std::string>& candidates, size_t max_distance);
 
 }  // namespace specht::params
