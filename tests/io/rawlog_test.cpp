@@ -1,6 +1,9 @@
 // Rawlog reading: both formats, and what happens when the file is cut or corrupted.
+#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <random>
 
@@ -103,6 +106,40 @@ TEST(RawlogTest, GarbageIsNotARawlog) {
   testing::WriteFile(path, std::string(1000, 'x'));
   const ReadResult r = ReadAll(path);
   EXPECT_THAT(r.error, ::testing::HasSubstr("record 0 (byte 0)"));
+}
+
+// fuzz_rawlog's finding: MRPT 2.5 fills freed memory when it reads a GPS record of
+// serialization versions 5–9 that carries TopCon data. Such a record is refused at its
+// header, before MRPT reads the body; the records before it are delivered, and a GPS
+// record of today's format still reads.
+TEST(RawlogTest, LegacyGpsRecordIsRefusedBeforeMrptReadsIt) {
+  const std::string path = testing::TempDir() + "/gps.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto odometry = mrpt::obs::CObservationOdometry::Create();
+    odometry->timestamp = mrpt::Clock::fromDouble(100.0);
+    archive << *odometry;
+    auto gps = mrpt::obs::CObservationGPS::Create();
+    gps->timestamp = mrpt::Clock::fromDouble(100.5);
+    archive << *gps;
+  }
+  ReadResult r = ReadAll(path);
+  EXPECT_EQ(r.error, "");
+  EXPECT_EQ(r.stamps.size(), 2u);
+
+  // The legacy header: length byte, class name, version 8 (the body does not matter:
+  // it is never read).
+  const std::string bytes = testing::ReadDecompressed(path);
+  const size_t at = bytes.find("mrpt::obs::CObservationGPS") - 1;
+  const std::string header = std::string(1, '\x8f') + "CObservationGPS" + std::string(1, '\x08');
+  const std::string legacy = bytes.substr(0, at) + header + std::string(64, '\x01');
+  testing::WriteFile(path, legacy);
+  r = ReadAll(path);
+  EXPECT_EQ(r.odometry, 1);
+  EXPECT_EQ(r.error_record, 1);
+  EXPECT_EQ(r.error_offset, static_cast<int64_t>(at));
+  EXPECT_THAT(r.error, ::testing::HasSubstr("GPS observation in MRPT's pre-1.4 format (version 8)"));
 }
 
 }  // namespace

@@ -14,6 +14,8 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
+#include <string_view>
 
 #include "specht/io/dataset.h"
 
@@ -49,6 +51,52 @@ uint64_t UncompressedSize(const std::string& path) {
   in.read(reinterpret_cast<char*>(isize), 4);
   return uint64_t(isize[0]) | uint64_t(isize[1]) << 8 | uint64_t(isize[2]) << 16 | uint64_t(isize[3]) << 24;
 }
+
+// MRPT 2.5 reads a GPS observation of serialization versions 5–9 (rawlogs of MRPT
+// before 1.4) into memory it has already freed when the record carries TopCon PZS or
+// satellite data: CObservationGPS::serializeFrom hands a new message to its map by
+// copy, which deletes it, then fills the deleted one (found by fuzz_rawlog). Which of
+// the two a record carries is known only by reading it, so every GPS record of those
+// versions is refused before MRPT reads its body. The guard sits between the file
+// and MRPT's archive and sees each object header as the archive reads it: a length
+// byte, the class name, then the version (one byte; four in the pre-0.5.5 format).
+class GpsGuardStream final : public mrpt::io::CStream {
+ public:
+  bool open(const std::string& path) { return in_.open(path); }
+  const std::string& refusal() const { return refusal_; }
+
+  size_t Read(void* buffer, size_t count) override {
+    const size_t n = in_.Read(buffer, count);
+    const auto* bytes = static_cast<const unsigned char*>(buffer);
+    if (expect_version_ && (n == 1 || n == 4)) {
+      uint32_t version = 0;
+      for (size_t i = n; i-- > 0;) version = version << 8 | bytes[i];  // little-endian
+      if (version >= 5 && version <= 9) {
+        refusal_ = "GPS observation in MRPT's pre-1.4 format (version " + std::to_string(version) +
+                   "), which MRPT 2.5 cannot read safely; convert the rawlog with a newer MRPT";
+        throw std::runtime_error(refusal_);
+      }
+    }
+    expect_version_ = n == name_length_ && IsGpsName(bytes, n);
+    if (n != 3) name_length_ = n == 1 ? (bytes[0] & 0x7F) : 0;  // 3: the old format's zero bytes
+    return n;
+  }
+  size_t Write(const void*, size_t) override { throw std::logic_error("rawlog input is read-only"); }
+  uint64_t Seek(int64_t offset, TSeekOrigin origin) override { return in_.Seek(offset, origin); }
+  uint64_t getTotalBytesCount() const override { return in_.getTotalBytesCount(); }
+  uint64_t getPosition() const override { return in_.getPosition(); }
+
+ private:
+  static bool IsGpsName(const unsigned char* bytes, size_t n) {
+    const std::string_view name(reinterpret_cast<const char*>(bytes), n);
+    return name == "CObservationGPS" || name == "mrpt::obs::CObservationGPS";
+  }
+
+  mrpt::io::CFileGZInputStream in_;
+  size_t name_length_ = 0;
+  bool expect_version_ = false;
+  std::string refusal_;
+};
 
 class RawlogSource final : public DatasetSource {
  public:
@@ -87,11 +135,14 @@ class RawlogSource final : public DatasetSource {
       auto archive = mrpt::serialization::archiveFrom(in_);
       archive >> object;
     } catch (const mrpt::serialization::CExceptionEOF&) {
+      // MRPT turns any error inside an object, the guard's refusal too, into "EOF".
+      if (!in_.refusal().empty()) throw DatasetError(path_, record_, start, in_.refusal());
       if (static_cast<int64_t>(in_.getPosition()) == start) return false;  // clean end
       throw DatasetError(path_, record_, start, "file ends inside this record (truncated rawlog)");
     } catch (const std::bad_alloc&) {
       throw DatasetError(path_, record_, start, "corrupt record (implausible size field)");
     } catch (const std::exception& e) {
+      if (!in_.refusal().empty()) throw DatasetError(path_, record_, start, in_.refusal());
       // MRPT wraps an end of file met inside an object into a generic exception.
       if (AtEnd()) throw DatasetError(path_, record_, start, "file ends inside this record (truncated rawlog)");
       throw DatasetError(path_, record_, start, "corrupt record: " + Reason(e));
@@ -159,7 +210,7 @@ class RawlogSource final : public DatasetSource {
   }
 
   std::string path_;
-  mrpt::io::CFileGZInputStream in_;
+  GpsGuardStream in_;
   uint64_t data_size_ = 0;
   std::string format_;
   std::deque<Observation> pending_;
