@@ -97,6 +97,31 @@ TEST(TrackerTest, LifecycleTentativeConfirmedCoastingDeleted) {
   EXPECT_EQ(tracker.tentative_count(), 0);
 }
 
+// M of N: a missed frame does not end a tentative track (a detector at 0.7 would
+// otherwise need three hits in a row); it ends once confirm_hits is out of reach.
+TEST(TrackerTest, TentativeTrackSurvivesAMissAndEndsWhenItCanNoLongerConfirm) {
+  track::TrackerOptions o;  // 3 hits within 5 cycles
+  track::Tracker tracker(o);
+  tracker.Update({Det(0, 0)}, At(0));
+  tracker.Update({}, At(0.1));
+  tracker.Update({Det(0.2, 0)}, At(0.2));
+  EXPECT_TRUE(tracker.Tracks().empty());
+  EXPECT_EQ(tracker.tentative_count(), 1);
+  tracker.Update({Det(0.3, 0)}, At(0.3));
+  ASSERT_EQ(tracker.Tracks().size(), 1u);
+  EXPECT_EQ(tracker.Tracks()[0].state, "confirmed");
+
+  track::Tracker lonely(o);
+  lonely.Update({Det(5, 5)}, At(0));
+  for (int k = 1; k <= 3; ++k) {
+    lonely.Update({}, At(0.1 * k));
+    EXPECT_EQ(lonely.tentative_count(), 1) << "cycle " << k << ": 1 hit + " << 5 - k << " to come can still make 3";
+  }
+  lonely.Update({}, At(0.4));
+  EXPECT_EQ(lonely.tentative_count(), 0);
+  EXPECT_TRUE(lonely.Tracks().empty());
+}
+
 TEST(TrackerTest, IsolatedFalseAlarmsNeverConfirm) {
   track::Tracker tracker({});
   std::mt19937 rng(1);

@@ -173,7 +173,11 @@ CycleStats Tracker::Update(const std::vector<types::Obstacle>& detections_in, St
     while (static_cast<int>(t.history.size()) > options_.history_length) t.history.pop_front();
   }
   const auto erased = std::remove_if(tracks_.begin(), tracks_.end(), [&](const std::unique_ptr<Entry>& t) {
-    if (t->state == TrackState::kTentative) return t->cycles >= options_.confirm_window || t->last_seen != now;
+    // A tentative track lives while it can still reach confirm_hits within its
+    // window: a miss does not end it (one missed frame of a 0.7-probability detector
+    // would otherwise restart the count of a road user beside the car).
+    if (t->state == TrackState::kTentative)
+      return t->hits + (options_.confirm_window - t->cycles) < options_.confirm_hits;
     return SecondsBetween(t->last_seen, now) > options_.coast_timeout_s;
   });
   stats.deleted = static_cast<int>(tracks_.end() - erased);

@@ -17,7 +17,8 @@
 //   3. optimal assignment (Hungarian, core/assignment.h) minimising the negative
 //      log likelihood d² + ln det S over the gated pairs;
 //   4. lifecycle: a new detection starts a tentative track; it is confirmed after
-//      confirm_hits hits within its first confirm_window cycles, else deleted. A
+//      confirm_hits hits within its first confirm_window cycles (M of N: misses
+//      allowed), deleted once it can no longer reach them. A
 //      confirmed track missed in a cycle is coasting; seen again it is confirmed;
 //      unseen for coast_timeout_s it is deleted. Confirmed tracks and coasting
 //      tracks unseen for at most report_coasting_s are reported; longer coasting
