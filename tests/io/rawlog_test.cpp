@@ -142,5 +142,22 @@ TEST(RawlogTest, LegacyGpsRecordIsRefusedBeforeMrptReadsIt) {
   EXPECT_THAT(r.error, ::testing::HasSubstr("GPS observation in MRPT's pre-1.4 format (version 8)"));
 }
 
+// fuzz_rawlog: a stamp beyond the years a Stamp holds overflowed its conversion.
+TEST(RawlogTest, StampOutOfRangeIsNamed) {
+  const std::string path = testing::TempDir() + "/far.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto odometry = mrpt::obs::CObservationOdometry::Create();
+    odometry->sensorLabel = "ODO";
+    odometry->timestamp = mrpt::Clock::time_point(mrpt::Clock::duration(-6315051035256397823LL));
+    archive << *odometry;
+  }
+  const ReadResult r = ReadAll(path);
+  EXPECT_THAT(r.error,
+              ::testing::HasSubstr("far.rawlog: record 0 (byte 0): observation 'ODO' has a time stamp out of range"));
+  EXPECT_TRUE(RepresentableAsStamp(mrpt::Clock::fromDouble(1.7e9)));
+}
+
 }  // namespace
 }  // namespace specht::io

@@ -14,6 +14,12 @@ Stamp FromMrpt(mrpt::Clock::time_point t) {
   return Stamp{(t.time_since_epoch().count() - kMrptTicksToUnixEpoch) * 100};
 }
 
+bool RepresentableAsStamp(mrpt::Clock::time_point t) {
+  int64_t ticks = 0, ns = 0;
+  return !__builtin_sub_overflow(t.time_since_epoch().count(), kMrptTicksToUnixEpoch, &ticks) &&
+         !__builtin_mul_overflow(ticks, int64_t{100}, &ns);
+}
+
 mrpt::Clock::time_point ToMrpt(Stamp s) {
   return mrpt::Clock::time_point(mrpt::Clock::duration(s.ns / 100 + kMrptTicksToUnixEpoch));
 }

@@ -165,7 +165,7 @@ class RawlogSource final : public DatasetSource {
       Push(obs, start);
     } else if (auto actions = std::dynamic_pointer_cast<CActionCollection>(object)) {
       SetFormat("rawlog (actions/sensory frames)");
-      AddOdometryIncrement(*actions);
+      AddOdometryIncrement(*actions, start);
     } else if (auto frame = std::dynamic_pointer_cast<CSensoryFrame>(object)) {
       SetFormat("rawlog (actions/sensory frames)");
       for (const auto& obs : *frame) {
@@ -185,20 +185,20 @@ class RawlogSource final : public DatasetSource {
   }
 
   // Chains CActionRobotMovement2D increments into an absolute odometry reading.
-  void AddOdometryIncrement(const mrpt::obs::CActionCollection& actions) {
+  void AddOdometryIncrement(const mrpt::obs::CActionCollection& actions, int64_t start) {
     auto move = actions.getBestMovementEstimation();
     if (!move) return;
     odometry_ = odometry_ + move->poseChange->getMeanVal();
     pending_odometry_stamp_ = true;
-    if (move->timestamp != INVALID_TIMESTAMP) EmitOdometry(move->timestamp, -1);
+    if (move->timestamp != INVALID_TIMESTAMP) EmitOdometry(move->timestamp, start);
   }
 
-  void EmitOdometry(mrpt::Clock::time_point stamp, int64_t /*start*/) {
+  void EmitOdometry(mrpt::Clock::time_point stamp, int64_t start) {
     auto odo = mrpt::obs::CObservationOdometry::Create();
     odo->odometry = odometry_;
     odo->timestamp = stamp;
     odo->sensorLabel = "ODOMETRY";
-    pending_.push_back(Observation{FromMrpt(stamp), odo, record_});
+    pending_.push_back(Observation{StampOf(stamp, start, "odometry"), odo, record_});
     pending_odometry_stamp_ = false;
   }
 
@@ -206,7 +206,13 @@ class RawlogSource final : public DatasetSource {
     if (obs->timestamp == INVALID_TIMESTAMP) {
       throw DatasetError(path_, record_, start, "observation '" + obs->sensorLabel + "' has no time stamp");
     }
-    pending_.push_back(Observation{FromMrpt(obs->timestamp), obs, record_});
+    pending_.push_back(
+        Observation{StampOf(obs->timestamp, start, "observation '" + obs->sensorLabel + "'"), obs, record_});
+  }
+
+  Stamp StampOf(mrpt::Clock::time_point t, int64_t start, const std::string& what) const {
+    if (!RepresentableAsStamp(t)) throw DatasetError(path_, record_, start, what + " has a time stamp out of range");
+    return FromMrpt(t);
   }
 
   std::string path_;

@@ -31,7 +31,10 @@ inline double SecondsBetween(Stamp a, Stamp b) { return static_cast<double>(b.ns
 int64_t UnixSecondsFromUtc(int64_t year, int64_t month, int64_t day, int64_t hour, int64_t minute, int64_t second);
 
 // Exact conversions to and from MRPT's clock (100 ns ticks since 1601-01-01).
+// FromMrpt needs a time Stamp can hold (years 1678–2262; RepresentableAsStamp):
+// a corrupt file's stamp is checked first.
 Stamp FromMrpt(mrpt::Clock::time_point t);
+bool RepresentableAsStamp(mrpt::Clock::time_point t);
 mrpt::Clock::time_point ToMrpt(Stamp s);
 
 }  // namespace specht
