@@ -1,8 +1,12 @@
 // Rawlog reading: both formats, and what happens when the file is cut or corrupted.
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <random>
@@ -157,6 +161,64 @@ TEST(RawlogTest, StampOutOfRangeIsNamed) {
   EXPECT_THAT(r.error,
               ::testing::HasSubstr("far.rawlog: record 0 (byte 0): observation 'ODO' has a time stamp out of range"));
   EXPECT_TRUE(RepresentableAsStamp(mrpt::Clock::fromDouble(1.7e9)));
+}
+
+// fuzz_rawlog: a movement action whose pose PDF was another class made MRPT 2.5 clone a
+// null pointer inside CActionRobotMovement2D::serializeFrom.
+TEST(RawlogTest, MovementActionWithoutAPosePdfIsRefusedBeforeMrptReadsIt) {
+  const std::string path = testing::TempDir() + "/movement.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    mrpt::obs::CActionRobotMovement2D move;
+    move.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
+    move.poseChange = mrpt::poses::CPosePDFGaussian::Create(mrpt::poses::CPose2D(1.0, 0.5, 0.1));
+    move.timestamp = mrpt::Clock::fromDouble(100.0);
+    mrpt::obs::CActionCollection actions;
+    actions.insert(move);
+    archive << actions;
+  }
+  ReadResult r = ReadAll(path);
+  EXPECT_EQ(r.error, "");  // a scan-matching estimate with its PDF is read
+  ASSERT_EQ(r.odometry, 1);
+
+  // The PDF's header swapped for another class (the body never gets read).
+  const std::string bytes = testing::ReadDecompressed(path);
+  const std::string name = "mrpt::poses::CPosePDFGaussian";
+  const size_t at = bytes.find(name) - 1;
+  testing::WriteFile(path, bytes.substr(0, at) + "\x94mrpt::poses::CPose2D" + bytes.substr(at + 1 + name.size()));
+  r = ReadAll(path);
+  EXPECT_EQ(r.error_record, 0);
+  EXPECT_THAT(r.error,
+              ::testing::HasSubstr("movement action whose pose PDF is a 'mrpt::poses::CPose2D', not a CPosePDF"));
+}
+
+// A sensory frame or action collection holding another class reads as a null entry.
+TEST(RawlogTest, ContainerHoldingTheWrongClassIsNamed) {
+  const std::string path = testing::TempDir() + "/frame.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    mrpt::obs::CSensoryFrame frame;
+    auto odometry = mrpt::obs::CObservationOdometry::Create();
+    odometry->timestamp = mrpt::Clock::fromDouble(100.0);
+    frame.insert(odometry);
+    archive << frame;
+  }
+  ASSERT_EQ(ReadAll(path).odometry, 1);
+  // An odometry observation's body starts with its pose: a CPose2D written in full.
+  const std::string bytes = testing::ReadDecompressed(path);
+  const size_t at = bytes.find("CObservationOdometry") - 1;
+  std::string pose;
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    archive << mrpt::poses::CPose2D(1, 2, 3);
+  }
+  pose = testing::ReadDecompressed(path);
+  testing::WriteFile(path, bytes.substr(0, at) + pose + bytes.back());  // the frame's end marker
+  const ReadResult r = ReadAll(path);
+  EXPECT_THAT(r.error, ::testing::HasSubstr("sensory frame holds an object that is not an observation"));
 }
 
 }  // namespace

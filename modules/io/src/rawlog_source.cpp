@@ -7,6 +7,8 @@
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDF.h>
+#include <mrpt/rtti/CObject.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
@@ -16,6 +18,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string_view>
+#include <utility>
 
 #include "specht/io/dataset.h"
 
@@ -52,33 +55,27 @@ uint64_t UncompressedSize(const std::string& path) {
   return uint64_t(isize[0]) | uint64_t(isize[1]) << 8 | uint64_t(isize[2]) << 16 | uint64_t(isize[3]) << 24;
 }
 
-// MRPT 2.5 reads a GPS observation of serialization versions 5–9 (rawlogs of MRPT
-// before 1.4) into memory it has already freed when the record carries TopCon PZS or
-// satellite data: CObservationGPS::serializeFrom hands a new message to its map by
-// copy, which deletes it, then fills the deleted one (found by fuzz_rawlog). Which of
-// the two a record carries is known only by reading it, so every GPS record of those
-// versions is refused before MRPT reads its body. The guard sits between the file
-// and MRPT's archive and sees each object header as the archive reads it: a length
-// byte, the class name, then the version (one byte; four in the pre-0.5.5 format).
-class GpsGuardStream final : public mrpt::io::CStream {
+// Two kinds of record make MRPT 2.5 itself touch invalid memory while it reads them
+// (both found by fuzz_rawlog), so they are refused before MRPT reads their body:
+// - a GPS observation of serialization versions 5–9 (rawlogs of MRPT before 1.4):
+//   CObservationGPS::serializeFrom hands a new TopCon PZS or satellite message to its
+//   map by copy, which deletes it, then fills the deleted one. Which message a record
+//   carries is known only by reading it, so every GPS record of those versions goes.
+// - a movement action whose pose PDF is not a CPosePDF (version 0–1, or a method other
+//   than odometry): ReadObject<CPosePDF> casts the wrong class to null and
+//   CActionRobotMovement2D::serializeFrom clones the null pointer.
+// The guard sits between the file and MRPT's archive and sees each read as the archive
+// makes it: an object header is a length byte, the class name, then the version (one
+// byte; four in the pre-0.5.5 format); a movement action's body starts with its method
+// (four bytes, 0 = odometry).
+class GuardStream final : public mrpt::io::CStream {
  public:
   bool open(const std::string& path) { return in_.open(path); }
   const std::string& refusal() const { return refusal_; }
 
   size_t Read(void* buffer, size_t count) override {
     const size_t n = in_.Read(buffer, count);
-    const auto* bytes = static_cast<const unsigned char*>(buffer);
-    if (expect_version_ && (n == 1 || n == 4)) {
-      uint32_t version = 0;
-      for (size_t i = n; i-- > 0;) version = version << 8 | bytes[i];  // little-endian
-      if (version >= 5 && version <= 9) {
-        refusal_ = "GPS observation in MRPT's pre-1.4 format (version " + std::to_string(version) +
-                   "), which MRPT 2.5 cannot read safely; convert the rawlog with a newer MRPT";
-        throw std::runtime_error(refusal_);
-      }
-    }
-    expect_version_ = n == name_length_ && IsGpsName(bytes, n);
-    if (n != 3) name_length_ = n == 1 ? (bytes[0] & 0x7F) : 0;  // 3: the old format's zero bytes
+    Inspect(static_cast<const unsigned char*>(buffer), n);
     return n;
   }
   size_t Write(const void*, size_t) override { throw std::logic_error("rawlog input is read-only"); }
@@ -87,14 +84,61 @@ class GpsGuardStream final : public mrpt::io::CStream {
   uint64_t getPosition() const override { return in_.getPosition(); }
 
  private:
-  static bool IsGpsName(const unsigned char* bytes, size_t n) {
-    const std::string_view name(reinterpret_cast<const char*>(bytes), n);
-    return name == "CObservationGPS" || name == "mrpt::obs::CObservationGPS";
+  enum class Expect { kAnything, kVersion, kMethod };
+
+  void Inspect(const unsigned char* bytes, size_t n) {
+    const std::string_view read(reinterpret_cast<const char*>(bytes), n);
+    const bool is_name = n > 0 && n == name_length_;
+    const Expect expected = std::exchange(expect_, Expect::kAnything);
+    if (expected == Expect::kVersion && (n == 1 || n == 4)) CheckVersion(LittleEndian(bytes, n));
+    if (expected == Expect::kMethod && n == 4 && LittleEndian(bytes, n) != 0) pdf_next_ = true;
+    if (is_name) OnClassName(read);
+    if (n != 3) name_length_ = n == 1 ? (bytes[0] & 0x7F) : 0;  // 3: the old format's zero bytes
+  }
+
+  void OnClassName(std::string_view name) {
+    if (pdf_next_) {
+      pdf_next_ = false;
+      const auto* cls = mrpt::rtti::findRegisteredClass(std::string(name));
+      if (cls == nullptr || !cls->derivedFrom(CLASS_ID(mrpt::poses::CPosePDF)))
+        Refuse("movement action whose pose PDF is a '" + std::string(name) + "', not a CPosePDF");
+    }
+    class_ = Unqualified(name);
+    if (class_ == "CObservationGPS" || class_ == "CActionRobotMovement2D") expect_ = Expect::kVersion;
+  }
+
+  void CheckVersion(uint32_t version) {
+    if (class_ == "CObservationGPS" && version >= 5 && version <= 9)
+      Refuse("GPS observation in MRPT's pre-1.4 format (version " + std::to_string(version) +
+             "), which MRPT 2.5 cannot read safely; convert the rawlog with a newer MRPT");
+    if (class_ == "CActionRobotMovement2D") {
+      if (version <= 1)
+        pdf_next_ = true;
+      else
+        expect_ = Expect::kMethod;
+    }
+  }
+
+  [[noreturn]] void Refuse(std::string reason) {
+    refusal_ = std::move(reason);
+    throw std::runtime_error(refusal_);
+  }
+
+  static uint32_t LittleEndian(const unsigned char* bytes, size_t n) {
+    uint32_t value = 0;
+    for (size_t i = n; i-- > 0;) value = value << 8 | bytes[i];
+    return value;
+  }
+  static std::string_view Unqualified(std::string_view name) {
+    const auto colon = name.rfind("::");
+    return colon == std::string_view::npos ? name : name.substr(colon + 2);
   }
 
   mrpt::io::CFileGZInputStream in_;
   size_t name_length_ = 0;
-  bool expect_version_ = false;
+  Expect expect_ = Expect::kAnything;
+  bool pdf_next_ = false;
+  std::string class_;
   std::string refusal_;
 };
 
@@ -169,6 +213,7 @@ class RawlogSource final : public DatasetSource {
     } else if (auto frame = std::dynamic_pointer_cast<CSensoryFrame>(object)) {
       SetFormat("rawlog (actions/sensory frames)");
       for (const auto& obs : *frame) {
+        if (!obs) throw DatasetError(path_, record_, start, "sensory frame holds an object that is not an observation");
         if (pending_odometry_stamp_) {
           EmitOdometry(obs->timestamp, start);
         }
@@ -186,6 +231,9 @@ class RawlogSource final : public DatasetSource {
 
   // Chains CActionRobotMovement2D increments into an absolute odometry reading.
   void AddOdometryIncrement(const mrpt::obs::CActionCollection& actions, int64_t start) {
+    for (const auto& action : actions) {
+      if (!action) throw DatasetError(path_, record_, start, "action collection holds an object that is not an action");
+    }
     auto move = actions.getBestMovementEstimation();
     if (!move) return;
     odometry_ = odometry_ + move->poseChange->getMeanVal();
@@ -216,7 +264,7 @@ class RawlogSource final : public DatasetSource {
   }
 
   std::string path_;
-  GpsGuardStream in_;
+  GuardStream in_;
   uint64_t data_size_ = 0;
   std::string format_;
   std::deque<Observation> pending_;
