@@ -1,5 +1,6 @@
 // Rawlog reading: both formats, and what happens when the file is cut or corrupted.
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -219,6 +220,25 @@ TEST(RawlogTest, ContainerHoldingTheWrongClassIsNamed) {
   testing::WriteFile(path, bytes.substr(0, at) + pose + bytes.back());  // the frame's end marker
   const ReadResult r = ReadAll(path);
   EXPECT_THAT(r.error, ::testing::HasSubstr("sensory frame holds an object that is not an observation"));
+}
+
+// MRPT would build any registered class a record names and run its deserializer; a
+// rawlog holds observations and actions, so a map in it is refused unread.
+TEST(RawlogTest, ClassARawlogDoesNotHoldIsRefusedUnread) {
+  const std::string path = testing::TempDir() + "/map.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto odometry = mrpt::obs::CObservationOdometry::Create();
+    odometry->timestamp = mrpt::Clock::fromDouble(100.0);
+    archive << *odometry;
+    archive << mrpt::maps::COccupancyGridMap2D(-1.0f, 1.0f, -1.0f, 1.0f, 0.5f);
+  }
+  const ReadResult r = ReadAll(path);
+  EXPECT_EQ(r.odometry, 1);
+  EXPECT_EQ(r.error_record, 1);
+  EXPECT_THAT(r.error,
+              ::testing::HasSubstr("object of class 'mrpt::maps::COccupancyGridMap2D', which a rawlog does not hold"));
 }
 
 }  // namespace

@@ -55,8 +55,11 @@ uint64_t UncompressedSize(const std::string& path) {
   return uint64_t(isize[0]) | uint64_t(isize[1]) << 8 | uint64_t(isize[2]) << 16 | uint64_t(isize[3]) << 24;
 }
 
-// Two kinds of record make MRPT 2.5 itself touch invalid memory while it reads them
-// (both found by fuzz_rawlog), so they are refused before MRPT reads their body:
+// MRPT builds whatever registered class a record names and runs its deserializer, and
+// several of those in MRPT 2.5 touch invalid memory on a corrupt record (found by
+// fuzz_rawlog). Refused before MRPT reads their body:
+// - any class a robot log does not carry (maps, graphs, 3D scenes: a record naming one
+//   can only be corrupt); what a log carries is listed in IsRawlogClass;
 // - a GPS observation of serialization versions 5–9 (rawlogs of MRPT before 1.4):
 //   CObservationGPS::serializeFrom hands a new TopCon PZS or satellite message to its
 //   map by copy, which deletes it, then fills the deleted one. Which message a record
@@ -67,7 +70,8 @@ uint64_t UncompressedSize(const std::string& path) {
 // The guard sits between the file and MRPT's archive and sees each read as the archive
 // makes it: an object header is a length byte, the class name, then the version (one
 // byte; four in the pre-0.5.5 format); a movement action's body starts with its method
-// (four bytes, 0 = odometry).
+// (four bytes, 0 = odometry). A body read can look like a header; a class name it
+// spells by chance is not registered, and only registered names are judged.
 class GuardStream final : public mrpt::io::CStream {
  public:
   bool open(const std::string& path) { return in_.open(path); }
@@ -97,12 +101,11 @@ class GuardStream final : public mrpt::io::CStream {
   }
 
   void OnClassName(std::string_view name) {
-    if (pdf_next_) {
-      pdf_next_ = false;
-      const auto* cls = mrpt::rtti::findRegisteredClass(std::string(name));
-      if (cls == nullptr || !cls->derivedFrom(CLASS_ID(mrpt::poses::CPosePDF)))
-        Refuse("movement action whose pose PDF is a '" + std::string(name) + "', not a CPosePDF");
-    }
+    const auto* cls = mrpt::rtti::findRegisteredClass(std::string(name));
+    if (std::exchange(pdf_next_, false) && (cls == nullptr || !cls->derivedFrom(CLASS_ID(mrpt::poses::CPosePDF))))
+      Refuse("movement action whose pose PDF is a '" + std::string(name) + "', not a CPosePDF");
+    if (cls != nullptr && !IsRawlogClass(*cls))
+      Refuse("object of class '" + std::string(name) + "', which a rawlog does not hold");
     class_ = Unqualified(name);
     if (class_ == "CObservationGPS" || class_ == "CActionRobotMovement2D") expect_ = Expect::kVersion;
   }
@@ -117,6 +120,18 @@ class GuardStream final : public mrpt::io::CStream {
       else
         expect_ = Expect::kMethod;
     }
+  }
+
+  // Observations, actions and what they hold as objects: poses, PDFs, images, camera
+  // models, matrices and point clouds. Not maps, graphs or 3D scenes (so not the rare
+  // CObservation3DScene, whose OpenGL scene MRPT's deserializers read).
+  static bool IsRawlogClass(const mrpt::rtti::TRuntimeClassId& cls) {
+    static const auto* points = mrpt::rtti::findRegisteredClass("mrpt::maps::CPointsMap");
+    const std::string_view name = cls.className;
+    for (std::string_view space : {"mrpt::obs::", "mrpt::poses::", "mrpt::img::", "mrpt::math::"}) {
+      if (name.substr(0, space.size()) == space) return name != "mrpt::obs::CObservation3DScene";
+    }
+    return points != nullptr && cls.derivedFrom(points);
   }
 
   [[noreturn]] void Refuse(std::string reason) {
