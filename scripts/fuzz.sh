@@ -60,7 +60,10 @@ fi
 
 run() {
   local t=$1 dir="$work/$1"
-  mkdir -p "$dir/corpus" "$dir/seeds"
+  mkdir -p "$dir/corpus" "$dir/seeds" "$dir/tmp"
+  # Targets that parse a path write each input to a scratch file; a process killed on a
+  # finding (fork mode goes on past them) leaves its file here, not in /tmp.
+  export TMPDIR="$dir/tmp"
   # -rss_limit_mb: a bounded parser on bounded input; -timeout: no input may hang it.
   # MRPT's deserializer sizes strings and containers from the record's 32-bit counts
   # before reading them, so a corrupt rawlog record may allocate and fill gigabytes

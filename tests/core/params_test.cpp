@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <random>
 #include <set>
 
 #include "options_registry.h"
@@ -44,6 +45,16 @@ TEST(ParamsTest, BuiltInDefaultsAreValid) {
 TEST(ParamsTest, UnknownKeyNamesFileLineKeyAndNearestValidKey) {
   const std::string e = LoadText("grid:\n  resolution_m: 0.1\n  max_insert_rnage_m: 10\n");
   EXPECT_EQ(e, "test.yaml:3: unknown key 'grid.max_insert_rnage_m' (did you mean 'grid.max_insert_range_m'?)");
+}
+
+TEST(ParamsTest, UnknownKeysPastTwentyAreCountedNotListed) {
+  std::string yaml = "grid:\n";
+  for (int i = 0; i < 25; ++i) yaml += (i < 10 ? "  bogus_0" : "  bogus_") + std::to_string(i) + ": 1\n";
+  const std::string e = LoadText(yaml);
+  EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 20);  // twenty lines, then the count
+  EXPECT_THAT(e, HasSubstr("test.yaml:21: unknown key 'grid.bogus_19'"));
+  EXPECT_THAT(e, ::testing::Not(HasSubstr("bogus_20")));
+  EXPECT_THAT(e, ::testing::EndsWith("... and 5 more unknown keys"));
 }
 
 TEST(ParamsTest, MisspelledSectionSuggestsTheSection) {
@@ -221,6 +232,23 @@ TEST(ParamsTest, EditDistance) {
   EXPECT_EQ(params::EditDistance("kitten", "sitting", 2), 3u);
   EXPECT_EQ(params::EditDistance("a", std::string(5000, 'b'), 10), 11u);
   EXPECT_EQ(params::EditDistance("abcdefgh", "hgfedcba", 1), 2u);
+}
+
+// The banded count against the whole table, on random short strings and every cap.
+TEST(ParamsTest, EditDistanceWithACapAgreesWithTheFullTable) {
+  std::mt19937 rng(7);
+  auto random_word = [&] {
+    std::string w(rng() % 12, 'a');
+    for (char& c : w) c = static_cast<char>('a' + rng() % 3);
+    return w;
+  };
+  for (int trial = 0; trial < 2000; ++trial) {
+    const std::string a = random_word(), b = random_word();
+    const size_t full = params::EditDistance(a, b);
+    for (size_t cap = 0; cap <= 13; ++cap) {
+      ASSERT_EQ(params::EditDistance(a, b, cap), std::min(full, cap + 1)) << a << " / " << b << " cap " << cap;
+    }
+  }
 }
 
 TEST(ParamsTest, NearestKeySuggestsOnlyWithinAThirdOfTheKey) {

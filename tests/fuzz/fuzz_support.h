@@ -11,22 +11,31 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include "specht/core/error.h"
 
 namespace specht::fuzz {
 
-// Writes the input to this process's scratch file named `name` and returns its path.
+// Writes the input to this process's scratch file named `name` and returns its path;
+// the file goes when the process ends normally (one killed on a finding keeps it).
 inline std::string InputFile(const uint8_t* data, size_t size, const std::string& name) {
+  struct Scratch {
+    std::string path;
+    ~Scratch() { std::remove(path.c_str()); }
+  };
   const char* tmp = std::getenv("TMPDIR");
-  const std::string path =
-      std::string(tmp != nullptr ? tmp : "/tmp") + "/specht-fuzz-" + std::to_string(getpid()) + "-" + name;
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
+  static std::map<std::string, Scratch> files;
+  Scratch& file = files[name];
+  if (file.path.empty())
+    file.path = std::string(tmp != nullptr ? tmp : "/tmp") + "/specht-fuzz-" + std::to_string(getpid()) + "-" + name;
+  std::ofstream(file.path, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  return path;
+  return file.path;
 }
 
 inline std::string Text(const uint8_t* data, size_t size) {

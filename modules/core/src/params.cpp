@@ -1,6 +1,7 @@
 #include "specht/core/params.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -340,24 +341,39 @@ void Describer::Choice(const char* key, std::string& field, const std::vector<st
 
 // Row by row over a, keeping only the previous row of the table
 //   D(i, j) = min(D(i-1, j) + 1, D(i, j-1) + 1, D(i-1, j-1) + [a_i ≠ b_j]).
-// A row's minimum never decreases down the table, so once it passes `cap` the
-// distance does too; |len a − len b| bounds it from below before any row.
+// D(i, j) ≥ |i − j|, so with a cap only the band |i − j| ≤ cap is computed (cells
+// outside it count as cap + 1). A row's minimum never decreases down the table, so
+// once it passes `cap` the distance does too. Before any row, two bounds from below:
+// |len a − len b|, and half the L1 distance between the strings' letter counts (an
+// edit moves at most one letter in and one out).
 size_t EditDistance(const std::string& a, const std::string& b, size_t cap) {
-  const size_t length_gap = a.size() > b.size() ? a.size() - b.size() : b.size() - a.size();
-  if (length_gap > cap) return cap + 1;
-  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  cap = std::min(cap, std::max(a.size(), b.size()));  // no distance is larger
+  const size_t n = b.size(), over = cap + 1;
+  if ((a.size() > n ? a.size() - n : n - a.size()) > cap) return over;
+  if (cap < std::max(a.size(), n)) {
+    std::array<int, 256> count{};
+    for (unsigned char c : a) ++count[c];
+    for (unsigned char c : b) --count[c];
+    size_t l1 = 0;
+    for (int c : count) l1 += static_cast<size_t>(std::abs(c));
+    if ((l1 + 1) / 2 > cap) return over;
+  }
+  std::vector<size_t> prev(n + 2, over), cur(n + 2, over);
+  for (size_t j = 0; j <= std::min(n, cap); ++j) prev[j] = j;
   for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    size_t row_min = cur[0];
-    for (size_t j = 1; j <= b.size(); ++j) {
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    const size_t lo = i > cap ? i - cap : 1;
+    const size_t hi = cap >= n || i + cap >= n ? n : i + cap;
+    cur[lo - 1] = lo == 1 ? std::min(i, over) : over;
+    size_t row_min = cur[lo - 1];
+    for (size_t j = lo; j <= hi; ++j) {
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1), over});
       row_min = std::min(row_min, cur[j]);
     }
-    if (row_min > cap) return cap + 1;
+    cur[hi + 1] = over;  // the next row's band reaches one cell further
+    if (row_min > cap) return over;
     std::swap(prev, cur);
   }
-  return std::min(prev[b.size()], cap + 1);
+  return std::min(prev[n], over);
 }
 
 std::string NearestKey(const std::string& key, const std::vector<std::string>& candidates, size_t max_distance) {
@@ -371,7 +387,7 @@ std::string NearestKey(const std::string& key, const std::vector<std::string>& c
 }
 
 std::string NearestKey(const std::string& key, const std::vector<std::string>& candidates) {
-  return NearestKey(key, candidates, std::max<size_t>(3, key.size() / 3));
+  return NearestKey(key, candidates, std::clamp<size_t>(key.size() / 3, 3, 10));
 }
 
 namespace {
@@ -401,7 +417,14 @@ Params Registry::Load(ParamTree& tree) const {
   tree.ResetUsed();
   for (const Entry& e : entries_) params.values_[e.section] = e.load(tree, errors);
   const std::vector<ParamInfo> known = params.Describe();
-  for (const auto& [key, leaf] : tree.Unused()) errors.push_back(UnknownKeyMessage(key, *leaf, known));
+  // As a compiler stops at an error limit: past twenty, more lines (and the search
+  // for a near key behind each) help nobody; the count says how many were left out.
+  constexpr size_t kReportedUnknownKeys = 20;
+  const auto unused = tree.Unused();
+  for (size_t i = 0; i < std::min(unused.size(), kReportedUnknownKeys); ++i)
+    errors.push_back(UnknownKeyMessage(unused[i].first, *unused[i].second, known));
+  if (unused.size() > kReportedUnknownKeys)
+    errors.push_back("... and " + std::to_string(unused.size() - kReportedUnknownKeys) + " more unknown keys");
   if (!errors.empty()) {
     std::string all;
     for (const auto& e : errors) all += (all.empty() ? "" : "\n") + e;
