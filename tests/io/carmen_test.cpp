@@ -159,6 +159,9 @@ TEST(CarmenTest, MalformedLinesAreNamedByLine) {
   // fr-clinic's ROBOTLASER1, cut short after its remissions: the fields it lacks.
   EXPECT_THAT(ReadAll(Log("ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 0 1.3 0 0 1 0\n")).error,
               HasSubstr("test.log:3: ROBOTLASER1 with 5 beams needs at least 27 fields, got 20"));
+  // Found by fuzz_trajectory: a remission count no integer holds overflowed its conversion.
+  EXPECT_THAT(ReadAll(Log("ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 3.2e45 1.3 0 0 1 0\n")).error,
+              HasSubstr("test.log:3: 'num_remissions' must be a count no larger than the line"));
 }
 
 TEST(CarmenTest, SkipModeGoesOnAndListsWhatItSkipped) {

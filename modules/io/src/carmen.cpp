@@ -125,7 +125,8 @@ LaserMessage ParseRobotLaser(const Fields& f) {
   m.ranges = Ranges(f, 9, n);
   const size_t rem = 9 + n;
   const double remissions = f.Number(rem, "num_remissions");
-  if (remissions < 0 || remissions != std::floor(remissions)) throw Fields::Bad("'num_remissions' must be a count");
+  if (remissions < 0 || remissions != std::floor(remissions) || remissions > static_cast<double>(f.size()))
+    throw Fields::Bad("'num_remissions' must be a count no larger than the line");
   const size_t p = rem + 1 + static_cast<size_t>(remissions);
   if (f.size() < p + 12) {
     throw Fields::Bad("ROBOTLASER1 with " + std::to_string(n) + " beams needs at least " + std::to_string(p + 12) +
