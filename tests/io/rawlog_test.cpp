@@ -42,6 +42,20 @@ ReadResult ReadAll(const std::string& path) {
   return r;
 }
 
+// A gzip rawlog of the given objects, in order, as MRPT writes them.
+template <class... Objects>
+void WriteRawlog(const std::string& path, const Objects&... objects) {
+  mrpt::io::CFileGZOutputStream out(path);
+  auto archive = mrpt::serialization::archiveFrom(out);
+  (archive << ... << objects);
+}
+
+mrpt::obs::CObservationOdometry::Ptr OdometryAt(double seconds) {
+  auto odometry = mrpt::obs::CObservationOdometry::Create();
+  odometry->timestamp = mrpt::Clock::fromDouble(seconds);
+  return odometry;
+}
+
 TEST(RawlogTest, ReadsTheBuiltInActionSensoryFrameRawlog) {
   const std::string rawlog = testing::BuiltInRawlog();
   SPECHT_REQUIRE_FILE(rawlog);
@@ -119,16 +133,9 @@ TEST(RawlogTest, GarbageIsNotARawlog) {
 // record of today's format still reads.
 TEST(RawlogTest, LegacyGpsRecordIsRefusedBeforeMrptReadsIt) {
   const std::string path = testing::TempDir() + "/gps.rawlog";
-  {
-    mrpt::io::CFileGZOutputStream out(path);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    auto odometry = mrpt::obs::CObservationOdometry::Create();
-    odometry->timestamp = mrpt::Clock::fromDouble(100.0);
-    archive << *odometry;
-    auto gps = mrpt::obs::CObservationGPS::Create();
-    gps->timestamp = mrpt::Clock::fromDouble(100.5);
-    archive << *gps;
-  }
+  auto gps = mrpt::obs::CObservationGPS::Create();
+  gps->timestamp = mrpt::Clock::fromDouble(100.5);
+  WriteRawlog(path, *OdometryAt(100.0), *gps);
   ReadResult r = ReadAll(path);
   EXPECT_EQ(r.error, "");
   EXPECT_EQ(r.stamps.size(), 2u);
@@ -150,14 +157,10 @@ TEST(RawlogTest, LegacyGpsRecordIsRefusedBeforeMrptReadsIt) {
 // fuzz_rawlog: a stamp beyond the years a Stamp holds overflowed its conversion.
 TEST(RawlogTest, StampOutOfRangeIsNamed) {
   const std::string path = testing::TempDir() + "/far.rawlog";
-  {
-    mrpt::io::CFileGZOutputStream out(path);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    auto odometry = mrpt::obs::CObservationOdometry::Create();
-    odometry->sensorLabel = "ODO";
-    odometry->timestamp = mrpt::Clock::time_point(mrpt::Clock::duration(-6315051035256397823LL));
-    archive << *odometry;
-  }
+  auto odometry = OdometryAt(0.0);
+  odometry->sensorLabel = "ODO";
+  odometry->timestamp = mrpt::Clock::time_point(mrpt::Clock::duration(-6315051035256397823LL));
+  WriteRawlog(path, *odometry);
   const ReadResult r = ReadAll(path);
   EXPECT_THAT(r.error,
               ::testing::HasSubstr("far.rawlog: record 0 (byte 0): observation 'ODO' has a time stamp out of range"));
@@ -168,17 +171,13 @@ TEST(RawlogTest, StampOutOfRangeIsNamed) {
 // null pointer inside CActionRobotMovement2D::serializeFrom.
 TEST(RawlogTest, MovementActionWithoutAPosePdfIsRefusedBeforeMrptReadsIt) {
   const std::string path = testing::TempDir() + "/movement.rawlog";
-  {
-    mrpt::io::CFileGZOutputStream out(path);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    mrpt::obs::CActionRobotMovement2D move;
-    move.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
-    move.poseChange = mrpt::poses::CPosePDFGaussian::Create(mrpt::poses::CPose2D(1.0, 0.5, 0.1));
-    move.timestamp = mrpt::Clock::fromDouble(100.0);
-    mrpt::obs::CActionCollection actions;
-    actions.insert(move);
-    archive << actions;
-  }
+  mrpt::obs::CActionRobotMovement2D move;
+  move.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
+  move.poseChange = mrpt::poses::CPosePDFGaussian::Create(mrpt::poses::CPose2D(1.0, 0.5, 0.1));
+  move.timestamp = mrpt::Clock::fromDouble(100.0);
+  mrpt::obs::CActionCollection actions;
+  actions.insert(move);
+  WriteRawlog(path, actions);
   ReadResult r = ReadAll(path);
   EXPECT_EQ(r.error, "");  // a scan-matching estimate with its PDF is read
   ASSERT_EQ(r.odometry, 1);
@@ -197,26 +196,15 @@ TEST(RawlogTest, MovementActionWithoutAPosePdfIsRefusedBeforeMrptReadsIt) {
 // A sensory frame or action collection holding another class reads as a null entry.
 TEST(RawlogTest, ContainerHoldingTheWrongClassIsNamed) {
   const std::string path = testing::TempDir() + "/frame.rawlog";
-  {
-    mrpt::io::CFileGZOutputStream out(path);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    mrpt::obs::CSensoryFrame frame;
-    auto odometry = mrpt::obs::CObservationOdometry::Create();
-    odometry->timestamp = mrpt::Clock::fromDouble(100.0);
-    frame.insert(odometry);
-    archive << frame;
-  }
+  mrpt::obs::CSensoryFrame frame;
+  frame.insert(OdometryAt(100.0));
+  WriteRawlog(path, frame);
   ASSERT_EQ(ReadAll(path).odometry, 1);
   // An odometry observation's body starts with its pose: a CPose2D written in full.
   const std::string bytes = testing::ReadDecompressed(path);
   const size_t at = bytes.find("CObservationOdometry") - 1;
-  std::string pose;
-  {
-    mrpt::io::CFileGZOutputStream out(path);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    archive << mrpt::poses::CPose2D(1, 2, 3);
-  }
-  pose = testing::ReadDecompressed(path);
+  WriteRawlog(path, mrpt::poses::CPose2D(1, 2, 3));
+  const std::string pose = testing::ReadDecompressed(path);
   testing::WriteFile(path, bytes.substr(0, at) + pose + bytes.back());  // the frame's end marker
   const ReadResult r = ReadAll(path);
   EXPECT_THAT(r.error, ::testing::HasSubstr("sensory frame holds an object that is not an observation"));
@@ -226,14 +214,7 @@ TEST(RawlogTest, ContainerHoldingTheWrongClassIsNamed) {
 // rawlog holds observations and actions, so a map in it is refused unread.
 TEST(RawlogTest, ClassARawlogDoesNotHoldIsRefusedUnread) {
   const std::string path = testing::TempDir() + "/map.rawlog";
-  {
-    mrpt::io::CFileGZOutputStream out(path);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    auto odometry = mrpt::obs::CObservationOdometry::Create();
-    odometry->timestamp = mrpt::Clock::fromDouble(100.0);
-    archive << *odometry;
-    archive << mrpt::maps::COccupancyGridMap2D(-1.0f, 1.0f, -1.0f, 1.0f, 0.5f);
-  }
+  WriteRawlog(path, *OdometryAt(100.0), mrpt::maps::COccupancyGridMap2D(-1.0f, 1.0f, -1.0f, 1.0f, 0.5f));
   const ReadResult r = ReadAll(path);
   EXPECT_EQ(r.odometry, 1);
   EXPECT_EQ(r.error_record, 1);

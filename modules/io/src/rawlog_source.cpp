@@ -5,6 +5,7 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDF.h>
@@ -106,15 +107,16 @@ class GuardStream final : public mrpt::io::CStream {
       Refuse("movement action whose pose PDF is a '" + std::string(name) + "', not a CPosePDF");
     if (cls != nullptr && !IsRawlogClass(*cls))
       Refuse("object of class '" + std::string(name) + "', which a rawlog does not hold");
-    class_ = Unqualified(name);
-    if (class_ == "CObservationGPS" || class_ == "CActionRobotMovement2D") expect_ = Expect::kVersion;
+    class_ = cls;
+    if (class_ == CLASS_ID(mrpt::obs::CObservationGPS) || class_ == CLASS_ID(mrpt::obs::CActionRobotMovement2D))
+      expect_ = Expect::kVersion;
   }
 
   void CheckVersion(uint32_t version) {
-    if (class_ == "CObservationGPS" && version >= 5 && version <= 9)
+    if (class_ == CLASS_ID(mrpt::obs::CObservationGPS) && version >= 5 && version <= 9)
       Refuse("GPS observation in MRPT's pre-1.4 format (version " + std::to_string(version) +
              "), which MRPT 2.5 cannot read safely; convert the rawlog with a newer MRPT");
-    if (class_ == "CActionRobotMovement2D") {
+    if (class_ == CLASS_ID(mrpt::obs::CActionRobotMovement2D)) {
       if (version <= 1)
         pdf_next_ = true;
       else
@@ -144,16 +146,12 @@ class GuardStream final : public mrpt::io::CStream {
     for (size_t i = n; i-- > 0;) value = value << 8 | bytes[i];
     return value;
   }
-  static std::string_view Unqualified(std::string_view name) {
-    const auto colon = name.rfind("::");
-    return colon == std::string_view::npos ? name : name.substr(colon + 2);
-  }
 
   mrpt::io::CFileGZInputStream in_;
   size_t name_length_ = 0;
   Expect expect_ = Expect::kAnything;
   bool pdf_next_ = false;
-  std::string class_;
+  const mrpt::rtti::TRuntimeClassId* class_ = nullptr;  // of the header being read
   std::string refusal_;
 };
 
