@@ -3,6 +3,7 @@
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
 #include <fastcdr/exceptions/Exception.h>
+#include <fastcdr/exceptions/NotEnoughMemoryException.h>
 
 #include <algorithm>
 #include <cctype>
@@ -89,14 +90,24 @@ std::vector<TransformStamped> DecodeTfMessage(const std::vector<uint8_t>& payloa
 
 namespace {
 
+// Serializes into a zeroed buffer of `size_hint` bytes, doubled and tried again when
+// the message does not fit: the alignment padding CDR puts before 8-byte fields is
+// then zero, as every DDS implementation writes it. (Fast CDR's own growing buffer
+// left those bytes uninitialized, so two encodings of one message could differ.)
 template <class Write>
-std::vector<uint8_t> EncodeWith(Write write) {
-  eprosima::fastcdr::FastBuffer buffer;  // grows as needed
-  Cdr cdr(buffer, Cdr::LITTLE_ENDIANNESS, Cdr::DDS_CDR);
-  cdr.serialize_encapsulation();
-  write(cdr);
-  const auto* bytes = reinterpret_cast<const uint8_t*>(buffer.getBuffer());
-  return {bytes, bytes + cdr.getSerializedDataLength()};
+std::vector<uint8_t> EncodeWith(size_t size_hint, Write write) {
+  for (size_t size = std::max<size_t>(size_hint, 256);; size *= 2) {
+    std::vector<char> bytes(size, 0);
+    eprosima::fastcdr::FastBuffer buffer(bytes.data(), bytes.size());
+    Cdr cdr(buffer, Cdr::LITTLE_ENDIANNESS, Cdr::DDS_CDR);
+    try {
+      cdr.serialize_encapsulation();
+      write(cdr);
+    } catch (const eprosima::fastcdr::exception::NotEnoughMemoryException&) {
+      continue;
+    }
+    return {bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(cdr.getSerializedDataLength())};
+  }
 }
 
 void Write(Cdr& cdr, const Header& h) {
@@ -158,7 +169,7 @@ void Dependencies(const std::string& type, std::vector<std::string>& out) {
 }  // namespace
 
 std::vector<uint8_t> Encode(const LaserScan& m) {
-  return EncodeWith([&](Cdr& cdr) {
+  return EncodeWith(256 + 4 * (m.ranges.size() + m.intensities.size()), [&](Cdr& cdr) {
     Write(cdr, m.header);
     cdr << m.angle_min << m.angle_max << m.angle_increment << m.time_increment << m.scan_time << m.range_min
         << m.range_max << m.ranges << m.intensities;
@@ -166,7 +177,7 @@ std::vector<uint8_t> Encode(const LaserScan& m) {
 }
 
 std::vector<uint8_t> Encode(const Odometry& m) {
-  return EncodeWith([&](Cdr& cdr) {
+  return EncodeWith(1024, [&](Cdr& cdr) {
     Write(cdr, m.header);
     cdr << m.child_frame_id;
     WritePose(cdr, m.pose);
@@ -175,7 +186,7 @@ std::vector<uint8_t> Encode(const Odometry& m) {
 }
 
 std::vector<uint8_t> Encode(const std::vector<TransformStamped>& tf) {
-  return EncodeWith([&](Cdr& cdr) {
+  return EncodeWith(128 * (tf.size() + 1), [&](Cdr& cdr) {
     cdr << static_cast<uint32_t>(tf.size());
     for (const auto& t : tf) {
       Write(cdr, t.header);
@@ -186,7 +197,7 @@ std::vector<uint8_t> Encode(const std::vector<TransformStamped>& tf) {
 }
 
 std::vector<uint8_t> Encode(const OccupancyGrid& m) {
-  return EncodeWith([&](Cdr& cdr) {
+  return EncodeWith(256 + m.data.size(), [&](Cdr& cdr) {
     Write(cdr, m.header);
     cdr << static_cast<int32_t>(m.map_load_time.ns / 1000000000)
         << static_cast<uint32_t>(m.map_load_time.ns % 1000000000);
@@ -197,7 +208,7 @@ std::vector<uint8_t> Encode(const OccupancyGrid& m) {
 }
 
 std::vector<uint8_t> Encode(const Path& m) {
-  return EncodeWith([&](Cdr& cdr) {
+  return EncodeWith(256 + 96 * m.poses.size(), [&](Cdr& cdr) {
     Write(cdr, m.header);
     cdr << static_cast<uint32_t>(m.poses.size());
     for (const auto& [h, p] : m.poses) {
@@ -208,7 +219,7 @@ std::vector<uint8_t> Encode(const Path& m) {
 }
 
 std::vector<uint8_t> Encode(const PoseArray& m) {
-  return EncodeWith([&](Cdr& cdr) {
+  return EncodeWith(256 + 64 * m.poses.size(), [&](Cdr& cdr) {
     Write(cdr, m.header);
     cdr << static_cast<uint32_t>(m.poses.size());
     for (const auto& p : m.poses) WritePose(cdr, p);
