@@ -24,6 +24,7 @@ PACKAGES=(
   libbz2-dev         # reading the Freiburg benchmark's .clf.bz2 logs
   libsqlite3-dev     # ROS 2 bags (rosbag2's sqlite3 storage, .db3)
   libfastcdr-dev     # eProsima Fast CDR: the CDR payloads of ROS 2 messages
+  cyclonedds-dev cyclonedds-tools  # Eclipse Cyclone DDS and its idlc: the DDS transport (modules/net)
   libzstd-dev liblz4-dev  # MCAP chunk compression (zstd written; zstd and lz4 read)
   librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev  # ROS 1 bags and their messages
   libshp-dev         # coastline shapefile (AIS distance to coast)
