@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   specht::app::AddPlanCommand(app, exit_code);
   specht::app::AddRunCommand(app, exit_code);
   specht::app::AddAisCommand(app, exit_code);
+  specht::app::AddNodeCommand(app, exit_code);
   specht::app::AddCommandsCommand(app, exit_code);
   try {
     app.parse(argc, argv);

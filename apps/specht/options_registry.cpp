@@ -8,7 +8,9 @@
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
 #include "specht/io/replay.h"
+#include "specht/net/dds.h"
 #include "specht/pipeline/closed_loop.h"
+#include "specht/pipeline/nodes.h"
 #include "specht/pipeline/perception.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/kinodynamic.h"
@@ -67,6 +69,8 @@ const params::Registry& AllOptions() {
     r.Add<plan::SmootherOptions>("smoother", "path smoothing on Ceres (elastic band)");
     r.Add<plan::TrackerOptions>("tracker", "path tracking: pure pursuit and speed profile");
     r.Add<pipeline::ClosedLoopOptions>("closed_loop", "mission state machine: margins, waiting, tolerances");
+    r.Add<net::Options>("dds", "DDS transport (Cyclone DDS): domain, the interface it binds, discovery peers");
+    r.Add<pipeline::NodeOptions>("node", "the stack's stages as DDS nodes: topics, merging, when input ends");
     return r;
   }();
   return registry;
@@ -87,6 +91,7 @@ const std::vector<DefaultsFile>& DefaultsFiles() {
       {"plan.yaml",
        {"car", "hybrid_astar", "hybrid_astar_fine", "kinodynamic", "local_planner", "smoother", "tracker"}},
       {"decide.yaml", {"closed_loop"}},
+      {"net.yaml", {"dds", "node"}},
   };
   return files;
 }

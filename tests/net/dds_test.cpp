@@ -319,18 +319,18 @@ TEST(DdsOptionsTest, InvalidFieldsAreNamed) {
   };
   net::Options o;
   o.domain = 233;
-  expect(o, "net.domain");
+  expect(o, "dds.domain");
   o = {};
   o.interface_address = "lo";
-  expect(o, "net.interface_address");
+  expect(o, "dds.interface_address");
   o = {};
   o.peers = {};
-  expect(o, "net.peers");
+  expect(o, "dds.peers");
   o.peers = {"localhost; rm"};
-  expect(o, "net.peers");
+  expect(o, "dds.peers");
   o = {};
   o.max_participants = 0;
-  expect(o, "net.max_participants");
+  expect(o, "dds.max_participants");
 }
 
 // What Cyclone really runs with, from its own configuration trace: bound to

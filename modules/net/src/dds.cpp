@@ -85,12 +85,15 @@ bool PollUntil(Done done, std::chrono::milliseconds timeout) {
 
 dds_qos_t* MakeQos(Qos qos) {
   dds_qos_t* q = dds_create_qos();
-  const bool reliable = qos == Qos::kDefault || qos == Qos::kLatched;
+  const bool reliable = qos != Qos::kSensorData && qos != Qos::kClock;
   // A reliable writer blocks at most this long on a full history before Write fails.
   dds_qset_reliability(q, reliable ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT, DDS_SECS(1));
   dds_qset_durability(q, qos == Qos::kLatched ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
   const int depth = qos == Qos::kDefault ? 10 : qos == Qos::kSensorData ? 5 : 1;
-  dds_qset_history(q, DDS_HISTORY_KEEP_LAST, depth);
+  if (qos == Qos::kKeepAll)
+    dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 0);
+  else
+    dds_qset_history(q, DDS_HISTORY_KEEP_LAST, depth);
   const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
   dds_qset_data_representation(q, 1, &xcdr1);
   return q;
@@ -112,15 +115,21 @@ dds_entity_t Topic(dds_entity_t participant, const std::string& ros_topic, const
 
 }  // namespace
 
-void Options::Validate() const {
-  if (domain < 0 || domain > 232) throw InputError("net.domain: " + std::to_string(domain) + " is not in 0..232");
+std::vector<std::string> Options::Relations() const {
+  std::vector<std::string> broken;
   if (!IsIpv4(interface_address))
-    throw InputError("net.interface_address: '" + interface_address + "' is not an IPv4 address");
-  if (peers.empty()) throw InputError("net.peers: empty (multicast is off, so discovery needs at least one peer)");
+    broken.push_back("interface_address '" + interface_address + "' is not an IPv4 address");
+  if (peers.empty()) broken.push_back("peers is empty (multicast is off, so discovery needs at least one peer)");
   for (const auto& p : peers)
-    if (!IsIpv4(p)) throw InputError("net.peers: '" + p + "' is not an IPv4 address");
+    if (!IsIpv4(p)) broken.push_back("peers: '" + p + "' is not an IPv4 address");
+  return broken;
+}
+
+void Options::Validate() const {
+  if (domain < 0 || domain > 232) throw InputError("dds.domain: " + std::to_string(domain) + " is not in 0..232");
   if (max_participants < 1 || max_participants > 120)
-    throw InputError("net.max_participants: " + std::to_string(max_participants) + " is not in 1..120");
+    throw InputError("dds.max_participants: " + std::to_string(max_participants) + " is not in 1..120");
+  if (const auto broken = Relations(); !broken.empty()) throw InputError("dds." + broken.front());
 }
 
 std::string CycloneConfig(const Options& options) {
@@ -136,6 +145,10 @@ std::string CycloneConfig(const Options& options) {
     xml += "<Tracing><Verbosity>config</Verbosity><OutputFile>" + XmlEscaped(options.trace_file) +
            "</OutputFile></Tracing>";
   return xml + "</Domain></CycloneDDS>";
+}
+
+Qos QosForTopic(const std::string& ros_topic, Qos stream) {
+  return ros_topic == "/map" || ros_topic == "/tf_static" ? Qos::kLatched : stream;
 }
 
 std::string DdsTopicName(const std::string& ros_topic) {
@@ -245,6 +258,10 @@ bool Writer::WaitForReaders(int n, std::chrono::milliseconds timeout) const {
   return PollUntil([&] { return MatchedReaders() >= n; }, timeout);
 }
 
+bool Writer::WaitForAcks(std::chrono::milliseconds timeout) const {
+  return dds_wait_for_acks(impl_->writer, DDS_MSECS(timeout.count())) == DDS_RETCODE_OK;
+}
+
 struct Reader::Impl {
   dds_entity_t topic = 0, reader = 0, condition = 0, waitset = 0;
 };
@@ -301,6 +318,19 @@ int Reader::MatchedWriters() const {
 
 bool Reader::WaitForWriters(int n, std::chrono::milliseconds timeout) const {
   return PollUntil([&] { return MatchedWriters() >= n; }, timeout);
+}
+
+WaitSet::WaitSet(Participant& participant)
+    : handle_(Check(dds_create_waitset(participant.handle()), "creating a wait set")) {}
+
+WaitSet::~WaitSet() { dds_delete(handle_); }
+
+void WaitSet::Attach(const Reader& reader) {
+  Check(dds_waitset_attach(handle_, reader.impl_->condition, reader.impl_->reader), "attaching a reader");
+}
+
+bool WaitSet::Wait(std::chrono::milliseconds timeout) const {
+  return Check(dds_waitset_wait(handle_, nullptr, 0, DDS_MSECS(timeout.count())), "waiting for data") > 0;
 }
 
 }  // namespace specht::net

@@ -13,7 +13,7 @@
 #include "internal/loop_localization.h"
 #include "internal/loop_perception.h"
 #include "internal/loop_video.h"
-#include "internal/mcap_recorder.h"
+#include "internal/ros_recorder.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/sim/simulator.h"
@@ -662,12 +662,12 @@ class LoopPoseCheck {
   int lost_ = 0, relocalized_ = 0;
 };
 
-// The closed loop as MCAP (internal/mcap_recorder.h): every observation, and at each
+// The closed loop as MCAP (internal/ros_recorder.h): every observation, and at each
 // control step the believed pose for /trajectory and, twice a second, the static
 // layer when it changed, the path the car follows and the tracks' poses.
 class LoopRecording {
  public:
-  LoopRecording(const std::string& path, const slam::GridOptions& grid) : record_(path, 0.0, grid) {}
+  LoopRecording(const std::string& path, const slam::GridOptions& grid) : record_(Sinks(path), 0.0, grid) {}
   void Observation(Stamp t, const mrpt::obs::CObservation::Ptr& o) { record_.Observation(t, o); }
   void ScanPose(Stamp t, const sim::Pose2& believed) { record_.Pose(t, internal::Pose3(believed)); }
   void Step(Stamp t, const sim::Pose2& believed, const world::Snapshot& snapshot, const Perceived& seen,
@@ -688,7 +688,12 @@ class LoopRecording {
   void Finish(const mrpt::maps::COccupancyGridMap2D& grid, Stamp end) { record_.Finish(grid, believed_, end); }
 
  private:
-  internal::McapRecorder record_;
+  static std::vector<std::unique_ptr<internal::MessageSink>> Sinks(const std::string& path) {
+    std::vector<std::unique_ptr<internal::MessageSink>> sinks;
+    sinks.push_back(internal::McapSink(path));
+    return sinks;
+  }
+  internal::RosRecorder record_;
   Trajectory believed_;  // at the control rate, for /trajectory
   double last_s_ = -INFINITY;
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> map_;  // the static layer recorded last

@@ -6,9 +6,10 @@
 #include <optional>
 #include <tuple>
 
+#include "internal/dataset_drive.h"
 #include "internal/map_outputs.h"
-#include "internal/mcap_recorder.h"
 #include "internal/perception_video.h"
+#include "internal/ros_recorder.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/core/log.h"
@@ -31,65 +32,8 @@
 namespace specht::pipeline {
 namespace {
 
-struct DriveResult {
-  std::map<std::string, long> observations;  // by MRPT class name
-  std::optional<Stamp> first, last;
-  double wall_s = 0;
-};
-
-// Feeds every observation inside the replay window to `add` (which returns the scans
-// processed so far and a note for the progress line).
-using Consumer = std::function<std::pair<long, std::string>(Stamp, const mrpt::obs::CObservation::Ptr&)>;
-
-DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, const Consumer& add, io::StageTimer& timer,
-                  io::RunReport& report, bool quiet, int& exit_code) {
-  DriveResult r;
-  ProgressLine progress(report.json().value("command", "run"), "scans", !quiet);
-  const auto wall0 = std::chrono::steady_clock::now();
-  long scans = 0;
-  while (true) {
-    if (InterruptRequested()) {  // stop at this record boundary, keep everything so far
-      spdlog::warn("{}: stopping after {} scans", InterruptName(), scans);
-      report.SetInterrupted(std::to_string(scans) + " scans");
-      exit_code = InterruptExitCode();
-      break;
-    }
-    std::optional<io::Observation> obs;
-    try {
-      auto t = timer.Time("read");
-      obs = source.Next();
-    } catch (const io::DatasetError& e) {
-      // Stop here and keep everything computed so far.
-      spdlog::error("{}", e.what());
-      report.SetIncomplete(e.what());
-      exit_code = 2;
-      break;
-    }
-    if (!obs) break;
-    const auto verdict = clock.Classify(obs->stamp);
-    if (verdict == io::ReplayClock::Verdict::kBefore) continue;
-    if (verdict == io::ReplayClock::Verdict::kAfter) break;
-    clock.WaitFor(obs->stamp);
-    ++r.observations[obs->data->GetRuntimeClass()->className];
-    std::string note;
-    try {
-      std::tie(scans, note) = add(obs->stamp, obs->data);
-    } catch (const InputError& e) {
-      // A record the stack cannot use (e.g. a stereo pair without calibration): stop
-      // here as at a corrupt record, keeping everything computed so far.
-      spdlog::error("{}: {}", source.Path(), e.what());
-      report.SetIncomplete(e.what());
-      exit_code = 2;
-      break;
-    }
-    if (!r.first) r.first = obs->stamp;
-    r.last = obs->stamp;
-    progress.Update(static_cast<double>(scans), source.FractionRead(), note);
-  }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  progress.Finish();
-  return r;
-}
+using internal::Drive;
+using internal::DriveResult;
 
 // A run that placed no scan has no result to write: an error naming the reason (the
 // record it broke off at, or what the replay window held), not an empty map. An
@@ -113,6 +57,15 @@ struct Estimate {
 
 }  // namespace
 
+std::unique_ptr<io::DatasetSource> OpenDatasetSource(const std::string& path, const io::ReplayOptions& replay) {
+  const auto on_bad = replay.on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop;
+  const io::BagTopicChoice topics{replay.scan_topic, replay.odometry_topic};
+  return io::IsRos2Bag(path)   ? io::OpenRos2Bag(path, topics, on_bad)
+         : io::IsMcap(path)    ? io::OpenMcap(path, topics, on_bad)
+         : io::IsRos1Bag(path) ? io::OpenRos1Bag(path, topics, on_bad)
+                               : io::OpenDataset(path, on_bad);
+}
+
 struct Replay::State {
   const params::Params& params;
   ReplayInputs in;
@@ -124,7 +77,7 @@ struct Replay::State {
   std::string reference_map;  // map_server YAML, or ""
   MapArtefact saved;
   std::unique_ptr<PerceptionPipeline> perception;
-  std::unique_ptr<internal::McapRecorder> mcap;  // --mcap
+  std::unique_ptr<internal::RosRecorder> mcap;  // --mcap, and a node's published estimates
 
   // The parts of one run.
   Estimate Localize(io::ReplayClock& clock, PerceptionPipeline& perception, io::StageTimer& timer,
@@ -138,18 +91,19 @@ Replay::Replay(const params::Params& params, ReplayInputs in, std::string comman
     : state_(std::make_unique<State>(
           State{params, std::move(in), std::move(command), nullptr, "", {}, {}, "", {}, nullptr, nullptr})) {
   State& s = *state_;
-  if (s.in.dataset.empty()) s.in.dataset = io::DefaultRawlog();
-  const auto& replay = params.Get<io::ReplayOptions>("replay");
-  const auto on_bad = replay.on_bad_record == "skip" ? io::OnBadRecord::kSkip : io::OnBadRecord::kStop;
-  const io::BagTopicChoice topics{replay.scan_topic, replay.odometry_topic};
-  s.source = io::IsRos2Bag(s.in.dataset)   ? io::OpenRos2Bag(s.in.dataset, topics, on_bad)
-             : io::IsMcap(s.in.dataset)    ? io::OpenMcap(s.in.dataset, topics, on_bad)
-             : io::IsRos1Bag(s.in.dataset) ? io::OpenRos1Bag(s.in.dataset, topics, on_bad)
-                                           : io::OpenDataset(s.in.dataset, on_bad);
-  s.reference_path =
-      s.in.ground_truth.empty() ? io::DefaultReferencePath(s.in.dataset, s.source->Format()) : s.in.ground_truth;
+  if (s.in.node) {
+    s.source = net::SubscribeTopics(s.in.node->participant, s.in.node->topics);
+    s.in.dataset = s.source->Path();
+  } else {
+    if (s.in.dataset.empty()) s.in.dataset = io::DefaultRawlog();
+    s.source = OpenDatasetSource(s.in.dataset, params.Get<io::ReplayOptions>("replay"));
+  }
+  const bool file = !s.in.node;
+  s.reference_path = s.in.ground_truth.empty() && file ? io::DefaultReferencePath(s.in.dataset, s.source->Format())
+                                                       : s.in.ground_truth;
   if (!s.reference_path.empty()) s.reference = io::ReadReference(s.reference_path);
-  const std::string relations = s.in.relations.empty() ? io::DefaultRelationsPath(s.in.dataset) : s.in.relations;
+  const std::string relations =
+      s.in.relations.empty() && file ? io::DefaultRelationsPath(s.in.dataset) : s.in.relations;
   if (!relations.empty()) s.relations = io::ReadRelations(relations);
   s.reference_map = s.in.reference_map;
   if (s.reference_map.empty() && io::IsRos2Bag(s.in.dataset) && std::filesystem::is_directory(s.in.dataset) &&
@@ -352,12 +306,22 @@ int Replay::Run(const std::string& out, bool quiet) {
   int exit_code = 0;
   PerceptionPipeline& perception = *s.perception;
   perception.WriteVideosTo(out);
+  std::vector<std::unique_ptr<internal::MessageSink>> sinks;
   if (!s.in.mcap.empty())
-    s.mcap = std::make_unique<internal::McapRecorder>(
-        std::filesystem::path(s.in.mcap).is_absolute() || s.in.mcap.find('/') != std::string::npos
-            ? s.in.mcap
-            : out + "/" + s.in.mcap,
-        s.params.Get<io::ReplayOptions>("replay").mcap_map_every_s, s.params.Get<slam::GridOptions>("grid"));
+    sinks.push_back(
+        internal::McapSink(std::filesystem::path(s.in.mcap).is_absolute() || s.in.mcap.find('/') != std::string::npos
+                               ? s.in.mcap
+                               : out + "/" + s.in.mcap));
+  std::shared_ptr<net::TopicPublisher> published;
+  if (s.in.node) {
+    published = std::make_shared<net::TopicPublisher>(s.in.node->participant, net::Qos::kDefault);
+    sinks.push_back(internal::DdsSink(published, internal::Origin::kEstimate));
+  }
+  if (!sinks.empty())
+    s.mcap = std::make_unique<internal::RosRecorder>(
+        std::move(sinks),
+        s.in.node ? s.in.node->map_every_s : s.params.Get<io::ReplayOptions>("replay").mcap_map_every_s,
+        s.params.Get<slam::GridOptions>("grid"));
   DriveResult run;
   const Estimate e = s.in.map_dir.empty() ? s.Map(clock, perception, timer, report, frames, run, out, quiet, exit_code)
                                           : s.Localize(clock, perception, timer, report, frames, run, quiet, exit_code);
@@ -406,8 +370,12 @@ int Replay::Run(const std::string& out, bool quiet) {
   if (s.mcap) {
     auto t = timer.Time("mcap");
     s.mcap->Finish(e.grid, e.trajectory, run.last ? *run.last : Stamp{});
-    report.AddOutput(s.in.mcap);
-    j["mcap"] = {{"file", s.in.mcap}, {"messages", s.mcap->Counts()}};
+    if (!s.in.mcap.empty()) {
+      report.AddOutput(s.in.mcap);
+      j["mcap"] = {{"file", s.in.mcap}, {"messages", s.mcap->Counts()}};
+    }
+    if (published)
+      j["published"] = {{"domain", s.in.node->participant->options().domain}, {"messages", published->Counts()}};
   }
   j["timing"]["stages"] = timer.ToJson();
   j["timing"]["wall_s"] = run.wall_s;

@@ -21,18 +21,37 @@
 #include <string>
 #include <vector>
 
+#include "specht/core/params.h"
 #include "specht/core/time.h"
 
 namespace specht::net {
 
+// Section "dds".
 struct Options {
-  int domain = 0;                                  // DDS domain id, as ROS_DOMAIN_ID: 0..232
-  std::string interface_address = "127.0.0.1";     // the one interface DDS binds to
-  std::vector<std::string> peers = {"127.0.0.1"};  // unicast discovery targets (multicast is off)
-  int max_participants = 20;  // participant indices probed per peer (processes on one host), 1..120
-  std::string trace_file;     // when set, Cyclone writes its effective configuration there
+  int domain = 0;
+  std::string interface_address = "127.0.0.1";
+  std::vector<std::string> peers = {"127.0.0.1"};
+  int max_participants = 20;
+  std::string trace_file;
 
-  // Throws InputError naming the field and the reason.
+  template <class V>
+  void Visit(V& v) {
+    using params::Range;
+    v.Param("domain", domain, "DDS domain id, as ROS_DOMAIN_ID: nodes see each other only within one",
+            Range::Of(0, 232));
+    v.Param("interface_address", interface_address,
+            "the one network interface DDS binds to (IPv4); 127.0.0.1 keeps everything on this machine");
+    v.Param("peers", peers,
+            "the hosts discovery asks (IPv4; multicast is off): this machine, and the other computers of a "
+            "multi-computer setup");
+    v.Param("max_participants", max_participants,
+            "participant indices discovery probes on each peer (how many specht or ROS 2 processes a host runs)",
+            Range::Of(1, 120));
+    v.Param("trace_file", trace_file, "when set, Cyclone DDS writes the configuration it runs with there");
+  }
+  // The relations a range cannot state: the addresses are IPv4, a peer is listed.
+  std::vector<std::string> Relations() const;
+  // Throws InputError naming the field ("dds.<key>") and the reason.
   void Validate() const;
 };
 
@@ -45,7 +64,13 @@ std::string CycloneConfig(const Options& options);
 //   kLatched    reliable, transient local, keep last 1 (/map, /tf_static: a late
 //               joiner gets the latest sample)
 //   kClock      best effort, volatile, keep last 1 (/clock)
-enum class Qos { kDefault, kSensorData, kLatched, kClock };
+//   kKeepAll    reliable, volatile, keep all: nothing is dropped; a writer waits (at
+//               most 1 s a sample) for a reader that falls behind (replays, whose
+//               result must not depend on the machine's speed)
+enum class Qos { kDefault, kSensorData, kLatched, kClock, kKeepAll };
+
+// ROS 2's convention by topic: /map and /tf_static latched, the rest `stream`.
+Qos QosForTopic(const std::string& ros_topic, Qos stream);
 
 std::string DdsTopicName(const std::string& ros_topic);  // "/scan" → "rt/scan"
 std::string DdsTypeName(const std::string& ros_type);    // throws InputError for a type not in the IDL
@@ -88,6 +113,8 @@ class Writer {
   int MatchedReaders() const;
   // Waits until at least `n` readers matched; false when `timeout` passed first.
   bool WaitForReaders(int n, std::chrono::milliseconds timeout) const;
+  // Waits until the readers acknowledged every sample written; false when `timeout` passed first.
+  bool WaitForAcks(std::chrono::milliseconds timeout) const;
 
  private:
   struct Impl;
@@ -114,8 +141,24 @@ class Reader {
   bool WaitForWriters(int n, std::chrono::milliseconds timeout) const;
 
  private:
+  friend class WaitSet;
   struct Impl;
   std::unique_ptr<Impl> impl_;
+};
+
+// Waits on several readers at once.
+class WaitSet {
+ public:
+  explicit WaitSet(Participant& participant);
+  ~WaitSet();
+  WaitSet(const WaitSet&) = delete;
+  WaitSet& operator=(const WaitSet&) = delete;
+  void Attach(const Reader& reader);  // the reader must outlive the wait set
+  // Waits until one of the readers has a sample to take; false when `timeout` passed first.
+  bool Wait(std::chrono::milliseconds timeout) const;
+
+ private:
+  int32_t handle_ = 0;
 };
 
 }  // namespace specht::net

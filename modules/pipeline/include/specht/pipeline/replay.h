@@ -12,12 +12,30 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "specht/core/params.h"
+#include "specht/io/dataset.h"
+#include "specht/io/replay.h"
+#include "specht/net/topics.h"
 
 namespace specht::pipeline {
+
+// `specht node slam`: the replay's input from DDS topics instead of a file, and what
+// it estimates (the map every map_every_s of data, map → odom at every scan placed,
+// the trajectory at the end) published there.
+struct NodeIo {
+  std::shared_ptr<net::Participant> participant;
+  net::TopicSourceOptions topics;
+  double map_every_s = 1.0;
+};
+
+// A dataset file by its kind: a ROS 2 bag (folder or .db3), an MCAP file, a ROS 1
+// bag, else a rawlog or CARMEN log (io/dataset.h); the replay options choose the
+// topics of a bag and what a bad record does.
+std::unique_ptr<io::DatasetSource> OpenDatasetSource(const std::string& path, const io::ReplayOptions& replay);
 
 struct ReplayInputs {
   std::string dataset;                              // "" = the rawlog shipped by Debian's mrpt-common
@@ -30,6 +48,7 @@ struct ReplayInputs {
   std::string data_dir;                             // the detector's models
   std::string mcap;                                 // record the replay into this MCAP file, or ""
   std::vector<std::string> param_files, overrides;  // recorded in the report
+  std::optional<NodeIo> node;                       // read and publish DDS topics instead of `dataset`
 };
 
 class Replay {

@@ -1,0 +1,91 @@
+// `specht node play [dataset]`: a dataset published as ROS 2 topics over DDS.
+// `specht node slam`: graph SLAM on ROS 2 topics, publishing the map, TF and the
+// trajectory (pipeline/nodes.h says what each node reads and publishes).
+#include <cstdio>
+
+#include "commands.h"
+#include "mapping_run.h"
+#include "specht/pipeline/nodes.h"
+#include "specht/pipeline/replay.h"
+
+namespace specht::app {
+namespace {
+
+struct NodeArgs {
+  CommonArgs common;
+  std::string dataset;
+  std::optional<int> domain;
+  std::optional<double> rate, idle_end_s;
+  std::string map_dir, mcap = "run.mcap";
+  bool no_mcap = false;
+};
+
+void AddNodeOptions(CLI::App& cmd, NodeArgs& args, const std::string& default_out) {
+  AddCommonOptions(cmd, args.common, default_out);
+  cmd.add_option("--domain", args.domain, "DDS domain id (same as --set dds.domain=N): runs apart never meet");
+}
+
+params::Params NodeParams(NodeArgs& a) {
+  auto& o = a.common.overrides;
+  if (a.domain) o.push_back("dds.domain=" + std::to_string(*a.domain));
+  if (a.rate) o.push_back("replay.rate=" + std::to_string(*a.rate));
+  if (a.idle_end_s) o.push_back("node.idle_end_s=" + std::to_string(*a.idle_end_s));
+  return LoadParams(a.common);
+}
+
+int RunPlay(NodeArgs a) {
+  const params::Params params = NodeParams(a);
+  PrepareOutputDir(a.common, params);
+  return pipeline::PlayDataset(params, {a.dataset, a.common.param_files, a.common.overrides}, a.common.out_dir,
+                               a.common.quiet);
+}
+
+int RunSlamNode(NodeArgs a) {
+  const params::Params params = NodeParams(a);
+  const auto& node = params.Get<pipeline::NodeOptions>("node");
+  pipeline::ReplayInputs in;
+  in.map_dir = a.map_dir;
+  in.mcap = a.no_mcap ? "" : a.mcap;
+  in.param_files = a.common.param_files;
+  in.overrides = a.common.overrides;
+  in.data_dir = DataDir(a.common);
+  in.node = pipeline::NodeIo{pipeline::NodeParticipant(params),
+                             {node.scan_topic, node.odometry_topic, node.settle_s, node.idle_end_s,
+                              params.Get<io::ReplayOptions>("replay").on_bad_record == "skip" ? io::OnBadRecord::kSkip
+                                                                                              : io::OnBadRecord::kStop},
+                             node.map_every_s};
+  pipeline::Replay replay(params, std::move(in), "node slam");
+  PrepareOutputDir(a.common, params);
+  return replay.Run(a.common.out_dir, a.common.quiet);
+}
+
+}  // namespace
+
+void AddNodeCommand(CLI::App& app, int& exit_code) {
+  CLI::App* node = app.add_subcommand("node", "a stage of the stack as a DDS node that speaks ROS 2");
+  node->require_subcommand(1);
+
+  auto play = std::make_shared<NodeArgs>();
+  CLI::App* p = node->add_subcommand("play", "publish a dataset's scans, odometry and TF as ROS 2 topics");
+  p->add_option("dataset", play->dataset,
+                "MRPT rawlog, CARMEN log, ROS 2 or ROS 1 bag, or MCAP file (default: the rawlog shipped by "
+                "Debian's mrpt-common)");
+  p->add_option("--rate", play->rate, "pace at R x real time (same as --set replay.rate=R; 0 = as fast as possible)");
+  AddNodeOptions(*p, *play, "specht-out/node-play");
+  p->callback([play, &exit_code] { exit_code = RunPlay(*play); });
+
+  auto slam = std::make_shared<NodeArgs>();
+  CLI::App* s = node->add_subcommand(
+      "slam", "graph SLAM on ROS 2 topics (/scan, /odom, /tf_static), publishing /map, /tf and /trajectory");
+  s->add_option("--idle-end", slam->idle_end_s,
+                "end after S seconds without a message, once one came (same as --set node.idle_end_s=S; default: "
+                "run until Ctrl-C)");
+  s->add_option("--map", slam->map_dir, "localize on the map artefact in this directory instead of mapping");
+  s->add_option("--mcap", slam->mcap, "also record the run as MCAP (a bare file name goes into the output folder)")
+      ->capture_default_str();
+  s->add_flag("--no-mcap", slam->no_mcap, "write no MCAP");
+  AddNodeOptions(*s, *slam, "specht-out/node-slam");
+  s->callback([slam, &exit_code] { exit_code = RunSlamNode(*slam); });
+}
+
+}  // namespace specht::app

@@ -1,0 +1,77 @@
+// The stack's stages as DDS nodes (pipeline/nodes.h), each its own process on this
+// machine's loopback: a dataset played as ROS 2 topics and mapped by the SLAM node
+// gives what `specht slam` gives on the file — the same trajectory, map and graph,
+// byte for byte — and the node publishes its map and TF as it goes. Each test has its
+// own DDS domain (from the process id).
+#include <signal.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "specht/io/trajectory_io.h"
+#include "test_support.h"
+
+namespace specht {
+namespace {
+
+nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
+
+std::string Domain() { return std::to_string(1 + getpid() % 200); }
+
+TEST(NodeCliTest, SlamNodeOnAPlayedLogWritesWhatSlamWritesOnTheFile) {
+  SPECHT_REQUIRE_FILE(testing::BuiltInRawlog());
+  const std::string dir = testing::TempDir("node_slam");
+  const std::string domain = " --domain " + Domain();
+  testing::BackgroundSpecht slam("node slam --idle-end 2 -q -o '" + dir + "/node'" + domain);
+  const auto play = testing::RunSpecht("node play --rate 0 -q -o '" + dir + "/play'" + domain);
+  ASSERT_EQ(play.exit_code, 0) << play.err;
+  const auto mapped = slam.Wait();
+  ASSERT_EQ(mapped.exit_code, 0) << mapped.err;
+  ASSERT_EQ(testing::RunSpecht("slam -q --no-mcap -o '" + dir + "/file'").exit_code, 0);
+
+  for (const char* f : {"trajectory.tum", "map.pgm", "graph.g2o"})
+    EXPECT_EQ(testing::ReadFile(dir + "/node/" + f), testing::ReadFile(dir + "/file/" + f)) << f;
+  const auto played = Report(dir + "/play")["counts"]["published"];
+  const auto node = Report(dir + "/node");
+  EXPECT_EQ(node["inputs"]["format"], "ROS 2 topics (DDS)");
+  EXPECT_EQ(node["counts"]["scans"], played["/scan"]);
+  EXPECT_EQ(node["counts"]["odometry"], played["/odom"]);
+  EXPECT_EQ(node["counts"]["scans"], Report(dir + "/file")["counts"]["scans"]);
+  // What it published: map → odom at every scan, the map every second of data and at
+  // the end (59 s of data), the trajectory once.
+  const auto published = node["published"]["messages"];
+  EXPECT_EQ(published["/tf"], node["counts"]["scans"]);
+  EXPECT_GE(published["/map"].get<int>(), 50);
+  EXPECT_EQ(published["/trajectory"], 1);
+}
+
+// A SLAM node runs until stopped: SIGINT writes everything it mapped (the trajectory
+// of every scan placed) and exits 130.
+TEST(NodeCliTest, SlamNodeStoppedBySigintKeepsWhatItMapped) {
+  SPECHT_REQUIRE_FILE(testing::BuiltInRawlog());
+  const std::string dir = testing::TempDir("node_sigint");
+  const std::string domain = " --domain " + Domain();
+  testing::BackgroundSpecht slam("node slam -q --no-mcap -o '" + dir + "/node'" + domain);
+  ASSERT_EQ(testing::RunSpecht("node play --rate 0 -q -o '" + dir + "/play'" + domain).exit_code, 0);
+  slam.Signal(SIGINT);
+  const auto r = slam.Wait();
+  ASSERT_EQ(r.exit_code, 130) << r.err;
+  const auto report = Report(dir + "/node");
+  EXPECT_EQ(report["status"], "interrupted");
+  const long scans = report["counts"]["scans"].get<long>();
+  EXPECT_GT(scans, 0);
+  EXPECT_EQ(static_cast<long>(io::ReadTum(dir + "/node/trajectory.tum").size()), scans);
+}
+
+// Nothing to publish is an error, not an empty stream.
+TEST(NodeCliTest, PlayingADatasetWithoutScansIsAnError) {
+  const std::string dir = testing::TempDir("node_empty");
+  testing::WriteFile(dir + "/odometry.log", "ODOM 0 0 0 0 0 0 1.0 host 1.0\nODOM 1 0 0 0 0 0 2.0 host 2.0\n");
+  const auto r = testing::RunSpecht("node play --rate 0 -q --set node.wait_for_subscriber_s=0 -o '" + dir +
+                                    "/play' --domain " + Domain() + " '" + dir + "/odometry.log'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("no laser scan to publish"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace specht
