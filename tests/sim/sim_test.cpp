@@ -175,6 +175,28 @@ TEST(SimulatorTest, CommandedEgoTurnsAboutItsRearAxle) {
   }
 }
 
+// The world steps every 10 ms: a rate that divides 100 Hz samples on a fixed step,
+// another keeps its average rate (40 Hz: 3, 2, 3, 2 … steps apart, never 33.3 Hz).
+TEST(SimulatorTest, SensorsKeepTheirRateWhereItDoesNotDivideTheStep) {
+  Scenario s = LoadScenario(ScenarioPath("course-loop"));
+  s.agents.clear();
+  s.lidar.rate_hz = 40, s.odometry.rate_hz = 30, s.imu.rate_hz = 100;
+  Simulator sim(s, 1);
+  std::map<std::string, std::vector<int64_t>> stamps;
+  for (int i = 0; i < 1000; ++i)  // 10 s
+    sim.Step([&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
+      stamps[o->GetRuntimeClass()->className].push_back(t.ns);
+    });
+  const auto& scans = stamps["mrpt::obs::CObservation2DRangeScan"];
+  EXPECT_EQ(scans.size(), 400u);
+  EXPECT_EQ(stamps["mrpt::obs::CObservationOdometry"].size(), 300u);
+  EXPECT_EQ(stamps["mrpt::obs::CObservationIMU"].size(), 1000u);
+  for (size_t i = 1; i < scans.size(); ++i) {
+    const int64_t gap_ms = (scans[i] - scans[i - 1]) / 1000000;
+    EXPECT_TRUE(gap_ms == 20 || gap_ms == 30) << i << ": " << gap_ms << " ms";
+  }
+}
+
 TEST(ScenarioTest, BadFilesNameFileLineKeyAndReason) {
   EXPECT_EQ(ErrorOf("name: x\nduraton_s: 10\n"), "bad.yaml:2: duraton_s: unknown key (did you mean 'duration_s'?)");
   EXPECT_EQ(ErrorOf("world:\n  objects:\n    - {type: wall, polygon: [[0, 0], [4, 4], [4, 0], [0, 4]]}\n"),

@@ -424,7 +424,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
     if (const YAML::Node o = sn["odometry"];
         o && r.Map(o, "sensors.odometry", {"rate_hz", "translation_noise", "rotation_noise", "rotation_per_metre"})) {
       OdometrySpec& x = s.odometry;
-      x.rate_hz = r.Number(o, "sensors.odometry", "rate_hz", x.rate_hz, 0.1, 1000);
+      x.rate_hz = r.Number(o, "sensors.odometry", "rate_hz", x.rate_hz, 0.1, 100);
       x.translation_noise = r.Number(o, "sensors.odometry", "translation_noise", x.translation_noise, 0, 1);
       x.rotation_noise = r.Number(o, "sensors.odometry", "rotation_noise", x.rotation_noise, 0, 1);
       x.rotation_per_metre = r.Number(o, "sensors.odometry", "rotation_per_metre", x.rotation_per_metre, -1, 1);
@@ -432,7 +432,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
     if (const YAML::Node m = sn["imu"];
         m && r.Map(m, "sensors.imu", {"rate_hz", "gyro_noise_rad_s", "gyro_bias_rad_s", "accel_noise_mps2"})) {
       ImuSpec& x = s.imu;
-      x.rate_hz = r.Number(m, "sensors.imu", "rate_hz", x.rate_hz, 1, 2000);
+      x.rate_hz = r.Number(m, "sensors.imu", "rate_hz", x.rate_hz, 1, 100);
       x.gyro_noise_rad_s = r.Number(m, "sensors.imu", "gyro_noise_rad_s", x.gyro_noise_rad_s, 0, 1);
       x.gyro_bias_rad_s = r.Number(m, "sensors.imu", "gyro_bias_rad_s", x.gyro_bias_rad_s, -1, 1);
       x.accel_noise_mps2 = r.Number(m, "sensors.imu", "accel_noise_mps2", x.accel_noise_mps2, 0, 10);

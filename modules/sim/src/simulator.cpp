@@ -15,7 +15,16 @@ std::mt19937_64 Stream(uint64_t seed, uint64_t salt) {
   return std::mt19937_64(seq);
 }
 
-int Every(double rate_hz) { return std::max(1, static_cast<int>(std::lround(1.0 / (rate_hz * Simulator::kStepS)))); }
+// Whether a sensor at `rate_hz` samples at step `step`: when the count of its periods
+// since the start, floor(step · rate · Δt), goes up. A rate that divides the step rate
+// samples every 1/(rate · Δt) steps exactly; another keeps its average rate on the
+// nearest later steps (40 Hz: every 3, 2, 3, 2 … steps of 10 ms).
+bool Due(int64_t step, double rate_hz) {
+  const auto periods = [rate_hz](int64_t k) {
+    return std::floor(static_cast<double>(k) * rate_hz * Simulator::kStepS + 1e-9);
+  };
+  return periods(step) > periods(step - 1);
+}
 
 double Wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
@@ -40,10 +49,6 @@ Simulator::Simulator(const Scenario& scenario, uint64_t seed, const SpriteLibrar
       lidar_rng_(Stream(seed, 2)),
       odometry_rng_(Stream(seed, 3)),
       imu_rng_(Stream(seed, 4)),
-      lidar_every_(Every(scenario.lidar.rate_hz)),
-      odometry_every_(Every(scenario.odometry.rate_hz)),
-      imu_every_(Every(scenario.imu.rate_hz)),
-      stereo_every_(scenario.stereo ? Every(scenario.stereo->rate_hz) : 0),
       ego_at_last_odometry_(scenario.ego.start) {
   if (scenario.stereo) stereo_.emplace(scenario, world_, *scenario.stereo, sprites);
   for (const auto& a : scenario.agents) {
@@ -92,13 +97,13 @@ void Simulator::Step(const Sink& sink, const StereoSink& stereo) {
   }
   const Stamp now = stamp();
   scanned_ = false;
-  if (step_ % imu_every_ == 0) sink(now, Imu());
-  if (step_ % odometry_every_ == 0) sink(now, Odometry());
-  if (step_ % lidar_every_ == 0) {
+  if (Due(step_, scenario_.imu.rate_hz)) sink(now, Imu());
+  if (Due(step_, scenario_.odometry.rate_hz)) sink(now, Odometry());
+  if (Due(step_, scenario_.lidar.rate_hz)) {
     sink(now, Scan());
     scanned_ = true;
   }
-  if (stereo_ && stereo && step_ % stereo_every_ == 0) {
+  if (stereo_ && stereo && Due(step_, scenario_.stereo->rate_hz)) {
     const auto t0 = std::chrono::steady_clock::now();
     const StereoFrame frame = stereo_->Render(ego_.state().pose, AgentBoxes());
     render_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

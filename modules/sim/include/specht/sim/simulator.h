@@ -85,7 +85,6 @@ class Simulator {
   int64_t step_ = 0;
   bool scanned_ = false;
   double render_s_ = 0;
-  int lidar_every_, odometry_every_, imu_every_, stereo_every_;
   std::optional<StereoRenderer> stereo_;
   Pose2 ego_at_last_odometry_;
   Pose2 odometry_;  // chained noisy odometry
