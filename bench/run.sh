@@ -47,4 +47,6 @@ if [[ -d "$data/ros" ]]; then
   run "$build/bench/bag_bench" "$data"
 fi
 run "$build/bench/plan_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
+run "$build/bench/dds_bench"
+SPECHT_BINARY=$build/specht run "$root/bench/node_bench.sh"
 echo "bench: results in $out" >&2

@@ -50,6 +50,7 @@ class TopicSource : public io::DatasetSource {
       if (head && (Releasable(*head) || idle)) {
         auto queued = std::move(head->queue.front());
         head->queue.pop_front();
+        waited_ms_.push_back(std::chrono::duration<double, std::milli>(Clock::now() - queued.arrived).count());
         try {
           if (auto obs = Convert(*head, queued.sample)) return obs;
         } catch (const InputError& e) {  // a message that does not decode: stop or skip (replay.on_bad_record)
@@ -66,6 +67,19 @@ class TopicSource : public io::DatasetSource {
   double FractionRead() const override { return -1; }
   std::vector<std::string> Notes() const override { return convert_.MountNotes(); }
   const std::vector<std::string>& SkippedRecords() const override { return skipped_; }
+  // How long messages waited between their arrival and their use: the merge's wait
+  // for the other topics, and the queue that builds up when the consumer is slower
+  // than the stream.
+  std::map<std::string, double> Figures() const override {
+    if (waited_ms_.empty()) return {};
+    std::vector<double> w = waited_ms_;
+    std::sort(w.begin(), w.end());
+    const auto at = [&](double q) { return w[static_cast<size_t>(q * static_cast<double>(w.size() - 1))]; };
+    return {{"messages", static_cast<double>(w.size())},
+            {"waited_ms_p50", at(0.5)},
+            {"waited_ms_p99", at(0.99)},
+            {"waited_ms_max", w.back()}};
+  }
 
  private:
   void Add(const std::string& topic, const std::string& type, bool periodic) {
@@ -120,6 +134,7 @@ class TopicSource : public io::DatasetSource {
   std::optional<Clock::time_point> last_arrival_;
   int64_t index_ = 0;
   std::vector<std::string> skipped_;
+  std::vector<double> waited_ms_;
 };
 
 }  // namespace

@@ -335,6 +335,7 @@ int Replay::Run(const std::string& out, bool quiet) {
   }
   for (const auto& skipped : s.source->SkippedRecords()) spdlog::warn("skipped {}", skipped);
   j["input_notes"] = s.source->Notes();
+  if (const auto figures = s.source->Figures(); !figures.empty()) j["input_figures"] = figures;
   for (const auto& note : s.source->Notes()) spdlog::info("{}: {}", s.in.dataset, note);
 
   AddCounts(e.front_end, *s.source, run, j["counts"]);

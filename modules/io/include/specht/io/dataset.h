@@ -13,6 +13,7 @@
 #include <mrpt/obs/CObservation.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -57,6 +58,9 @@ class DatasetSource {
   // What the reader decided about the data, for the report (e.g. how stamps that go
   // backwards were handled); empty when there is nothing to say.
   virtual std::vector<std::string> Notes() const { return {}; }
+  // Figures about the reading itself, for the report (a live source: how long its
+  // messages waited before they were used); empty for a file.
+  virtual std::map<std::string, double> Figures() const { return {}; }
 
  private:
   std::vector<std::string> no_skips_;

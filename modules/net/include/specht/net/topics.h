@@ -16,6 +16,8 @@
 // once); /tf_static holds the first scans back until it came (or `settle_s` passed).
 // The stream ends `idle_end_s` after the last message (0: only a signal ends it,
 // core/interrupt.h); Next() returns at the latest every 50 ms to look for a signal.
+// Figures() reports how long messages waited between arrival and use (p50, p99,
+// max): a consumer slower than the stream shows as a growing wait, not as loss.
 // A message that does not decode is a DatasetError naming the topic and its index
 // (or, with OnBadRecord::kSkip, a skipped record), as in a bag.
 #pragma once
