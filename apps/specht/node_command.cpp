@@ -1,6 +1,7 @@
 // `specht node play [dataset]`: a dataset published as ROS 2 topics over DDS.
 // `specht node slam`: graph SLAM on ROS 2 topics, publishing the map, TF and the
-// trajectory (pipeline/nodes.h says what each node reads and publishes).
+// trajectory. `specht node record`: ROS 2 topics into an MCAP file
+// (pipeline/nodes.h says what each node reads and publishes).
 #include <cstdio>
 
 #include "commands.h"
@@ -16,6 +17,7 @@ struct NodeArgs {
   std::string dataset;
   std::optional<int> domain;
   std::optional<double> rate, idle_end_s;
+  std::optional<int> subscribers;
   std::string map_dir, mcap = "run.mcap";
   bool no_mcap = false;
 };
@@ -30,6 +32,7 @@ params::Params NodeParams(NodeArgs& a) {
   if (a.domain) o.push_back("dds.domain=" + std::to_string(*a.domain));
   if (a.rate) o.push_back("replay.rate=" + std::to_string(*a.rate));
   if (a.idle_end_s) o.push_back("node.idle_end_s=" + std::to_string(*a.idle_end_s));
+  if (a.subscribers) o.push_back("node.subscribers=" + std::to_string(*a.subscribers));
   return LoadParams(a.common);
 }
 
@@ -59,6 +62,13 @@ int RunSlamNode(NodeArgs a) {
   return replay.Run(a.common.out_dir, a.common.quiet);
 }
 
+int RunRecord(NodeArgs a) {
+  const params::Params params = NodeParams(a);
+  PrepareOutputDir(a.common, params);
+  return pipeline::RecordTopics(params, {a.mcap, a.common.param_files, a.common.overrides}, a.common.out_dir,
+                                a.common.quiet);
+}
+
 }  // namespace
 
 void AddNodeCommand(CLI::App& app, int& exit_code) {
@@ -71,6 +81,8 @@ void AddNodeCommand(CLI::App& app, int& exit_code) {
                 "MRPT rawlog, CARMEN log, ROS 2 or ROS 1 bag, or MCAP file (default: the rawlog shipped by "
                 "Debian's mrpt-common)");
   p->add_option("--rate", play->rate, "pace at R x real time (same as --set replay.rate=R; 0 = as fast as possible)");
+  p->add_option("--subscribers", play->subscribers,
+                "start once N subscribers to the scans matched (same as --set node.subscribers=N; default 1)");
   AddNodeOptions(*p, *play, "specht-out/node-play");
   p->callback([play, &exit_code] { exit_code = RunPlay(*play); });
 
@@ -86,6 +98,16 @@ void AddNodeCommand(CLI::App& app, int& exit_code) {
   s->add_flag("--no-mcap", slam->no_mcap, "write no MCAP");
   AddNodeOptions(*s, *slam, "specht-out/node-slam");
   s->callback([slam, &exit_code] { exit_code = RunSlamNode(*slam); });
+
+  auto record = std::make_shared<NodeArgs>();
+  CLI::App* r = node->add_subcommand("record", "record the ROS 2 topics specht speaks into an MCAP file");
+  r->add_option("--mcap", record->mcap, "the file (a bare file name goes into the output folder)")
+      ->capture_default_str();
+  r->add_option("--idle-end", record->idle_end_s,
+                "end after S seconds without a message, once one came (same as --set node.idle_end_s=S; default: "
+                "run until Ctrl-C)");
+  AddNodeOptions(*r, *record, "specht-out/node-record");
+  r->callback([record, &exit_code] { exit_code = RunRecord(*record); });
 }
 
 }  // namespace specht::app

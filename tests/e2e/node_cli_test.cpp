@@ -1,7 +1,8 @@
 // The stack's stages as DDS nodes (pipeline/nodes.h), each its own process on this
 // machine's loopback: a dataset played as ROS 2 topics and mapped by the SLAM node
 // gives what `specht slam` gives on the file — the same trajectory, map and graph,
-// byte for byte — and the node publishes its map and TF as it goes. Each test has its
+// byte for byte — and the node publishes its map and TF as it goes; the recorder
+// node's MCAP of it all maps to the same trajectory again. Each test has its
 // own DDS domain (from the process id).
 #include <signal.h>
 #include <unistd.h>
@@ -23,14 +24,19 @@ TEST(NodeCliTest, SlamNodeOnAPlayedLogWritesWhatSlamWritesOnTheFile) {
   const std::string dir = testing::TempDir("node_slam");
   const std::string domain = " --domain " + Domain();
   testing::BackgroundSpecht slam("node slam --idle-end 2 -q -o '" + dir + "/node'" + domain);
-  const auto play = testing::RunSpecht("node play --rate 0 -q -o '" + dir + "/play'" + domain);
+  testing::BackgroundSpecht record("node record --idle-end 3 -q -o '" + dir + "/record'" + domain);
+  const auto play = testing::RunSpecht("node play --rate 0 --subscribers 2 -q -o '" + dir + "/play'" + domain);
   ASSERT_EQ(play.exit_code, 0) << play.err;
   const auto mapped = slam.Wait();
   ASSERT_EQ(mapped.exit_code, 0) << mapped.err;
+  const auto recorded = record.Wait();
+  ASSERT_EQ(recorded.exit_code, 0) << recorded.err;
   ASSERT_EQ(testing::RunSpecht("slam -q --no-mcap -o '" + dir + "/file'").exit_code, 0);
+  ASSERT_EQ(testing::RunSpecht("slam -q --no-mcap '" + dir + "/record/run.mcap' -o '" + dir + "/replayed'").exit_code,
+            0);
 
-  for (const char* f : {"trajectory.tum", "map.pgm", "graph.g2o"})
-    EXPECT_EQ(testing::ReadFile(dir + "/node/" + f), testing::ReadFile(dir + "/file/" + f)) << f;
+  for (const char* f : {"trajectory.tum", "map.pgm", "graph.g2o"})  // compared as booleans: the files are long
+    EXPECT_TRUE(testing::ReadFile(dir + "/node/" + f) == testing::ReadFile(dir + "/file/" + f)) << f;
   const auto played = Report(dir + "/play")["counts"]["published"];
   const auto node = Report(dir + "/node");
   EXPECT_EQ(node["inputs"]["format"], "ROS 2 topics (DDS)");
@@ -43,6 +49,16 @@ TEST(NodeCliTest, SlamNodeOnAPlayedLogWritesWhatSlamWritesOnTheFile) {
   EXPECT_EQ(published["/tf"], node["counts"]["scans"]);
   EXPECT_GE(published["/map"].get<int>(), 50);
   EXPECT_EQ(published["/trajectory"], 1);
+  // The recording holds the player's and the node's messages, and maps as the file did.
+  const auto kept = Report(dir + "/record")["counts"]["recorded"];
+  for (const char* topic : {"/scan", "/odom", "/tf_static"}) EXPECT_EQ(kept[topic], played[topic]) << topic;
+  // The node's /map is latched (keep last 1) and /tf keeps the last 10, as ROS 2 publishes
+  // them: played as fast as possible, a newer sample may replace one not yet delivered.
+  EXPECT_GE(kept["/map"].get<int>(), 1);
+  EXPECT_LE(kept["/map"].get<int>(), published["/map"].get<int>());
+  EXPECT_GE(kept["/tf"].get<int>(), played["/tf"].get<int>());
+  EXPECT_LE(kept["/tf"].get<int>(), played["/tf"].get<int>() + published["/tf"].get<int>());
+  EXPECT_TRUE(testing::ReadFile(dir + "/replayed/trajectory.tum") == testing::ReadFile(dir + "/file/trajectory.tum"));
 }
 
 // A SLAM node runs until stopped: SIGINT writes everything it mapped (the trajectory

@@ -97,7 +97,8 @@ CommandResult RunSpecht(const std::string& args) {
 }
 
 BackgroundSpecht::BackgroundSpecht(const std::string& args) {
-  const std::string dir = TempDir("-bg");
+  static int started = 0;  // each background process its own output files
+  const std::string dir = TempDir("-bg" + std::to_string(++started));
   out_ = dir + "/stdout", err_ = dir + "/stderr";
   // `exec`: the shell becomes specht, so the signals go to it.
   const std::string cmd = "exec " + SpechtCommand(args, out_, err_);

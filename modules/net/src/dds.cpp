@@ -88,9 +88,10 @@ dds_qos_t* MakeQos(Qos qos) {
   const bool reliable = qos != Qos::kSensorData && qos != Qos::kClock;
   // A reliable writer blocks at most this long on a full history before Write fails.
   dds_qset_reliability(q, reliable ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT, DDS_SECS(1));
-  dds_qset_durability(q, qos == Qos::kLatched ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
+  const bool latched = qos == Qos::kLatched || qos == Qos::kLatchedKeepAll;
+  dds_qset_durability(q, latched ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
   const int depth = qos == Qos::kDefault ? 10 : qos == Qos::kSensorData ? 5 : 1;
-  if (qos == Qos::kKeepAll)
+  if (qos == Qos::kKeepAll || qos == Qos::kLatchedKeepAll)
     dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 0);
   else
     dds_qset_history(q, DDS_HISTORY_KEEP_LAST, depth);

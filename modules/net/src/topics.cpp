@@ -18,126 +18,140 @@ constexpr const char* kLaserScan = "sensor_msgs/msg/LaserScan";
 constexpr const char* kOdometry = "nav_msgs/msg/Odometry";
 constexpr const char* kTfMessage = "tf2_msgs/msg/TFMessage";
 
-// One subscribed topic and what it delivered that is not yet released.
-struct Stream {
-  std::string topic, type;
-  bool periodic = true;  // a topic that keeps coming (scans, odometry) rather than once (/tf_static)
-  std::unique_ptr<Reader> reader;
-  struct Queued {
-    Sample sample;
-    Clock::time_point arrived;
-  };
-  std::deque<Queued> queue;
-  bool delivered = false;  // anything ever
+// What a topic's reader delivered that is not yet released.
+struct Queued {
+  Sample sample;
+  Clock::time_point arrived;
 };
 
 class TopicSource : public io::DatasetSource {
  public:
   TopicSource(std::shared_ptr<Participant> participant, TopicSourceOptions options)
-      : participant_(std::move(participant)), options_(std::move(options)), waitset_(*participant_) {
-    Add("/tf_static", kTfMessage, false);
-    Add(options_.scan_topic, kLaserScan, true);
-    if (options_.odometry_topic != "none") Add(options_.odometry_topic, kOdometry, true);
-    for (const auto& s : streams_) waitset_.Attach(*s.reader);
-  }
+      : participant_(participant),
+        options_(std::move(options)),
+        merger_(std::move(participant), Topics(options_), options_.settle_s, options_.idle_end_s) {}
 
   std::optional<io::Observation> Next() override {
-    for (;;) {
-      Pull();
-      Stream* head = Head();
-      const bool idle = options_.idle_end_s > 0 && last_arrival_ &&
-                        Clock::now() - *last_arrival_ > std::chrono::duration<double>(options_.idle_end_s);
-      if (head && (Releasable(*head) || idle)) {
-        auto queued = std::move(head->queue.front());
-        head->queue.pop_front();
-        waited_ms_.push_back(std::chrono::duration<double, std::milli>(Clock::now() - queued.arrived).count());
-        try {
-          if (auto obs = Convert(*head, queued.sample)) return obs;
-        } catch (const InputError& e) {  // a message that does not decode: stop or skip (replay.on_bad_record)
-          io::ros::OnBadMessage(options_.on_bad, Path(), index_ - 1, head->topic, e.what(), skipped_);
-        }
-        continue;
+    while (auto m = merger_.Next()) {
+      try {
+        if (auto obs = Convert(m->topic, m->type, m->sample)) return obs;
+      } catch (const InputError& e) {  // a message that does not decode: stop or skip (replay.on_bad_record)
+        io::ros::OnBadMessage(options_.on_bad, Path(), index_ - 1, m->topic, e.what(), skipped_);
       }
-      if (idle || InterruptRequested()) return std::nullopt;
-      waitset_.Wait(milliseconds(head ? 5 : 50));  // a queued message may become releasable by waiting
     }
+    return std::nullopt;
   }
   std::string Path() const override { return "DDS domain " + std::to_string(participant_->options().domain); }
   std::string Format() const override { return "ROS 2 topics (DDS)"; }
   double FractionRead() const override { return -1; }
   std::vector<std::string> Notes() const override { return convert_.MountNotes(); }
   const std::vector<std::string>& SkippedRecords() const override { return skipped_; }
-  // How long messages waited between their arrival and their use: the merge's wait
-  // for the other topics, and the queue that builds up when the consumer is slower
-  // than the stream.
-  std::map<std::string, double> Figures() const override {
-    if (waited_ms_.empty()) return {};
-    std::vector<double> w = waited_ms_;
-    std::sort(w.begin(), w.end());
-    const auto at = [&](double q) { return w[static_cast<size_t>(q * static_cast<double>(w.size() - 1))]; };
-    return {{"messages", static_cast<double>(w.size())},
-            {"waited_ms_p50", at(0.5)},
-            {"waited_ms_p99", at(0.99)},
-            {"waited_ms_max", w.back()}};
-  }
+  std::map<std::string, double> Figures() const override { return merger_.Figures(); }
 
  private:
-  void Add(const std::string& topic, const std::string& type, bool periodic) {
-    Stream s{topic, type, periodic, nullptr, {}, false};
-    s.reader = std::make_unique<Reader>(*participant_, topic, type, QosForTopic(topic, Qos::kKeepAll));
-    streams_.push_back(std::move(s));
+  static std::vector<TopicSpec> Topics(const TopicSourceOptions& o) {
+    std::vector<TopicSpec> topics = {{"/tf_static", kTfMessage, false}, {o.scan_topic, kLaserScan, true}};
+    if (o.odometry_topic != "none") topics.push_back({o.odometry_topic, kOdometry, true});
+    return topics;
   }
 
-  void Pull() {
-    for (auto& s : streams_)
-      for (auto& sample : s.reader->Take()) {
-        s.queue.push_back({std::move(sample), Clock::now()});
-        s.delivered = true;
-        last_arrival_ = Clock::now();
-      }
-  }
-
-  // The stream whose first queued message has the earliest source time.
-  Stream* Head() {
-    Stream* head = nullptr;
-    for (auto& s : streams_)
-      if (!s.queue.empty() && (!head || s.queue.front().sample.source_time < head->queue.front().sample.source_time))
-        head = &s;
-    return head;
-  }
-
-  // Every other stream has a later message queued, or cannot hold this one back: it
-  // has waited settle_s, or the empty stream is one that came once and did.
-  bool Releasable(const Stream& head) const {
-    if (Clock::now() - head.queue.front().arrived >= std::chrono::duration<double>(options_.settle_s)) return true;
-    for (const auto& s : streams_)
-      if (&s != &head && s.queue.empty() && (s.periodic || !s.delivered)) return false;
-    return true;
-  }
-
-  std::optional<io::Observation> Convert(const Stream& s, const Sample& sample) {
+  std::optional<io::Observation> Convert(const std::string& topic, const std::string& type, const Sample& sample) {
     const int64_t index = index_++;
-    if (s.type == kTfMessage) {
+    if (type == kTfMessage) {
       convert_.AddStatic(io::ros::DecodeTfMessage(sample.cdr));
       return std::nullopt;
     }
-    if (s.type == kLaserScan)
-      return convert_.Observe(io::ros::DecodeLaserScan(sample.cdr), s.topic, sample.source_time.ns, index);
-    return convert_.Observe(io::ros::DecodeOdometry(sample.cdr), s.topic, sample.source_time.ns, index);
+    if (type == kLaserScan)
+      return convert_.Observe(io::ros::DecodeLaserScan(sample.cdr), topic, sample.source_time.ns, index);
+    return convert_.Observe(io::ros::DecodeOdometry(sample.cdr), topic, sample.source_time.ns, index);
   }
 
   std::shared_ptr<Participant> participant_;
   TopicSourceOptions options_;
-  WaitSet waitset_;
-  std::vector<Stream> streams_;
+  TopicMerger merger_;
   io::ros::RosObservations convert_;
-  std::optional<Clock::time_point> last_arrival_;
   int64_t index_ = 0;
   std::vector<std::string> skipped_;
-  std::vector<double> waited_ms_;
 };
 
 }  // namespace
+
+struct TopicMerger::Stream {
+  TopicSpec spec;
+  std::unique_ptr<Reader> reader;
+  std::deque<Queued> queue;
+  bool delivered = false;  // anything ever
+};
+
+TopicMerger::TopicMerger(std::shared_ptr<Participant> participant, const std::vector<TopicSpec>& topics,
+                         double settle_s, double idle_end_s)
+    : participant_(std::move(participant)), settle_s_(settle_s), idle_end_s_(idle_end_s), waitset_(*participant_) {
+  for (const auto& t : topics) {
+    auto s = std::make_unique<Stream>();
+    s->spec = t;
+    const Qos qos = QosForTopic(t.topic, Qos::kKeepAll);  // every sample; a latched topic's latest on joining
+    s->reader =
+        std::make_unique<Reader>(*participant_, t.topic, t.type, qos == Qos::kLatched ? Qos::kLatchedKeepAll : qos);
+    waitset_.Attach(*s->reader);
+    streams_.push_back(std::move(s));
+  }
+}
+
+TopicMerger::~TopicMerger() = default;
+
+std::optional<TopicMerger::Message> TopicMerger::Next() {
+  for (;;) {
+    Pull();
+    Stream* head = Head();
+    const bool idle =
+        idle_end_s_ > 0 && last_arrival_ && Clock::now() - *last_arrival_ > std::chrono::duration<double>(idle_end_s_);
+    if (head && (Releasable(*head) || idle)) {
+      Queued queued = std::move(head->queue.front());
+      head->queue.pop_front();
+      waited_ms_.push_back(std::chrono::duration<double, std::milli>(Clock::now() - queued.arrived).count());
+      return Message{head->spec.topic, head->spec.type, std::move(queued.sample)};
+    }
+    if (idle || InterruptRequested()) return std::nullopt;
+    waitset_.Wait(milliseconds(head ? 5 : 50));  // a queued message may become releasable by waiting
+  }
+}
+
+void TopicMerger::Pull() {
+  for (auto& s : streams_)
+    for (auto& sample : s->reader->Take()) {
+      s->queue.push_back({std::move(sample), Clock::now()});
+      s->delivered = true;
+      last_arrival_ = Clock::now();
+    }
+}
+
+TopicMerger::Stream* TopicMerger::Head() {
+  Stream* head = nullptr;
+  for (auto& s : streams_)
+    if (!s->queue.empty() && (!head || s->queue.front().sample.source_time < head->queue.front().sample.source_time))
+      head = s.get();
+  return head;
+}
+
+// Every other stream has a later message queued, or cannot hold this one back: it
+// has waited settle_s, or the empty stream is one that came once and did.
+bool TopicMerger::Releasable(const Stream& head) const {
+  if (Clock::now() - head.queue.front().arrived >= std::chrono::duration<double>(settle_s_)) return true;
+  for (const auto& s : streams_)
+    if (s.get() != &head && s->queue.empty() && (s->spec.periodic || !s->delivered)) return false;
+  return true;
+}
+
+std::map<std::string, double> TopicMerger::Figures() const {
+  if (waited_ms_.empty()) return {};
+  std::vector<double> w = waited_ms_;
+  std::sort(w.begin(), w.end());
+  const auto at = [&](double q) { return w[static_cast<size_t>(q * static_cast<double>(w.size() - 1))]; };
+  return {{"messages", static_cast<double>(w.size())},
+          {"waited_ms_p50", at(0.5)},
+          {"waited_ms_p99", at(0.99)},
+          {"waited_ms_max", w.back()}};
+}
 
 TopicPublisher::TopicPublisher(std::shared_ptr<Participant> participant, Qos stream)
     : participant_(std::move(participant)), stream_(stream) {}

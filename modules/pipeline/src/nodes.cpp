@@ -3,10 +3,13 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <chrono>
+#include <filesystem>
 
 #include "internal/dataset_drive.h"
 #include "internal/ros_recorder.h"
+#include "specht/core/interrupt.h"
 #include "specht/core/log.h"
+#include "specht/core/progress.h"
 #include "specht/io/data_dir.h"
 #include "specht/io/report.h"
 #include "specht/net/topics.h"
@@ -37,10 +40,10 @@ int PlayDataset(const params::Params& params, const PlayInputs& inputs, const st
                  {"params_files", inputs.param_files},
                  {"overrides", inputs.overrides}};
   const auto wait = std::chrono::duration<double>(node.wait_for_subscriber_s);
-  if (!publisher->WaitForReaders(node.scan_topic, "sensor_msgs/msg/LaserScan", 1,
+  if (!publisher->WaitForReaders(node.scan_topic, "sensor_msgs/msg/LaserScan", node.subscribers,
                                  std::chrono::duration_cast<std::chrono::milliseconds>(wait)))
-    spdlog::warn("node play: no subscriber to {} after {:.0f} s; publishing anyway", node.scan_topic,
-                 node.wait_for_subscriber_s);
+    spdlog::warn("node play: fewer than {} subscribers to {} after {:.0f} s; publishing anyway", node.subscribers,
+                 node.scan_topic, node.wait_for_subscriber_s);
   io::ReplayClock clock(replay);
   io::StageTimer timer;
   int exit_code = 0;
@@ -65,6 +68,54 @@ int PlayDataset(const params::Params& params, const PlayInputs& inputs, const st
                  {"stages", timer.ToJson()}};
   report.Write(out_dir);
   spdlog::info("node play: {} scans in {:.1f} s of data, {:.1f} s", scans, data_s, run.wall_s);
+  return exit_code;
+}
+
+int RecordTopics(const params::Params& params, const RecordInputs& inputs, const std::string& out_dir, bool quiet) {
+  const auto& node = params.Get<NodeOptions>("node");
+  const std::string path = inputs.mcap.find('/') == std::string::npos ? out_dir + "/" + inputs.mcap : inputs.mcap;
+  const std::vector<net::TopicSpec> topics = {
+      {node.scan_topic, "sensor_msgs/msg/LaserScan", true},
+      {node.odometry_topic, "nav_msgs/msg/Odometry", true},
+      {"/tf", "tf2_msgs/msg/TFMessage", false},
+      {"/tf_static", "tf2_msgs/msg/TFMessage", false},
+      {"/map", "nav_msgs/msg/OccupancyGrid", false},
+      {"/trajectory", "nav_msgs/msg/Path", false},
+      {"/path", "nav_msgs/msg/Path", false},
+      {"/tracks", "geometry_msgs/msg/PoseArray", false},
+  };
+  net::TopicMerger merger(NodeParticipant(params), topics, node.settle_s, node.idle_end_s);
+  io::RunReport report("node record");
+  auto& j = report.json();
+  j["inputs"] = {{"domain", params.Get<net::Options>("dds").domain},
+                 {"params_files", inputs.param_files},
+                 {"overrides", inputs.overrides}};
+  auto sink = internal::McapSink(path);
+  std::map<std::string, uint64_t> counts;
+  ProgressLine progress("node record", "messages", !quiet);
+  const auto wall0 = std::chrono::steady_clock::now();
+  long messages = 0;
+  while (auto m = merger.Next()) {
+    sink->Write(m->topic, m->type, internal::Origin::kInput, m->sample.source_time, m->sample.cdr);
+    ++counts[m->topic];
+    progress.Update(static_cast<double>(++messages), -1, m->topic);
+  }
+  progress.Finish();
+  sink->Close();
+  int exit_code = 0;
+  if (InterruptRequested()) {
+    report.SetInterrupted(std::to_string(messages) + " messages");
+    exit_code = InterruptExitCode();
+  } else if (messages == 0) {
+    std::filesystem::remove(path);  // no empty recording left behind as a result
+    throw InputError("node record: no message on any topic");
+  }
+  j["counts"]["recorded"] = counts;
+  j["input_figures"] = merger.Figures();
+  j["timing"]["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  report.AddOutput(inputs.mcap);
+  report.Write(out_dir);
+  spdlog::info("node record: {} messages into {}", messages, path);
   return exit_code;
 }
 

@@ -67,7 +67,9 @@ std::string CycloneConfig(const Options& options);
 //   kKeepAll    reliable, volatile, keep all: nothing is dropped; a writer waits (at
 //               most 1 s a sample) for a reader that falls behind (replays, whose
 //               result must not depend on the machine's speed)
-enum class Qos { kDefault, kSensorData, kLatched, kClock, kKeepAll };
+//   kLatchedKeepAll  reliable, transient local, keep all: a reader that wants every
+//               sample of a latched topic and, joining late, the latest one (a recorder)
+enum class Qos { kDefault, kSensorData, kLatched, kClock, kKeepAll, kLatchedKeepAll };
 
 // ROS 2's convention by topic: /map and /tf_static latched, the rest `stream`.
 Qos QosForTopic(const std::string& ros_topic, Qos stream);

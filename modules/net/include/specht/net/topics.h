@@ -22,8 +22,10 @@
 // (or, with OnBadRecord::kSkip, a skipped record), as in a bag.
 #pragma once
 
+#include <chrono>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +52,46 @@ class TopicPublisher {
   std::map<std::string, std::unique_ptr<Writer>> writers_;
   std::map<std::string, uint64_t> counts_;
   int64_t last_ns_ = 0;
+};
+
+// A topic to merge: `periodic` topics keep coming (scans, odometry) and hold an
+// earlier message of another topic back until they deliver one; the others
+// (/tf_static, the map) hold back only until their first message.
+struct TopicSpec {
+  std::string topic, type;
+  bool periodic = true;
+};
+
+// Subscribed topics merged into one stream by source time (the rule above), reliable
+// and keep-all: what the SLAM node and the recorder read.
+class TopicMerger {
+ public:
+  TopicMerger(std::shared_ptr<Participant> participant, const std::vector<TopicSpec>& topics, double settle_s,
+              double idle_end_s);
+  ~TopicMerger();
+  TopicMerger(const TopicMerger&) = delete;
+  TopicMerger& operator=(const TopicMerger&) = delete;
+
+  struct Message {
+    std::string topic, type;
+    Sample sample;
+  };
+  // The next message; nullopt once the input was idle idle_end_s (> 0) or a signal came.
+  std::optional<Message> Next();
+  // How long messages waited between arrival and release: messages, waited_ms_p50/p99/max.
+  std::map<std::string, double> Figures() const;
+
+ private:
+  struct Stream;
+  void Pull();
+  Stream* Head();
+  bool Releasable(const Stream& head) const;
+  std::shared_ptr<Participant> participant_;
+  double settle_s_, idle_end_s_;
+  WaitSet waitset_;
+  std::vector<std::unique_ptr<Stream>> streams_;
+  std::optional<std::chrono::steady_clock::time_point> last_arrival_;
+  std::vector<double> waited_ms_;
 };
 
 struct TopicSourceOptions {

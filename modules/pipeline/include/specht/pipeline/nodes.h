@@ -11,6 +11,10 @@
 //         the end, /trajectory; it writes what `specht slam` writes (map artefact,
 //         trajectory, report) when its input ends (node.idle_end_s of silence) or a
 //         signal stops it
+//   record  the ROS 2 topics specht speaks (/scan, /odom, /tf, /tf_static, /map,
+//         /trajectory, /path, /tracks), from specht's nodes or any ROS 2 node, into
+//         an MCAP file (ROS 2 schemas) in source-time order, the bytes as they came;
+//         `specht slam run.mcap` replays it
 // A node's configuration is the same parameter files' sections "dds" (net/dds.h:
 // domain, interface, peers) and "node" (below).
 #pragma once
@@ -32,6 +36,7 @@ struct NodeOptions {
   double idle_end_s = 0;
   double map_every_s = 1.0;
   double wait_for_subscriber_s = 10;
+  int subscribers = 1;
 
   template <class V>
   void Visit(V& v) {
@@ -48,8 +53,11 @@ struct NodeOptions {
     v.Param("map_every_s", map_every_s, "the SLAM node publishes /map this often, in data time",
             Range::Of(0.1, 3600.0));
     v.Param("wait_for_subscriber_s", wait_for_subscriber_s,
-            "the player waits this long for a subscriber to its scans before it starts (then starts anyway)",
+            "the player waits this long for `subscribers` subscribers to its scans before it starts (then starts "
+            "anyway): a subscriber that joins later misses what came before",
             Range::Of(0.0, 3600.0));
+    v.Param("subscribers", subscribers, "how many subscribers to its scans the player waits for (SLAM, a recorder)",
+            Range::Of(0, 100));
   }
 };
 
@@ -62,6 +70,16 @@ struct PlayInputs {
 // publishes it, writes report.json into `out_dir`. Returns 0, 2 when the input broke
 // off, 128 + the signal when interrupted.
 int PlayDataset(const params::Params& params, const PlayInputs& inputs, const std::string& out_dir, bool quiet);
+
+struct RecordInputs {
+  std::string mcap = "run.mcap";  // a bare file name goes into the output folder
+  std::vector<std::string> param_files, overrides;
+};
+
+// `specht node record`: records until node.idle_end_s of silence or a signal, then
+// closes the file and writes report.json (messages by topic). Returns 0, 2 when
+// nothing came, 128 + the signal when interrupted.
+int RecordTopics(const params::Params& params, const RecordInputs& inputs, const std::string& out_dir, bool quiet);
 
 // The participant a node joins, from section "dds".
 std::shared_ptr<net::Participant> NodeParticipant(const params::Params& params);
