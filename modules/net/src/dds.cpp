@@ -264,7 +264,8 @@ bool Writer::WaitForAcks(std::chrono::milliseconds timeout) const {
 }
 
 struct Reader::Impl {
-  dds_entity_t topic = 0, reader = 0, condition = 0, waitset = 0;
+  dds_entity_t topic = 0, reader = 0, condition = 0;
+  std::unique_ptr<WaitSet> waitset;  // this reader alone (WaitForData)
 };
 
 Reader::Reader(Participant& participant, const std::string& ros_topic, const std::string& ros_type, Qos qos)
@@ -276,12 +277,12 @@ Reader::Reader(Participant& participant, const std::string& ros_topic, const std
   if (impl_->reader < 0) dds_delete(impl_->topic);
   Check(impl_->reader, "creating a reader on " + ros_topic);
   impl_->condition = Check(dds_create_readcondition(impl_->reader, DDS_ANY_STATE), "creating a read condition");
-  impl_->waitset = Check(dds_create_waitset(participant.handle()), "creating a wait set");
-  Check(dds_waitset_attach(impl_->waitset, impl_->condition, impl_->reader), "attaching the read condition");
+  impl_->waitset = std::make_unique<WaitSet>(participant);
+  impl_->waitset->Attach(*this);
 }
 
 Reader::~Reader() {
-  dds_delete(impl_->waitset);
+  impl_->waitset.reset();
   dds_delete(impl_->condition);
   dds_delete(impl_->reader);
   dds_delete(impl_->topic);
@@ -306,10 +307,7 @@ std::vector<Sample> Reader::Take() {
   return samples;
 }
 
-bool Reader::WaitForData(std::chrono::milliseconds timeout) const {
-  const dds_return_t n = dds_waitset_wait(impl_->waitset, nullptr, 0, DDS_MSECS(timeout.count()));
-  return Check(n, "waiting for data") > 0;
-}
+bool Reader::WaitForData(std::chrono::milliseconds timeout) const { return impl_->waitset->Wait(timeout); }
 
 int Reader::MatchedWriters() const {
   dds_subscription_matched_status_t status{};
