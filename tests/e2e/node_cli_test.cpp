@@ -38,6 +38,7 @@ TEST(NodeCliTest, SlamNodeOnAPlayedLogWritesWhatSlamWritesOnTheFile) {
   for (const char* f : {"trajectory.tum", "map.pgm", "graph.g2o"})  // compared as booleans: the files are long
     EXPECT_TRUE(testing::ReadFile(dir + "/node/" + f) == testing::ReadFile(dir + "/file/" + f)) << f;
   const auto played = Report(dir + "/play")["counts"]["published"];
+  EXPECT_EQ(played["/clock"].get<int>(), played["/scan"].get<int>() + played["/odom"].get<int>());
   const auto node = Report(dir + "/node");
   EXPECT_EQ(node["inputs"]["format"], "ROS 2 topics (DDS)");
   EXPECT_EQ(node["counts"]["scans"], played["/scan"]);

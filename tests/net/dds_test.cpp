@@ -282,6 +282,9 @@ TEST(Ros2CdrTest, BytesEqualFoxglovesWriterAndWhatDdsDelivers) {
       {"nav_msgs/msg/OccupancyGrid", Json(Grid(100, 7)), io::ros::Encode(Grid(100, 7))},
       {"tf2_msgs/msg/TFMessage", Json(Tf()), io::ros::Encode(Tf())},
       {"nav_msgs/msg/Path", Json(PathOf(25)), io::ros::Encode(PathOf(25))},
+      {"rosgraph_msgs/msg/Clock",
+       {{"clock", Json(Stamp{1700000000250000000LL})}},
+       io::ros::EncodeClock(Stamp{1700000000250000000LL})},
   };
   nlohmann::json input = nlohmann::json::array();
   for (const auto& [type, value, _] : cases)

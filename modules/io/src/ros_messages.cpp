@@ -146,6 +146,7 @@ const std::map<std::string, std::string>& Definitions() {
       {"nav_msgs/OccupancyGrid", "std_msgs/Header header\nMapMetaData info\nint8[] data\n"},
       {"nav_msgs/Path", "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n"},
       {"geometry_msgs/PoseArray", "std_msgs/Header header\nPose[] poses\n"},
+      {"rosgraph_msgs/Clock", "builtin_interfaces/Time clock\n"},
   };
   return d;
 }
@@ -223,6 +224,12 @@ std::vector<uint8_t> Encode(const PoseArray& m) {
     Write(cdr, m.header);
     cdr << static_cast<uint32_t>(m.poses.size());
     for (const auto& p : m.poses) WritePose(cdr, p);
+  });
+}
+
+std::vector<uint8_t> EncodeClock(Stamp t) {
+  return EncodeWith(16, [&](Cdr& cdr) {
+    cdr << static_cast<int32_t>(t.ns / 1000000000) << static_cast<uint32_t>(t.ns % 1000000000);
   });
 }
 

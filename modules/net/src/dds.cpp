@@ -149,6 +149,7 @@ std::string CycloneConfig(const Options& options) {
 }
 
 Qos QosForTopic(const std::string& ros_topic, Qos stream) {
+  if (ros_topic == "/clock") return Qos::kClock;
   return ros_topic == "/map" || ros_topic == "/tf_static" ? Qos::kLatched : stream;
 }
 

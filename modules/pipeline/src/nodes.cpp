@@ -12,6 +12,7 @@
 #include "specht/core/progress.h"
 #include "specht/io/data_dir.h"
 #include "specht/io/report.h"
+#include "specht/io/ros_messages.h"
 #include "specht/net/topics.h"
 #include "specht/pipeline/replay.h"
 #include "specht/slam/scan_matching.h"
@@ -53,6 +54,7 @@ int PlayDataset(const params::Params& params, const PlayInputs& inputs, const st
       [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
         auto timing = timer.Time("publish");
         recorder.Observation(t, o);
+        publisher->Publish("/clock", "rosgraph_msgs/msg/Clock", t, io::ros::EncodeClock(t));  // use_sim_time
         if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o)) ++scans;
         return std::make_pair(scans, std::string());
       },

@@ -79,6 +79,7 @@ std::vector<uint8_t> Encode(const std::vector<TransformStamped>& tf_message);
 std::vector<uint8_t> Encode(const OccupancyGrid& m);
 std::vector<uint8_t> Encode(const Path& m);
 std::vector<uint8_t> Encode(const PoseArray& m);
+std::vector<uint8_t> EncodeClock(Stamp t);  // rosgraph_msgs/msg/Clock: the simulated time
 
 // The ros2msg definition of `type` (e.g. "sensor_msgs/msg/LaserScan") with every
 // type it uses appended, as MCAP's ros2msg schema encoding and Foxglove expect.

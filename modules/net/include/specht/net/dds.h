@@ -71,7 +71,8 @@ std::string CycloneConfig(const Options& options);
 //               sample of a latched topic and, joining late, the latest one (a recorder)
 enum class Qos { kDefault, kSensorData, kLatched, kClock, kKeepAll, kLatchedKeepAll };
 
-// ROS 2's convention by topic: /map and /tf_static latched, the rest `stream`.
+// ROS 2's convention by topic: /map and /tf_static latched, /clock as kClock, the
+// rest `stream`.
 Qos QosForTopic(const std::string& ros_topic, Qos stream);
 
 std::string DdsTopicName(const std::string& ros_topic);  // "/scan" → "rt/scan"

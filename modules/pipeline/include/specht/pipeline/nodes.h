@@ -4,8 +4,9 @@
 // feed it or listen to it without a bridge.
 //   play  a dataset (any file `specht slam` reads) published as a robot's drivers
 //         would: /scan (sensor_msgs/LaserScan), /odom (nav_msgs/Odometry), /tf
-//         (odom → base_link), /tf_static (base_link → each scan frame), paced by
-//         replay.rate, reliable and keep-all so that no message is lost
+//         (odom → base_link), /tf_static (base_link → each scan frame), and /clock
+//         (rosgraph_msgs/Clock: the data time, for ROS 2 nodes with use_sim_time),
+//         paced by replay.rate, reliable and keep-all so that no message is lost
 //   slam  graph SLAM (pipeline/replay.h) on /scan, /odom and /tf_static, publishing
 //         /map (latched, every node.map_every_s of data), /tf (map → odom) and, at
 //         the end, /trajectory; it writes what `specht slam` writes (map artefact,
