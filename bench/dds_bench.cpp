@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "specht/core/statistics.h"
 #include "specht/io/ros_messages.h"
 #include "specht/net/dds.h"
 
@@ -85,12 +86,6 @@ void Subscribe(double seconds, int scans_expected, int maps_expected, FILE* out)
   }
 }
 
-double Percentile(std::vector<int64_t> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return static_cast<double>(v[static_cast<size_t>(q * static_cast<double>(v.size() - 1))]) / 1e6;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -109,7 +104,7 @@ int main(int argc, char** argv) {
   }
   close(fds[1]);
 
-  std::vector<std::pair<std::string, std::vector<int64_t>>> latencies;
+  std::vector<std::pair<std::string, std::vector<double>>> latencies;  // ms
   {
     net::Participant p(BenchOptions());
     net::Writer scans(p, "/scan", "sensor_msgs/msg/LaserScan", net::Qos::kDefault);
@@ -141,15 +136,15 @@ int main(int argc, char** argv) {
       std::istringstream line(text.substr(pos, eol - pos));
       std::string name;
       line >> name;
-      std::vector<int64_t> ns;
-      for (long long v; line >> v;) ns.push_back(v);
-      latencies.emplace_back(name, ns);
+      std::vector<double> ms;
+      for (long long ns; line >> ns;) ms.push_back(static_cast<double>(ns) / 1e6);
+      latencies.emplace_back(name, ms);
       pos = eol == std::string::npos ? text.size() : eol + 1;
     }
   }
   int status = 0;
   waitpid(child, &status, 0);
-  for (const auto& [topic, ns] : latencies) {
+  for (const auto& [topic, ms] : latencies) {
     const int sent = topic == "/scan" ? scans_to_send : maps_to_send;
     const size_t bytes = topic == "/scan" ? io::ros::Encode(Scan()).size() : io::ros::Encode(Map()).size();
     specht::bench::Emit({{"bench", "dds"},
@@ -158,11 +153,11 @@ int main(int argc, char** argv) {
                          {"qos", topic == "/scan" ? "reliable, keep last 10" : "reliable, transient local"},
                          {"message_bytes", bytes},
                          {"sent", sent},
-                         {"received", ns.size()},
-                         {"loss_percent", 100.0 * (sent - static_cast<double>(ns.size())) / sent},
-                         {"latency_ms_p50", Percentile(ns, 0.5)},
-                         {"latency_ms_p99", Percentile(ns, 0.99)},
-                         {"latency_ms_max", Percentile(ns, 1.0)},
+                         {"received", ms.size()},
+                         {"loss_percent", 100.0 * (sent - static_cast<double>(ms.size())) / sent},
+                         {"latency_ms_p50", specht::Percentile(ms, 0.5)},
+                         {"latency_ms_p99", specht::Percentile(ms, 0.99)},
+                         {"latency_ms_max", specht::Percentile(ms, 1.0)},
                          {"machine", specht::bench::MachineNotes()}});
   }
   return 0;

@@ -5,6 +5,7 @@
 #include <deque>
 
 #include "specht/core/interrupt.h"
+#include "specht/core/statistics.h"
 #include "specht/io/ros_conversion.h"
 #include "specht/io/ros_messages.h"
 
@@ -144,13 +145,10 @@ bool TopicMerger::Releasable(const Stream& head) const {
 
 std::map<std::string, double> TopicMerger::Figures() const {
   if (waited_ms_.empty()) return {};
-  std::vector<double> w = waited_ms_;
-  std::sort(w.begin(), w.end());
-  const auto at = [&](double q) { return w[static_cast<size_t>(q * static_cast<double>(w.size() - 1))]; };
-  return {{"messages", static_cast<double>(w.size())},
-          {"waited_ms_p50", at(0.5)},
-          {"waited_ms_p99", at(0.99)},
-          {"waited_ms_max", w.back()}};
+  return {{"messages", static_cast<double>(waited_ms_.size())},
+          {"waited_ms_p50", Percentile(waited_ms_, 0.5)},
+          {"waited_ms_p99", Percentile(waited_ms_, 0.99)},
+          {"waited_ms_max", Percentile(waited_ms_, 1.0)}};
 }
 
 TopicPublisher::TopicPublisher(std::shared_ptr<Participant> participant, Qos stream)

@@ -75,7 +75,7 @@ int PlayDataset(const params::Params& params, const PlayInputs& inputs, const st
 
 int RecordTopics(const params::Params& params, const RecordInputs& inputs, const std::string& out_dir, bool quiet) {
   const auto& node = params.Get<NodeOptions>("node");
-  const std::string path = inputs.mcap.find('/') == std::string::npos ? out_dir + "/" + inputs.mcap : inputs.mcap;
+  const std::string path = internal::RecordingPath(out_dir, inputs.mcap);
   const std::vector<net::TopicSpec> topics = {
       {node.scan_topic, "sensor_msgs/msg/LaserScan", true},
       {node.odometry_topic, "nav_msgs/msg/Odometry", true},

@@ -307,11 +307,7 @@ int Replay::Run(const std::string& out, bool quiet) {
   PerceptionPipeline& perception = *s.perception;
   perception.WriteVideosTo(out);
   std::vector<std::unique_ptr<internal::MessageSink>> sinks;
-  if (!s.in.mcap.empty())
-    sinks.push_back(
-        internal::McapSink(std::filesystem::path(s.in.mcap).is_absolute() || s.in.mcap.find('/') != std::string::npos
-                               ? s.in.mcap
-                               : out + "/" + s.in.mcap));
+  if (!s.in.mcap.empty()) sinks.push_back(internal::McapSink(internal::RecordingPath(out, s.in.mcap)));
   std::shared_ptr<net::TopicPublisher> published;
   if (s.in.node) {
     published = std::make_shared<net::TopicPublisher>(s.in.node->participant, net::Qos::kDefault);

@@ -71,6 +71,10 @@ class Dds : public MessageSink {
 
 std::unique_ptr<MessageSink> McapSink(const std::string& path) { return std::make_unique<Mcap>(path); }
 
+std::string RecordingPath(const std::string& out_dir, const std::string& file) {
+  return file.find('/') == std::string::npos ? out_dir + "/" + file : file;
+}
+
 std::unique_ptr<MessageSink> DdsSink(std::shared_ptr<net::TopicPublisher> publisher, Origin origin) {
   return std::make_unique<Dds>(std::move(publisher), origin);
 }

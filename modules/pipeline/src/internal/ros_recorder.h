@@ -49,6 +49,8 @@ class MessageSink {
 
 // An MCAP file with ROS 2 schemas (every message).
 std::unique_ptr<MessageSink> McapSink(const std::string& path);
+// Where `--mcap FILE` goes: a bare file name into the output folder, a path as given.
+std::string RecordingPath(const std::string& out_dir, const std::string& file);
 // DDS topics (the messages of `origin` only).
 std::unique_ptr<MessageSink> DdsSink(std::shared_ptr<net::TopicPublisher> publisher, Origin origin);
 
