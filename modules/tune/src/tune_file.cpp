@@ -1,9 +1,6 @@
 #include "specht/tune/tune_file.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <fstream>
@@ -13,6 +10,7 @@
 
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
+#include "specht/core/process.h"
 
 namespace specht::tune {
 namespace {
@@ -114,43 +112,23 @@ double MetricFromReport(const std::string& report_path, const std::string& metri
 }
 
 ProcessResult RunProcess(const std::vector<std::string>& argv, const std::string& log_path, double timeout_s) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const int log_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-  if (log_fd < 0) throw RuntimeError(log_path + ": cannot open for the worker's output");
-  const auto t0 = std::chrono::steady_clock::now();
-  const pid_t pid = fork();
-  if (pid == 0) {  // child: only async-signal-safe calls until exec
-    setpgid(0, 0);
-    dup2(log_fd, 1);
-    dup2(log_fd, 2);
-    execvp(args[0], args.data());
-    _exit(127);
-  }
-  close(log_fd);
-  if (pid < 0) throw RuntimeError("tune: fork failed");
-  setpgid(pid, pid);  // also from the parent, so the kill below cannot miss
+  ChildProcess child(argv, log_path);
   ProcessResult r;
-  int status = 0;
-  for (;;) {
-    const pid_t done = waitpid(pid, &status, WNOHANG);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (done == pid) break;
+  while (!child.Poll()) {
     if (InterruptRequested() && !r.interrupted) {
-      kill(-pid, SIGTERM);
+      child.Signal(SIGTERM);
       r.interrupted = true;
-      timeout_s = std::min(timeout_s, r.seconds + 5.0);  // then SIGKILL below
+      timeout_s = std::min(timeout_s, child.seconds() + 5.0);  // then SIGKILL below
     }
-    if (r.seconds > timeout_s) {
-      kill(-pid, SIGKILL);
-      waitpid(pid, &status, 0);
+    if (child.seconds() > timeout_s) {
       r.timed_out = !r.interrupted;
+      child.WaitOrKill(0);
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  r.exit_code = *child.Poll();
+  r.seconds = child.seconds();
   return r;
 }
 
