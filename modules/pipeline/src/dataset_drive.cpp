@@ -33,6 +33,7 @@ DriveResult Drive(io::DatasetSource& source, io::ReplayClock& clock, const Consu
       exit_code = 2;
       break;
     }
+    if (!obs && InterruptRequested()) continue;  // a live source ends on the signal: interrupted, not complete
     if (!obs) break;
     const auto verdict = clock.Classify(obs->stamp);
     if (verdict == io::ReplayClock::Verdict::kBefore) continue;
