@@ -27,6 +27,8 @@ void AddPlanCommand(CLI::App& app, int& exit_code);
 void AddRunCommand(CLI::App& app, int& exit_code);
 void AddAisCommand(CLI::App& app, int& exit_code);
 void AddNodeCommand(CLI::App& app, int& exit_code);
+// `specht launch` (launch_command.cpp): reads the stages `node` has; register it after AddNodeCommand.
+void AddLaunchCommand(CLI::App& app, int& exit_code);
 // `specht commands` (commands_command.cpp): the index of every command above; register it last.
 void AddCommandsCommand(CLI::App& app, int& exit_code);
 

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   specht::app::AddRunCommand(app, exit_code);
   specht::app::AddAisCommand(app, exit_code);
   specht::app::AddNodeCommand(app, exit_code);
+  specht::app::AddLaunchCommand(app, exit_code);
   specht::app::AddCommandsCommand(app, exit_code);
   try {
     app.parse(argc, argv);

@@ -90,5 +90,69 @@ TEST(NodeCliTest, PlayingADatasetWithoutScansIsAnError) {
   EXPECT_NE(r.err.find("no laser scan to publish"), std::string::npos) << r.err;
 }
 
+// `specht launch` on the shipped one-computer file: the three nodes as child
+// processes give what they give started by hand (the SLAM node's trajectory is
+// `specht slam`'s on the file), each console kept in its folder.
+TEST(NodeCliTest, LaunchFileStartsTheNodesAsTheyRunByHand) {
+  SPECHT_REQUIRE_FILE(testing::BuiltInRawlog());
+  const std::string dir = testing::TempDir("launch");
+  const auto r = testing::RunSpecht("launch '" + testing::SourceDir() + "/params/launch/slam-over-dds.yaml' --domain " +
+                                    Domain() + " -o '" + dir + "/launch'");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("[slam] "), std::string::npos) << r.out;  // consoles shown, prefixed
+  ASSERT_EQ(testing::RunSpecht("slam -q --no-mcap -o '" + dir + "/file'").exit_code, 0);
+  EXPECT_TRUE(testing::ReadFile(dir + "/launch/slam/trajectory.tum") ==
+              testing::ReadFile(dir + "/file/trajectory.tum"));
+  const auto report = Report(dir + "/launch");
+  EXPECT_EQ(report["status"], "complete");
+  ASSERT_EQ(report["nodes"].size(), 3u);
+  for (const auto& node : report["nodes"]) {
+    EXPECT_EQ(node["exit_code"], 0) << node;
+    EXPECT_EQ(node["status"], "complete") << node;
+    EXPECT_FALSE(testing::ReadFile(dir + "/launch/" + node["console"].get<std::string>()).empty());
+  }
+  EXPECT_EQ(Report(dir + "/launch/record")["counts"]["recorded"]["/scan"],
+            Report(dir + "/launch/play")["counts"]["published"]["/scan"]);
+}
+
+// A required node that fails stops the others (SIGINT: they keep what they have):
+// a SLAM node that would wait forever for scans ends with the launch.
+TEST(NodeCliTest, LaunchStopsTheNodesWhenARequiredOneFails) {
+  const std::string dir = testing::TempDir("launch_required");
+  testing::WriteFile(dir + "/launch.yaml",
+                     "nodes:\n"
+                     "  - {name: slam, node: slam, args: [--no-mcap]}\n"
+                     "  - {name: play, node: play, args: [" +
+                         dir + "/missing.rawlog], required: true}\n");
+  const auto r =
+      testing::RunSpecht("launch '" + dir + "/launch.yaml' -q --domain " + Domain() + " -o '" + dir + "/out'");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  const auto report = Report(dir + "/out");
+  EXPECT_EQ(report["status"], "failed");
+  EXPECT_EQ(report["error"], "required node play exited with 2");
+  EXPECT_EQ(report["nodes"][0]["exit_code"], 130);
+  EXPECT_EQ(report["nodes"][1]["exit_code"], 2);
+  EXPECT_NE(testing::ReadFile(dir + "/out/play/console.log").find("missing.rawlog"), std::string::npos);
+}
+
+// Ctrl-C on the launch reaches every node once: each writes what it has and exits
+// 130, and so does the launch.
+TEST(NodeCliTest, LaunchPassesSigintToEveryNode) {
+  const std::string dir = testing::TempDir("launch_sigint");
+  testing::WriteFile(dir + "/launch.yaml",
+                     "nodes:\n  - {name: slam, node: slam, args: [--no-mcap]}\n  - {name: record, node: record}\n");
+  testing::BackgroundSpecht launch("launch '" + dir + "/launch.yaml' -q --domain " + Domain() + " -o '" + dir +
+                                   "/out'");
+  ASSERT_TRUE(launch.WaitForFile(dir + "/out/record/params.yaml", 30));
+  ASSERT_TRUE(launch.WaitForFile(dir + "/out/slam/params.yaml", 30));
+  launch.Signal(SIGINT);
+  const auto r = launch.Wait();
+  EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
+  const auto report = Report(dir + "/out");
+  EXPECT_EQ(report["status"], "interrupted");
+  for (const auto& node : report["nodes"]) EXPECT_EQ(node["exit_code"], 130) << node;
+  EXPECT_EQ(Report(dir + "/out/slam")["status"], "interrupted");
+}
+
 }  // namespace
 }  // namespace specht

@@ -75,7 +75,9 @@ bool DataRequired();
     else                                                   \
       GTEST_SKIP()
 
-#define SPECHT_REQUIRE_FILE(path)                                        \
-  do {                                                                   \
-    if ((path).empty()) SPECHT_SKIP() << "test data not available here"; \
+#define SPECHT_REQUIRE_FILE(path)                      \
+  do {                                                 \
+    if ((path).empty()) {                              \
+      SPECHT_SKIP() << "test data not available here"; \
+    }                                                  \
   } while (0)
