@@ -49,7 +49,7 @@ seed fuzz_trajectory "$mrpt"/*ground_truth*.txt "$data"/slam/carmen/intel-correc
 seed fuzz_nmea "$data"/ais/nmea/*.log "$data"/ais/nmea/*.aivdm
 seed fuzz_ais_positions "$data"/ais/tracks/*.csv.gz
 seed fuzz_params "$root"/params/*.yaml "$root"/params/tune/*.yaml
-seed fuzz_scenario "$root"/datasets/scenarios/*.yaml "$root"/datasets/missions/*.yaml
+seed fuzz_scenario "$root"/datasets/scenarios/*.yaml "$root"/datasets/missions/*.yaml "$root"/params/launch/*.yaml
 seed fuzz_calibration "$data"/stereo/kitti_object/calib.txt
 seed fuzz_ros_messages "$data"/ros/*/*.db3
 
