@@ -1,4 +1,4 @@
-// ROS 2 message payloads (io/ros_messages.h): LaserScan, Odometry and TFMessage
+// ROS 2 message payloads (io/ros_messages.h): LaserScan, Odometry, TFMessage, AckermannDriveStamped and Clock
 // decoded from the input, and from every CDR encapsulation header (00 01 00 00) in
 // it, so that a seed cut from a rosbag2 .db3 file feeds its real payloads in.
 #include <algorithm>
@@ -16,6 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     specht::fuzz::Expect([&] { specht::io::ros::DecodeLaserScan(payload); });
     specht::fuzz::Expect([&] { specht::io::ros::DecodeOdometry(payload); });
     specht::fuzz::Expect([&] { specht::io::ros::DecodeTfMessage(payload); });
+    specht::fuzz::Expect([&] { specht::io::ros::DecodeAckermannDrive(payload); });
+    specht::fuzz::Expect([&] { specht::io::ros::DecodeClock(payload); });
     ++decoded;
   }
   return 0;

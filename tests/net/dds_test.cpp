@@ -261,6 +261,26 @@ nlohmann::json Json(const io::ros::Path& m) {
   return {{"header", Json(m.header)}, {"poses", poses}};
 }
 
+io::ros::AckermannDrive Drive() {
+  io::ros::AckermannDrive m;
+  m.header = {Stamp{1700000000250000000LL}, "base_link"};
+  m.steering_angle = -0.3125f;  // exact in float32 and in JSON
+  m.steering_angle_velocity = 0.5f;
+  m.speed = 2.25f;
+  m.acceleration = 1.5f;
+  m.jerk = 0;
+  return m;
+}
+nlohmann::json Json(const io::ros::AckermannDrive& m) {
+  return {{"header", Json(m.header)},
+          {"drive",
+           {{"steering_angle", m.steering_angle},
+            {"steering_angle_velocity", m.steering_angle_velocity},
+            {"speed", m.speed},
+            {"acceleration", m.acceleration},
+            {"jerk", m.jerk}}}};
+}
+
 std::string Hex(const std::vector<uint8_t>& bytes) {
   static const char* digits = "0123456789abcdef";
   std::string out;
@@ -285,6 +305,7 @@ TEST(Ros2CdrTest, BytesEqualFoxglovesWriterAndWhatDdsDelivers) {
       {"rosgraph_msgs/msg/Clock",
        {{"clock", Json(Stamp{1700000000250000000LL})}},
        io::ros::EncodeClock(Stamp{1700000000250000000LL})},
+      {"ackermann_msgs/msg/AckermannDriveStamped", Json(Drive()), io::ros::Encode(Drive())},
   };
   nlohmann::json input = nlohmann::json::array();
   for (const auto& [type, value, _] : cases)

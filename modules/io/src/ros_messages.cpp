@@ -63,6 +63,22 @@ LaserScan DecodeLaserScan(const std::vector<uint8_t>& payload) {
   });
 }
 
+AckermannDrive DecodeAckermannDrive(const std::vector<uint8_t>& payload) {
+  return Decode<AckermannDrive>(payload, "ackermann_msgs/msg/AckermannDriveStamped", [](Cdr& cdr, AckermannDrive& m) {
+    Read(cdr, m.header);
+    cdr >> m.steering_angle >> m.steering_angle_velocity >> m.speed >> m.acceleration >> m.jerk;
+  });
+}
+
+Stamp DecodeClock(const std::vector<uint8_t>& payload) {
+  return Decode<Stamp>(payload, "rosgraph_msgs/msg/Clock", [](Cdr& cdr, Stamp& t) {
+    int32_t sec = 0;
+    uint32_t nanosec = 0;
+    cdr >> sec >> nanosec;
+    t = Stamp{static_cast<int64_t>(sec) * 1000000000LL + nanosec};
+  });
+}
+
 Odometry DecodeOdometry(const std::vector<uint8_t>& payload) {
   return Decode<Odometry>(payload, "nav_msgs/msg/Odometry", [](Cdr& cdr, Odometry& m) {
     Read(cdr, m.header);
@@ -147,6 +163,9 @@ const std::map<std::string, std::string>& Definitions() {
       {"nav_msgs/Path", "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n"},
       {"geometry_msgs/PoseArray", "std_msgs/Header header\nPose[] poses\n"},
       {"rosgraph_msgs/Clock", "builtin_interfaces/Time clock\n"},
+      {"ackermann_msgs/AckermannDrive",
+       "float32 steering_angle\nfloat32 steering_angle_velocity\nfloat32 speed\nfloat32 acceleration\nfloat32 jerk\n"},
+      {"ackermann_msgs/AckermannDriveStamped", "std_msgs/Header header\nAckermannDrive drive\n"},
   };
   return d;
 }
@@ -224,6 +243,13 @@ std::vector<uint8_t> Encode(const PoseArray& m) {
     Write(cdr, m.header);
     cdr << static_cast<uint32_t>(m.poses.size());
     for (const auto& p : m.poses) WritePose(cdr, p);
+  });
+}
+
+std::vector<uint8_t> Encode(const AckermannDrive& m) {
+  return EncodeWith(64 + m.header.frame_id.size(), [&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << m.steering_angle << m.steering_angle_velocity << m.speed << m.acceleration << m.jerk;
   });
 }
 

@@ -27,6 +27,7 @@ const std::map<std::string, const dds_topic_descriptor_t*>& Descriptors() {
       {"tf2_msgs/msg/TFMessage", &tf2_msgs_msg_dds__TFMessage__desc},
       {"geometry_msgs/msg/PoseArray", &geometry_msgs_msg_dds__PoseArray__desc},
       {"rosgraph_msgs/msg/Clock", &rosgraph_msgs_msg_dds__Clock__desc},
+      {"ackermann_msgs/msg/AckermannDriveStamped", &ackermann_msgs_msg_dds__AckermannDriveStamped__desc},
   };
   return d;
 }
@@ -142,6 +143,13 @@ std::string CycloneConfig(const Options& options) {
                     std::to_string(options.max_participants - 1) + "</MaxAutoParticipantIndex><Peers>";
   for (const auto& p : options.peers) xml += "<Peer address=\"" + p + "\"/>";
   xml += "</Peers></Discovery>";
+  // A writer with samples not yet acknowledged asks for acks every heartbeat_ms and
+  // readers answer at once: a lockstep barrier (WaitForAcks) then costs about that,
+  // not Cyclone's default 100 ms heartbeat. Once all is acknowledged the writer is
+  // quiet (the 8 s maximum).
+  const std::string heartbeat = std::to_string(options.heartbeat_ms) + "ms";
+  xml += "<Internal><HeartbeatInterval min=\"1ms\" minsched=\"1ms\">" + heartbeat +
+         "</HeartbeatInterval><AckDelay>0ms</AckDelay></Internal>";
   if (!options.trace_file.empty())
     xml += "<Tracing><Verbosity>config</Verbosity><OutputFile>" + XmlEscaped(options.trace_file) +
            "</OutputFile></Tracing>";

@@ -60,6 +60,17 @@ struct PoseArray {  // geometry_msgs/msg/PoseArray
   std::vector<Pose> poses;
 };
 
+// ackermann_msgs/msg/AckermannDriveStamped: what a car-like robot is told to do (the
+// F1TENTH stacks' /drive): speed and steering angle, with the rates to reach them.
+struct AckermannDrive {
+  Header header;
+  float steering_angle = 0;           // rad, left positive
+  float steering_angle_velocity = 0;  // rad/s; 0: as fast as the car can
+  float speed = 0;                    // m/s, forward positive
+  float acceleration = 0;             // m/s²; 0: as fast as the car can
+  float jerk = 0;
+};
+
 struct Path {  // nav_msgs/msg/Path of geometry_msgs/msg/PoseStamped
   Header header;
   std::vector<std::pair<Header, Pose>> poses;
@@ -70,6 +81,8 @@ struct Path {  // nav_msgs/msg/Path of geometry_msgs/msg/PoseStamped
 LaserScan DecodeLaserScan(const std::vector<uint8_t>& cdr);
 Odometry DecodeOdometry(const std::vector<uint8_t>& cdr);
 std::vector<TransformStamped> DecodeTfMessage(const std::vector<uint8_t>& cdr);  // tf2_msgs/msg/TFMessage
+AckermannDrive DecodeAckermannDrive(const std::vector<uint8_t>& cdr);
+Stamp DecodeClock(const std::vector<uint8_t>& cdr);  // rosgraph_msgs/msg/Clock
 
 // CDR payloads (little-endian, with the encapsulation header) of the same messages,
 // as rosbag2 and MCAP store them.
@@ -79,6 +92,7 @@ std::vector<uint8_t> Encode(const std::vector<TransformStamped>& tf_message);
 std::vector<uint8_t> Encode(const OccupancyGrid& m);
 std::vector<uint8_t> Encode(const Path& m);
 std::vector<uint8_t> Encode(const PoseArray& m);
+std::vector<uint8_t> Encode(const AckermannDrive& m);
 std::vector<uint8_t> EncodeClock(Stamp t);  // rosgraph_msgs/msg/Clock: the simulated time
 
 // The ros2msg definition of `type` (e.g. "sensor_msgs/msg/LaserScan") with every

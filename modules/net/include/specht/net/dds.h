@@ -32,6 +32,7 @@ struct Options {
   std::string interface_address = "127.0.0.1";
   std::vector<std::string> peers = {"127.0.0.1"};
   int max_participants = 20;
+  int heartbeat_ms = 2;
   std::string trace_file;
 
   template <class V>
@@ -47,6 +48,10 @@ struct Options {
     v.Param("max_participants", max_participants,
             "participant indices discovery probes on each peer (how many specht or ROS 2 processes a host runs)",
             Range::Of(1, 120));
+    v.Param("heartbeat_ms", heartbeat_ms,
+            "a writer with samples not yet acknowledged asks its readers for acks this often (Cyclone's default: "
+            "100): how long a lockstep step waits for its sensor messages to be acknowledged",
+            Range::Of(1, 1000));
     v.Param("trace_file", trace_file, "when set, Cyclone DDS writes the configuration it runs with there");
   }
   // The relations a range cannot state: the addresses are IPv4, a peer is listed.
@@ -80,7 +85,8 @@ std::string DdsTypeName(const std::string& ros_type);    // throws InputError fo
 
 // The ROS 2 types specht carries: sensor_msgs/msg/LaserScan, nav_msgs/msg/Odometry,
 // nav_msgs/msg/OccupancyGrid, nav_msgs/msg/Path, tf2_msgs/msg/TFMessage,
-// geometry_msgs/msg/PoseArray, rosgraph_msgs/msg/Clock.
+// geometry_msgs/msg/PoseArray, rosgraph_msgs/msg/Clock,
+// ackermann_msgs/msg/AckermannDriveStamped.
 std::vector<std::string> SupportedTypes();
 
 // One DDS domain participant; writers and readers belong to one. The domain's
