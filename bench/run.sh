@@ -48,5 +48,6 @@ if [[ -d "$data/ros" ]]; then
 fi
 run "$build/bench/plan_bench" "$root"/datasets/scenarios/{course-loop,urban-crossing,parking-lot}.yaml
 run "$build/bench/dds_bench"
+run "$build/bench/sim_node_bench" "$build/specht"
 SPECHT_BINARY=$build/specht run "$root/bench/node_bench.sh"
 echo "bench: results in $out" >&2

@@ -70,10 +70,11 @@ int RunMapping(MappingArgs a, const std::string& command) {
   if (!a.model_dir.empty()) common.overrides.push_back("perception.classifier_model=" + a.model_dir);
   // Everything that can be wrong with the input is checked before anything is written.
   const params::Params params = LoadParams(common);
-  pipeline::Replay replay(params,
-                          {a.dataset, a.ground_truth, a.relations, a.reference_map, a.map_dir, a.continue_dir,
-                           DataDir(common), a.no_mcap ? "" : a.mcap, common.param_files, common.overrides},
-                          command);
+  pipeline::Replay replay(
+      params,
+      {a.dataset, a.ground_truth, a.relations, a.reference_map, a.map_dir, a.continue_dir, DataDir(common),
+       a.no_mcap ? "" : a.mcap, common.param_files, common.overrides, std::nullopt},
+      command);
   PrepareOutputDir(common, params);
   return replay.Run(common.out_dir, common.quiet);
 }

@@ -1,6 +1,7 @@
 // `specht node play [dataset]`: a dataset published as ROS 2 topics over DDS.
 // `specht node slam`: graph SLAM on ROS 2 topics, publishing the map, TF and the
-// trajectory. `specht node record`: ROS 2 topics into an MCAP file
+// trajectory. `specht node sim`: the simulated car, sensors out, drive commands in.
+// `specht node record`: ROS 2 topics into an MCAP file
 // (pipeline/nodes.h says what each node reads and publishes).
 #include <cstdio>
 
@@ -20,6 +21,9 @@ struct NodeArgs {
   std::optional<int> subscribers;
   std::string map_dir, mcap = "run.mcap";
   bool no_mcap = false;
+  std::optional<uint64_t> seed;
+  std::optional<double> duration_s;
+  bool free_run = false;
 };
 
 void AddNodeOptions(CLI::App& cmd, NodeArgs& args, const std::string& default_out) {
@@ -62,6 +66,14 @@ int RunSlamNode(NodeArgs a) {
   return replay.Run(a.common.out_dir, a.common.quiet);
 }
 
+int RunSimNode(NodeArgs a) {
+  if (a.free_run) a.common.overrides.push_back("node.lockstep=false");
+  const params::Params params = NodeParams(a);
+  PrepareOutputDir(a.common, params);
+  return pipeline::RunSimulatorNode(params, {a.dataset, a.seed, a.duration_s, a.common.param_files, a.common.overrides},
+                                    a.common.out_dir, a.common.quiet);
+}
+
 int RunRecord(NodeArgs a) {
   const params::Params params = NodeParams(a);
   PrepareOutputDir(a.common, params);
@@ -98,6 +110,18 @@ void AddNodeCommand(CLI::App& app, int& exit_code) {
   s->add_flag("--no-mcap", slam->no_mcap, "write no MCAP");
   AddNodeOptions(*s, *slam, "specht-out/node-slam");
   s->callback([slam, &exit_code] { exit_code = RunSlamNode(*slam); });
+
+  auto sim = std::make_shared<NodeArgs>();
+  CLI::App* m = node->add_subcommand(
+      "sim", "the simulated car: /scan, /odom, /tf, /clock, /ground_truth out; AckermannDriveStamped commands in");
+  m->add_option("scenario", sim->dataset, "scenario file (datasets/scenarios/*.yaml)")->required();
+  m->add_option("--seed", sim->seed, "seed (default: the scenario's)");
+  m->add_option("--duration", sim->duration_s, "simulated seconds (default: the scenario's)");
+  m->add_flag("--free-run", sim->free_run,
+              "no lockstep: run paced by --rate, applying the latest command (same as --set node.lockstep=false)");
+  m->add_option("--rate", sim->rate, "with --free-run: pace at R x real time (same as --set replay.rate=R)");
+  AddNodeOptions(*m, *sim, "specht-out/node-sim");
+  m->callback([sim, &exit_code] { exit_code = RunSimNode(*sim); });
 
   auto record = std::make_shared<NodeArgs>();
   CLI::App* r = node->add_subcommand("record", "record the ROS 2 topics specht speaks into an MCAP file");

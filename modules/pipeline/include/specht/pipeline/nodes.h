@@ -12,6 +12,18 @@
 //         the end, /trajectory; it writes what `specht slam` writes (map artefact,
 //         trajectory, report) when its input ends (node.idle_end_s of silence) or a
 //         signal stops it
+//   sim   the simulated car and its world (a scenario): /scan, /odom, /tf, /tf_static,
+//         /clock and /ground_truth (nav_msgs/Odometry: the ego's true pose, the
+//         simulator's box centre, frame "map") out; ackermann_msgs/msg/
+//         AckermannDriveStamped commands in (node.command_topic, /drive as on
+//         F1TENTH cars). In lockstep (node.lockstep) the simulated clock stops at
+//         every control step (closed_loop.control_hz) until a command stamped with
+//         that step's time came: before it publishes /clock of a step, every reader
+//         has acknowledged the sensor messages up to it, so the commander decides on
+//         all of them, however slow either side is, and the drive is the same on
+//         every run. Without lockstep it runs paced by replay.rate and applies the
+//         latest command, as a car would. Ends at the scenario's duration
+//         (--duration) or on a signal; writes ground_truth.tum and report.json
 //   record  the ROS 2 topics specht speaks (/scan, /odom, /tf, /tf_static, /map,
 //         /trajectory, /path, /tracks), from specht's nodes or any ROS 2 node, into
 //         an MCAP file (ROS 2 schemas) in source-time order, the bytes as they came;
@@ -20,12 +32,17 @@
 // domain, interface, peers) and "node" (below).
 #pragma once
 
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "specht/core/params.h"
+#include "specht/core/trajectory.h"
 #include "specht/net/dds.h"
+#include "specht/sim/scenario.h"
+#include "specht/sim/simulator.h"
 
 namespace specht::pipeline {
 
@@ -38,6 +55,9 @@ struct NodeOptions {
   double map_every_s = 1.0;
   double wait_for_subscriber_s = 10;
   int subscribers = 1;
+  std::string command_topic = "/drive";
+  bool lockstep = true;
+  double command_timeout_s = 10;
 
   template <class V>
   void Visit(V& v) {
@@ -59,6 +79,15 @@ struct NodeOptions {
             Range::Of(0.0, 3600.0));
     v.Param("subscribers", subscribers, "how many subscribers to its scans the player waits for (SLAM, a recorder)",
             Range::Of(0, 100));
+    v.Param("command_topic", command_topic,
+            "the ackermann_msgs/msg/AckermannDriveStamped topic the simulator node drives the car by");
+    v.Param("lockstep", lockstep,
+            "the simulator node stops its clock at every control step until that step's command came (a drive "
+            "the same on every run); off: paced by replay.rate, the latest command applies");
+    v.Param("command_timeout_s", command_timeout_s,
+            "in lockstep, the simulator node ends (status incomplete) when a step's command has not come after "
+            "this long",
+            Range::Of(0.1, 3600.0));
   }
 };
 
@@ -81,6 +110,32 @@ struct RecordInputs {
 // closes the file and writes report.json (messages by topic). Returns 0, 2 when
 // nothing came, 128 + the signal when interrupted.
 int RecordTopics(const params::Params& params, const RecordInputs& inputs, const std::string& out_dir, bool quiet);
+
+struct SimNodeInputs {
+  std::string scenario;              // a scenario file (datasets/scenarios/*.yaml)
+  std::optional<uint64_t> seed;      // default: the scenario's
+  std::optional<double> duration_s;  // default: the scenario's
+  std::vector<std::string> param_files, overrides;
+};
+
+// `specht node sim`: drives the scenario's car by the commands on node.command_topic
+// (above), writes ground_truth.tum and report.json. Returns 0, 1 when the commands
+// stopped coming (lockstep), 128 + the signal when interrupted.
+int RunSimulatorNode(const params::Params& params, const SimNodeInputs& inputs, const std::string& out_dir, bool quiet);
+
+// The simulator node's loop, commands from a function: at each control step of
+// `control_hz`, `command(t)` gives the car's command for the step starting at t
+// (nullopt ends the drive), then the simulator runs to the next step, handing each
+// observation to `observe`. Returns the ego's true pose (box centre) at every control
+// step; stops early on a signal.
+using CommandAt = std::function<std::optional<sim::Simulator::EgoCommand>(Stamp t, const sim::Simulator& sim)>;
+Trajectory DriveSimulatedCar(sim::Simulator& sim, double duration_s, double control_hz, const CommandAt& command,
+                             const sim::Simulator::Sink& observe);
+
+// What the simulator does with a drive command: speed and steering angle as sent
+// (float32 on the wire), steering_angle_velocity 0 meaning the car's own limit.
+sim::Simulator::EgoCommand EgoCommandOf(float speed_mps, float steer_rad, float steer_rate_rad_s,
+                                        double max_steer_rate_rad_s);
 
 // The participant a node joins, from section "dds".
 std::shared_ptr<net::Participant> NodeParticipant(const params::Params& params);
