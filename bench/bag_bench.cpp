@@ -51,8 +51,8 @@ int main(int argc, char** argv) {
   double payload = 0;
   {
     io::McapWriter w(mcap);
-    const auto scan_ch = w.AddChannel(w.AddSchema("sensor_msgs/msg/LaserScan", "ros2msg", ""), "/scan", "cdr");
-    const auto odom_ch = w.AddChannel(w.AddSchema("nav_msgs/msg/Odometry", "ros2msg", ""), "/odom", "cdr");
+    const auto scan_ch = w.AddChannel(w.AddSchema(io::ros::kLaserScanType, "ros2msg", ""), "/scan", "cdr");
+    const auto odom_ch = w.AddChannel(w.AddSchema(io::ros::kOdometryType, "ros2msg", ""), "/odom", "cdr");
     auto source = io::OpenRos2Bag(bag);
     while (auto o = source->Next()) {
       std::vector<uint8_t> cdr;

@@ -69,8 +69,8 @@ io::ros::OccupancyGrid Map() {
 // counts are reached, then writes "<topic> <latency ns>..." lines to `out`.
 void Subscribe(double seconds, int scans_expected, int maps_expected, FILE* out) {
   net::Participant p(BenchOptions());
-  net::Reader scans(p, "/scan", "sensor_msgs/msg/LaserScan", net::Qos::kDefault);
-  net::Reader maps(p, "/map", "nav_msgs/msg/OccupancyGrid", net::Qos::kLatched);
+  net::Reader scans(p, "/scan", io::ros::kLaserScanType, net::Qos::kDefault);
+  net::Reader maps(p, "/map", io::ros::kOccupancyGridType, net::Qos::kLatched);
   std::vector<int64_t> scan_ns, map_ns;
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds + 5);
   while (std::chrono::steady_clock::now() < end &&
@@ -107,8 +107,8 @@ int main(int argc, char** argv) {
   std::vector<std::pair<std::string, std::vector<double>>> latencies;  // ms
   {
     net::Participant p(BenchOptions());
-    net::Writer scans(p, "/scan", "sensor_msgs/msg/LaserScan", net::Qos::kDefault);
-    net::Writer maps(p, "/map", "nav_msgs/msg/OccupancyGrid", net::Qos::kLatched);
+    net::Writer scans(p, "/scan", io::ros::kLaserScanType, net::Qos::kDefault);
+    net::Writer maps(p, "/map", io::ros::kOccupancyGridType, net::Qos::kLatched);
     if (!scans.WaitForReaders(1, milliseconds(10000)) || !maps.WaitForReaders(1, milliseconds(10000))) {
       std::fprintf(stderr, "dds_bench: the subscriber did not match within 10 s\n");
       kill(child, SIGKILL);

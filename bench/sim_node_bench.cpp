@@ -43,10 +43,10 @@ int main(int argc, char** argv) {
                      std::to_string(seconds), "-q", "--domain", std::to_string(options.domain), "-o", dir + "/node"},
                     dir + "/console.log");
   net::Participant participant(options);
-  net::Reader clock(participant, "/clock", "rosgraph_msgs/msg/Clock", net::Qos::kClock);
-  net::Reader odometry(participant, "/odom", "nav_msgs/msg/Odometry", net::Qos::kKeepAll);
-  net::Reader scans(participant, "/scan", "sensor_msgs/msg/LaserScan", net::Qos::kKeepAll);
-  net::Writer drive(participant, "/drive", "ackermann_msgs/msg/AckermannDriveStamped", net::Qos::kKeepAll);
+  net::Reader clock(participant, "/clock", io::ros::kClockType, net::Qos::kClock);
+  net::Reader odometry(participant, "/odom", io::ros::kOdometryType, net::Qos::kKeepAll);
+  net::Reader scans(participant, "/scan", io::ros::kLaserScanType, net::Qos::kKeepAll);
+  net::Writer drive(participant, "/drive", io::ros::kAckermannDriveType, net::Qos::kKeepAll);
   net::WaitSet wait(participant);
   wait.Attach(clock);
   std::vector<double> round_trip_ms;

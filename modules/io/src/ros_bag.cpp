@@ -19,10 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kLaserScan = "sensor_msgs/msg/LaserScan";
-constexpr const char* kOdometry = "nav_msgs/msg/Odometry";
-constexpr const char* kTf = "tf2_msgs/msg/TFMessage";
-
 // One read-only rosbag2 SQLite file and the statement stepping through it.
 class Db3 {
  public:
@@ -187,9 +183,9 @@ class Ros2BagSource : public DatasetSource {
   Ros2BagSource(std::string path, const BagTopicChoice& choice, OnBadRecord on_bad)
       : path_(std::move(path)), files_(Db3Files(path_)), on_bad_(on_bad) {
     Db3 first(files_.front());
-    scan_ = Pick(first.topics(), choice.scan, kLaserScan, path_);
-    if (choice.odometry != "none") odometry_ = Pick(first.topics(), choice.odometry, kOdometry, path_);
-    if (scan_.empty()) throw InputError(path_ + ": no " + std::string(kLaserScan) + " topic to map with");
+    scan_ = Pick(first.topics(), choice.scan, ros::kLaserScanType, path_);
+    if (choice.odometry != "none") odometry_ = Pick(first.topics(), choice.odometry, ros::kOdometryType, path_);
+    if (scan_.empty()) throw InputError(path_ + ": no " + std::string(ros::kLaserScanType) + " topic to map with");
     for (const auto& t : first.topics())
       if (t.name == "/tf_static")
         notes_.push_back("/tf_static read for the scan's mount");
@@ -244,7 +240,7 @@ class Ros2BagSource : public DatasetSource {
   }
   void ReadStaticTransforms(Db3& db) {
     for (const auto& t : db.topics()) {
-      if (t.type != kTf || t.name != "/tf_static") continue;
+      if (t.type != ros::kTfMessageType || t.name != "/tf_static") continue;
       db.Select({t.name});
       Db3::Row row;
       while (db.Step(row)) convert_.AddStatic(ros::DecodeTfMessage(row.data));
@@ -328,11 +324,11 @@ class McapSource : public DatasetSource {
   }
   std::optional<Observation> Convert(const McapMessage& m) {
     if (m.message_encoding != "cdr") throw InputError("message encoding '" + m.message_encoding + "', not cdr");
-    if (m.schema_name == kTf && m.topic == "/tf_static") {
+    if (m.schema_name == ros::kTfMessageType && m.topic == "/tf_static") {
       convert_.AddStatic(ros::DecodeTfMessage(m.data));
-    } else if (m.schema_name == kLaserScan && Claims(choice_.scan, m.topic)) {
+    } else if (m.schema_name == ros::kLaserScanType && Claims(choice_.scan, m.topic)) {
       return convert_.Observe(ros::DecodeLaserScan(m.data), m.topic, static_cast<int64_t>(m.log_time_ns), m.index);
-    } else if (m.schema_name == kOdometry && choice_.odometry != "none" && Claims(choice_.odometry, m.topic)) {
+    } else if (m.schema_name == ros::kOdometryType && choice_.odometry != "none" && Claims(choice_.odometry, m.topic)) {
       return convert_.Observe(ros::DecodeOdometry(m.data), m.topic, static_cast<int64_t>(m.log_time_ns), m.index);
     } else {
       ++not_read_[m.topic];

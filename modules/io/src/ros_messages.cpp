@@ -56,7 +56,7 @@ void ReadPose(Cdr& cdr, Pose& p) { cdr >> p.x >> p.y >> p.z >> p.qx >> p.qy >> p
 double Pose::Yaw() const { return std::atan2(2 * (qw * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz)); }
 
 LaserScan DecodeLaserScan(const std::vector<uint8_t>& payload) {
-  return Decode<LaserScan>(payload, "sensor_msgs/msg/LaserScan", [](Cdr& cdr, LaserScan& m) {
+  return Decode<LaserScan>(payload, kLaserScanType, [](Cdr& cdr, LaserScan& m) {
     Read(cdr, m.header);
     cdr >> m.angle_min >> m.angle_max >> m.angle_increment >> m.time_increment >> m.scan_time >> m.range_min >>
         m.range_max >> m.ranges >> m.intensities;
@@ -64,14 +64,14 @@ LaserScan DecodeLaserScan(const std::vector<uint8_t>& payload) {
 }
 
 AckermannDrive DecodeAckermannDrive(const std::vector<uint8_t>& payload) {
-  return Decode<AckermannDrive>(payload, "ackermann_msgs/msg/AckermannDriveStamped", [](Cdr& cdr, AckermannDrive& m) {
+  return Decode<AckermannDrive>(payload, kAckermannDriveType, [](Cdr& cdr, AckermannDrive& m) {
     Read(cdr, m.header);
     cdr >> m.steering_angle >> m.steering_angle_velocity >> m.speed >> m.acceleration >> m.jerk;
   });
 }
 
 Stamp DecodeClock(const std::vector<uint8_t>& payload) {
-  return Decode<Stamp>(payload, "rosgraph_msgs/msg/Clock", [](Cdr& cdr, Stamp& t) {
+  return Decode<Stamp>(payload, kClockType, [](Cdr& cdr, Stamp& t) {
     int32_t sec = 0;
     uint32_t nanosec = 0;
     cdr >> sec >> nanosec;
@@ -80,7 +80,7 @@ Stamp DecodeClock(const std::vector<uint8_t>& payload) {
 }
 
 Odometry DecodeOdometry(const std::vector<uint8_t>& payload) {
-  return Decode<Odometry>(payload, "nav_msgs/msg/Odometry", [](Cdr& cdr, Odometry& m) {
+  return Decode<Odometry>(payload, kOdometryType, [](Cdr& cdr, Odometry& m) {
     Read(cdr, m.header);
     cdr >> m.child_frame_id;
     ReadPose(cdr, m.pose);
@@ -91,7 +91,7 @@ Odometry DecodeOdometry(const std::vector<uint8_t>& payload) {
 }
 
 std::vector<TransformStamped> DecodeTfMessage(const std::vector<uint8_t>& payload) {
-  return Decode<std::vector<TransformStamped>>(payload, "tf2_msgs/msg/TFMessage", [](Cdr& cdr, auto& out) {
+  return Decode<std::vector<TransformStamped>>(payload, kTfMessageType, [](Cdr& cdr, auto& out) {
     uint32_t n = 0;
     cdr >> n;
     for (uint32_t i = 0; i < n; ++i) {

@@ -15,9 +15,9 @@ namespace {
 using std::chrono::milliseconds;
 using Clock = std::chrono::steady_clock;
 
-constexpr const char* kLaserScan = "sensor_msgs/msg/LaserScan";
-constexpr const char* kOdometry = "nav_msgs/msg/Odometry";
-constexpr const char* kTfMessage = "tf2_msgs/msg/TFMessage";
+constexpr const char* kLaserScan = io::ros::kLaserScanType;
+constexpr const char* kOdometry = io::ros::kOdometryType;
+constexpr const char* kTfMessage = io::ros::kTfMessageType;
 
 // What a topic's reader delivered that is not yet released.
 struct Queued {

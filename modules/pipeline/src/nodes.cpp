@@ -41,7 +41,7 @@ int PlayDataset(const params::Params& params, const PlayInputs& inputs, const st
                  {"params_files", inputs.param_files},
                  {"overrides", inputs.overrides}};
   const auto wait = std::chrono::duration<double>(node.wait_for_subscriber_s);
-  if (!publisher->WaitForReaders(node.scan_topic, "sensor_msgs/msg/LaserScan", node.subscribers,
+  if (!publisher->WaitForReaders(node.scan_topic, io::ros::kLaserScanType, node.subscribers,
                                  std::chrono::duration_cast<std::chrono::milliseconds>(wait)))
     spdlog::warn("node play: fewer than {} subscribers to {} after {:.0f} s; publishing anyway", node.subscribers,
                  node.scan_topic, node.wait_for_subscriber_s);
@@ -54,7 +54,7 @@ int PlayDataset(const params::Params& params, const PlayInputs& inputs, const st
       [&](Stamp t, const mrpt::obs::CObservation::Ptr& o) {
         auto timing = timer.Time("publish");
         recorder.Observation(t, o);
-        publisher->Publish("/clock", "rosgraph_msgs/msg/Clock", t, io::ros::EncodeClock(t));  // use_sim_time
+        publisher->Publish("/clock", io::ros::kClockType, t, io::ros::EncodeClock(t));  // use_sim_time
         if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o)) ++scans;
         return std::make_pair(scans, std::string());
       },
@@ -77,14 +77,14 @@ int RecordTopics(const params::Params& params, const RecordInputs& inputs, const
   const auto& node = params.Get<NodeOptions>("node");
   const std::string path = internal::RecordingPath(out_dir, inputs.mcap);
   const std::vector<net::TopicSpec> topics = {
-      {node.scan_topic, "sensor_msgs/msg/LaserScan", true},
-      {node.odometry_topic, "nav_msgs/msg/Odometry", true},
-      {"/tf", "tf2_msgs/msg/TFMessage", false},
-      {"/tf_static", "tf2_msgs/msg/TFMessage", false},
-      {"/map", "nav_msgs/msg/OccupancyGrid", false},
-      {"/trajectory", "nav_msgs/msg/Path", false},
-      {"/path", "nav_msgs/msg/Path", false},
-      {"/tracks", "geometry_msgs/msg/PoseArray", false},
+      {node.scan_topic, io::ros::kLaserScanType, true},
+      {node.odometry_topic, io::ros::kOdometryType, true},
+      {"/tf", io::ros::kTfMessageType, false},
+      {"/tf_static", io::ros::kTfMessageType, false},
+      {"/map", io::ros::kOccupancyGridType, false},
+      {"/trajectory", io::ros::kPathType, false},
+      {"/path", io::ros::kPathType, false},
+      {"/tracks", io::ros::kPoseArrayType, false},
   };
   net::TopicMerger merger(NodeParticipant(params), topics, node.settle_s, node.idle_end_s);
   io::RunReport report("node record");

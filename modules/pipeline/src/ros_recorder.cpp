@@ -91,7 +91,7 @@ void RosRecorder::Emit(const std::string& topic, const std::string& type, Origin
 
 void RosRecorder::Tf(Stamp t, const std::string& parent, const std::string& child, const CPose3D& pose, Origin origin) {
   const io::ros::TransformStamped tf{{t, parent}, child, io::ros::FromMrpt(pose)};
-  Emit("/tf", "tf2_msgs/msg/TFMessage", origin, t, io::ros::Encode(std::vector<io::ros::TransformStamped>{tf}));
+  Emit("/tf", io::ros::kTfMessageType, origin, t, io::ros::Encode(std::vector<io::ros::TransformStamped>{tf}));
 }
 
 void RosRecorder::Observation(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
@@ -99,13 +99,12 @@ void RosRecorder::Observation(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
     const std::string frame = io::ros::FrameName(scan->sensorLabel);
     if (mounted_.insert(frame).second) {
       mounts_.push_back({{t, kBase}, frame, io::ros::FromMrpt(scan->sensorPose)});
-      Emit("/tf_static", "tf2_msgs/msg/TFMessage", Origin::kInput, t, io::ros::Encode(mounts_));
+      Emit("/tf_static", io::ros::kTfMessageType, Origin::kInput, t, io::ros::Encode(mounts_));
     }
-    Emit("/scan", "sensor_msgs/msg/LaserScan", Origin::kInput, t, io::ros::Encode(io::ros::FromMrpt(*scan, t, frame)));
+    Emit("/scan", io::ros::kLaserScanType, Origin::kInput, t, io::ros::Encode(io::ros::FromMrpt(*scan, t, frame)));
   } else if (const auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o)) {
     odom_from_base_ = CPose3D(odo->odometry.x(), odo->odometry.y(), 0, odo->odometry.phi(), 0, 0);
-    Emit("/odom", "nav_msgs/msg/Odometry", Origin::kInput, t,
-         io::ros::Encode(io::ros::FromMrpt(*odo, t, kOdom, kBase)));
+    Emit("/odom", io::ros::kOdometryType, Origin::kInput, t, io::ros::Encode(io::ros::FromMrpt(*odo, t, kOdom, kBase)));
     Tf(t, kOdom, kBase, odom_from_base_, Origin::kInput);
   }
 }
@@ -128,7 +127,7 @@ void RosRecorder::Keyframes(const std::vector<slam::Keyframe>& keyframes, bool m
 }
 
 void RosRecorder::Map(const mrpt::maps::COccupancyGridMap2D& grid, Stamp t) {
-  Emit("/map", "nav_msgs/msg/OccupancyGrid", Origin::kEstimate, t, io::ros::Encode(ToRos(grid, t)));
+  Emit("/map", io::ros::kOccupancyGridType, Origin::kEstimate, t, io::ros::Encode(ToRos(grid, t)));
   last_map_s_ = t.Seconds();
 }
 
@@ -138,14 +137,14 @@ void RosRecorder::Path(const std::string& topic, const std::vector<CPose3D>& pos
   io::ros::Path path;
   path.header = {t, kMap};
   for (const auto& p : poses) path.poses.push_back({{t, kMap}, io::ros::FromMrpt(p)});
-  Emit(topic, "nav_msgs/msg/Path", Origin::kEstimate, t, io::ros::Encode(path));
+  Emit(topic, io::ros::kPathType, Origin::kEstimate, t, io::ros::Encode(path));
 }
 
 void RosRecorder::Poses(const std::string& topic, const std::vector<CPose3D>& poses, Stamp t) {
   io::ros::PoseArray array;
   array.header = {t, kMap};
   for (const auto& p : poses) array.poses.push_back(io::ros::FromMrpt(p));
-  Emit(topic, "geometry_msgs/msg/PoseArray", Origin::kEstimate, t, io::ros::Encode(array));
+  Emit(topic, io::ros::kPoseArrayType, Origin::kEstimate, t, io::ros::Encode(array));
 }
 
 void RosRecorder::Finish(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& trajectory, Stamp end) {
@@ -153,7 +152,7 @@ void RosRecorder::Finish(const mrpt::maps::COccupancyGridMap2D& grid, const Traj
   io::ros::Path path;
   path.header = {end, kMap};
   for (const auto& p : trajectory) path.poses.push_back({{p.stamp, kMap}, io::ros::FromMrpt(p.pose)});
-  Emit("/trajectory", "nav_msgs/msg/Path", Origin::kEstimate, end, io::ros::Encode(path));
+  Emit("/trajectory", io::ros::kPathType, Origin::kEstimate, end, io::ros::Encode(path));
   for (auto& sink : sinks_) sink->Close();
 }
 

@@ -21,17 +21,14 @@
 namespace specht::pipeline {
 namespace {
 
-constexpr char kDriveType[] = "ackermann_msgs/msg/AckermannDriveStamped";
-constexpr char kClockType[] = "rosgraph_msgs/msg/Clock";
-constexpr char kOdometryType[] = "nav_msgs/msg/Odometry";
-
 mrpt::poses::CPose3D Pose3(const sim::Pose2& p) { return {p.x, p.y, 0, p.yaw_rad, 0, 0}; }
 
 // The drive commands of node.command_topic, as the simulator takes them.
 class DriveCommands {
  public:
   DriveCommands(net::Participant& participant, const std::string& topic, double max_steer_rate_rad_s)
-      : reader_(participant, topic, kDriveType, net::Qos::kKeepAll), max_steer_rate_rad_s_(max_steer_rate_rad_s) {}
+      : reader_(participant, topic, io::ros::kAckermannDriveType, net::Qos::kKeepAll),
+        max_steer_rate_rad_s_(max_steer_rate_rad_s) {}
 
   // The newest command stamped at or after `t` (lockstep: the one for this step), or
   // the newest at all (free running); nullopt when none came.
@@ -97,7 +94,7 @@ int RunSimulatorNode(const params::Params& params, const SimNodeInputs& inputs, 
   DriveCommands commands(*participant, node.command_topic, car.max_steer_rate_deg_s * M_PI / 180);
 
   const auto publish_clock = [&](const sim::Simulator& sim) {
-    publisher->Publish("/clock", kClockType, sim.stamp(), io::ros::EncodeClock(sim.stamp()));
+    publisher->Publish("/clock", io::ros::kClockType, sim.stamp(), io::ros::EncodeClock(sim.stamp()));
   };
   const auto publish_truth = [&](const sim::Simulator& sim) {
     io::ros::Odometry truth;
@@ -106,7 +103,7 @@ int RunSimulatorNode(const params::Params& params, const SimNodeInputs& inputs, 
     truth.pose = io::ros::FromMrpt(Pose3(sim.ego().pose));
     truth.vx = sim.ego().speed_mps;
     truth.wz = sim.ego().yaw_rate;
-    publisher->Publish("/ground_truth", kOdometryType, sim.stamp(), io::ros::Encode(truth));
+    publisher->Publish("/ground_truth", io::ros::kOdometryType, sim.stamp(), io::ros::Encode(truth));
   };
   // Lockstep: every reader has the sensor messages up to now before the clock says
   // so; then the step waits for its command, repeating /clock (a best-effort topic)

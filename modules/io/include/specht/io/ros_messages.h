@@ -13,6 +13,16 @@
 
 namespace specht::io::ros {
 
+// The ROS 2 type names of the messages here, as topics, bags and schemas name them.
+inline constexpr char kLaserScanType[] = "sensor_msgs/msg/LaserScan";
+inline constexpr char kOdometryType[] = "nav_msgs/msg/Odometry";
+inline constexpr char kTfMessageType[] = "tf2_msgs/msg/TFMessage";
+inline constexpr char kOccupancyGridType[] = "nav_msgs/msg/OccupancyGrid";
+inline constexpr char kPathType[] = "nav_msgs/msg/Path";
+inline constexpr char kPoseArrayType[] = "geometry_msgs/msg/PoseArray";
+inline constexpr char kClockType[] = "rosgraph_msgs/msg/Clock";
+inline constexpr char kAckermannDriveType[] = "ackermann_msgs/msg/AckermannDriveStamped";
+
 struct Header {  // std_msgs/msg/Header
   Stamp stamp;
   std::string frame_id;
