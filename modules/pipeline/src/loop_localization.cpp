@@ -121,56 +121,35 @@ std::shared_ptr<const MapArtefact> LoopLocalization::DrawnMap(const std::string&
   return map;
 }
 
-CPose2D LoopLocalization::Estimate(const sim::Simulator& sim) const {
-  if (!UsesObservations()) return ToMrpt(sim.ego().pose);
+CPose2D LoopLocalization::Estimate() const {
+  if (!UsesObservations()) return ToMrpt(oracle_);
   return start_ + at_scan_ + (odometry_ - odometry_at_scan_);
 }
 
-CPose2D LoopLocalization::EstimateAtScan(const sim::Simulator& sim) const {
-  if (!UsesObservations()) return ToMrpt(sim.ego().pose);
+CPose2D LoopLocalization::EstimateAtScan() const {
+  if (!UsesObservations()) return ToMrpt(oracle_);
   return start_ + at_scan_;
 }
 
-void LoopLocalization::Tick(const sim::Simulator& sim) {
-  if (kidnapped_ || kidnap_.at_s < 0 || sim.time_s() < kidnap_.at_s) return;
+void LoopLocalization::Tick(double t_s) {
+  if (kidnapped_ || kidnap_.at_s < 0 || t_s < kidnap_.at_s) return;
   kidnapped_ = true;
   // correction' ⊕ estimate = believed ⊕ offset
-  const CPose2D believed = correction_ + Estimate(sim);
-  correction_ = believed + CPose2D(kidnap_.ahead_m, 0, kidnap_.yaw_deg * M_PI / 180) + Inverse(Estimate(sim));
+  const CPose2D believed = correction_ + Estimate();
+  correction_ = believed + CPose2D(kidnap_.ahead_m, 0, kidnap_.yaw_deg * M_PI / 180) + Inverse(Estimate());
 }
 
-void LoopLocalization::Relocalize(const sim::Simulator& sim, const sim::Pose2& found) {
-  correction_ = ToMrpt(found) + Inverse(EstimateAtScan(sim));  // correction' ⊕ estimate at the scan = found
+void LoopLocalization::Relocalize(const sim::Pose2& found) {
+  correction_ = ToMrpt(found) + Inverse(EstimateAtScan());  // correction' ⊕ estimate at the scan = found
   ++relocalizations_;
 }
 
-sim::Pose2 LoopLocalization::Believed(const sim::Simulator& sim) const { return FromMrpt(correction_ + Estimate(sim)); }
+sim::Pose2 LoopLocalization::Believed() const { return FromMrpt(correction_ + Estimate()); }
 
-sim::Pose2 LoopLocalization::AtLatestScan(const sim::Simulator& sim) const {
-  return FromMrpt(correction_ + EstimateAtScan(sim));
-}
-
-void LoopLocalization::Score(const sim::Simulator& sim) {
-  const sim::Pose2 b = Believed(sim), t = sim.ego().pose;
-  position_error_m_.push_back(std::hypot(b.x - t.x, b.y - t.y));
-  max_heading_error_deg_ =
-      std::max(max_heading_error_deg_, std::abs(std::remainder(b.yaw_rad - t.yaw_rad, 2 * M_PI)) * 180 / M_PI);
-}
+sim::Pose2 LoopLocalization::AtLatestScan() const { return FromMrpt(correction_ + EstimateAtScan()); }
 
 nlohmann::json LoopLocalization::ToJson() const {
-  std::vector<double> e = position_error_m_;
-  std::sort(e.begin(), e.end());
-  double sq = 0;
-  for (double v : e) sq += v * v;
-  const auto q = [&](double p) {
-    return e.empty() ? 0.0 : e[std::min(e.size() - 1, static_cast<size_t>(p * e.size()))];
-  };
-  nlohmann::json j = {{"mode", mode_},
-                      {"ate_rmse_m", e.empty() ? 0.0 : std::sqrt(sq / e.size())},
-                      {"ate_p90_m", q(0.9)},
-                      {"ate_max_m", e.empty() ? 0.0 : e.back()},
-                      {"heading_error_max_deg", max_heading_error_deg_},
-                      {"relocalizations", relocalizations_}};
+  nlohmann::json j = {{"mode", mode_}, {"relocalizations", relocalizations_}};
   if (localizer_) j["scans"] = scans_;
   if (slam_) {
     j["scans"] = scans_;

@@ -15,15 +15,13 @@ Box BoxOf(double x, double y, double yaw, double length, double width, double ra
   return {x, y, yaw, length / 2, width / 2};
 }
 
-// A point seen from the true pose, placed at the believed one.
-cv::Point2d Believed(const sim::Pose2& truth, const sim::Pose2& believed, double x, double y) {
-  const double dx = x - truth.x, dy = y - truth.y, c = std::cos(truth.yaw_rad), s = std::sin(truth.yaw_rad);
-  const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
-  const double cb = std::cos(believed.yaw_rad), sb = std::sin(believed.yaw_rad);
-  return {believed.x + cb * lx - sb * ly, believed.y + sb * lx + cb * ly};
-}
-
 }  // namespace
+
+types::Obstacle InCarFrame(types::Obstacle o, const sim::Pose2& truth) {
+  const double dx = o.x_m - truth.x, dy = o.y_m - truth.y, c = std::cos(truth.yaw_rad), s = std::sin(truth.yaw_rad);
+  o.x_m = c * dx + s * dy, o.y_m = -s * dx + c * dy, o.yaw_rad -= truth.yaw_rad;
+  return o;
+}
 
 Perceived PerceivedFrom(const world::Snapshot& s, double age_s) {
   Perceived p;
@@ -85,17 +83,10 @@ void AgentsAsPerceived(const std::vector<sim::AgentTruth>& agents, Stamp stamp, 
   }
 }
 
-LoopPerception::LoopPerception(const std::string& mode, double control_hz,
-                               const sim::SyntheticDetectionOptions& detection, const track::TrackerOptions& tracking,
-                               double match_m, uint64_t seed, world::WorldModel& world, Blindness blind,
+LoopPerception::LoopPerception(const std::string& mode, const track::TrackerOptions& tracking, world::WorldModel& world,
                                const LoopCameraConfig& camera)
-    : mode_(mode),
-      blind_(blind),
-      truth_every_(std::max(1, static_cast<int>(std::lround(1.0 / (control_hz * sim::Simulator::kStepS))))),
-      match_m_(match_m),
-      world_(world) {
+    : mode_(mode), world_(world) {
   if (mode == "detections") {
-    detector_.emplace(detection, seed);
     tracker_.emplace(tracking);
   } else if (mode == "camera") {  // loads the detector: a missing model fails here, before the car moves
     camera_ = std::make_unique<StereoPerception>(camera.sgm, camera.detector, camera.fusion, camera.data_dir,
@@ -108,47 +99,36 @@ LoopPerception::LoopPerception(const std::string& mode, double control_hz,
 
 LoopPerception::~LoopPerception() = default;
 
-void LoopPerception::Step(const sim::Simulator& sim, const sim::Pose2& believed) {
-  if (camera_ || blind_.Covers(sim.time_s())) return;
-  const sim::Pose2 truth = sim.ego().pose;
+std::vector<types::Track> LoopPerception::Oracle(const std::vector<sim::AgentTruth>& agents, Stamp stamp) {
   std::vector<types::Track> tracks;
   std::vector<types::Obstacle> obstacles;
-  const std::vector<sim::AgentTruth> agents = sim.agents();
-  if (!detector_) {
-    if (std::llround(sim.time_s() / sim::Simulator::kStepS) % truth_every_ != 0) return;
-    AgentsAsPerceived(agents, sim.stamp(), tracks, obstacles);
-    Score(agents, agents, tracks);
-    return Write(std::move(tracks), std::move(obstacles), sim.stamp());
-  }
-  if (!detector_->Due(sim)) return;
-  obstacles = detector_->Detect(sim);
-  for (auto& o : obstacles) {
-    const cv::Point2d p = Believed(truth, believed, o.x_m, o.y_m);
-    o.x_m = p.x, o.y_m = p.y, o.yaw_rad += believed.yaw_rad - truth.yaw_rad;
-  }
-  Publish(std::move(obstacles), sim, detector_->visible());
+  AgentsAsPerceived(agents, stamp, tracks, obstacles);
+  Write(tracks, std::move(obstacles), stamp);
+  return tracks;
 }
 
-void LoopPerception::Camera(const sim::Simulator& sim, const sim::StereoFrame& frame, const sim::Pose2& believed) {
-  if (!camera_ || blind_.Covers(sim.time_s())) return;
-  const sim::StereoSpec& spec = *sim.scenario().stereo;
-  PerceivedFrame seen = camera_->Process(*SimStereoObservation(sim.stamp(), spec, frame), Pose3(believed), sim.stamp());
-  const PerceptionEvalOptions counted;  // which agents in the image count as seeable
-  std::vector<sim::AgentTruth> in_view;
-  for (const auto& a : sim.agents())
-    for (const auto& v : frame.agents)
-      if (v.id == a.id && v.visible >= counted.min_visible && v.box.height >= counted.min_height_px)
-        in_view.push_back(a);
-  Publish(std::move(seen.obstacles), sim, in_view);
+std::vector<types::Track> LoopPerception::Detections(std::vector<types::Obstacle> in_car, Stamp stamp,
+                                                     const sim::Pose2& believed) {
+  const double c = std::cos(believed.yaw_rad), s = std::sin(believed.yaw_rad);
+  for (auto& o : in_car) {
+    const double x = o.x_m, y = o.y_m;
+    o.x_m = believed.x + c * x - s * y, o.y_m = believed.y + s * x + c * y, o.yaw_rad += believed.yaw_rad;
+  }
+  return Publish(std::move(in_car), stamp);
 }
 
-void LoopPerception::Publish(std::vector<types::Obstacle> obstacles, const sim::Simulator& sim,
-                             const std::vector<sim::AgentTruth>& in_view) {
-  tracker_->Update(obstacles, sim.stamp());
+std::vector<types::Track> LoopPerception::Camera(const mrpt::obs::CObservationStereoImages& frame, Stamp stamp,
+                                                 const sim::Pose2& believed) {
+  PerceivedFrame seen = camera_->Process(frame, Pose3(believed), stamp);
+  return Publish(std::move(seen.obstacles), stamp);
+}
+
+std::vector<types::Track> LoopPerception::Publish(std::vector<types::Obstacle> obstacles, Stamp stamp) {
+  tracker_->Update(obstacles, stamp);
   std::vector<types::Track> tracks = tracker_->Tracks();
   detections_ += static_cast<long>(obstacles.size());
-  Score(in_view, sim.agents(), tracks);
-  Write(std::move(tracks), std::move(obstacles), sim.stamp());
+  Write(tracks, std::move(obstacles), stamp);
+  return tracks;
 }
 
 void LoopPerception::Write(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp) {
@@ -160,8 +140,8 @@ void LoopPerception::Write(std::vector<types::Track> tracks, std::vector<types::
   ++frames_;
 }
 
-void LoopPerception::Score(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,
-                           const std::vector<types::Track>& tracks) {
+void PerceptionScore::Frame(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,
+                            const std::vector<types::Track>& tracks) {
   const auto near = [&](double x, double y, double ax, double ay) { return std::hypot(x - ax, y - ay) <= match_m_; };
   for (const auto& a : in_view) {
     auto& c = by_class_[sim::Name(a.cls)];
@@ -178,6 +158,10 @@ void LoopPerception::Score(const std::vector<sim::AgentTruth>& in_view, const st
 }
 
 nlohmann::json LoopPerception::ToJson() const {
+  return {{"mode", mode_}, {"frames", frames_}, {"detections", detections_}};
+}
+
+nlohmann::json PerceptionScore::ToJson() const {
   nlohmann::json classes = nlohmann::json::object();
   for (const auto& [cls, c] : by_class_)
     classes[cls] = {
@@ -187,8 +171,7 @@ nlohmann::json LoopPerception::ToJson() const {
         {"found", c.found},
         {"reported", c.reported},
         {"right", c.right}};
-  return {
-      {"mode", mode_}, {"frames", frames_}, {"detections", detections_}, {"match_m", match_m_}, {"by_class", classes}};
+  return {{"match_m", match_m_}, {"by_class", classes}};
 }
 
 }  // namespace specht::pipeline::internal

@@ -15,8 +15,8 @@
 // prior map sets (Relocalize), and what a kidnap corrupts: at kidnap_at_s (≥ 0) the
 // believed pose jumps by (kidnap_m ahead, kidnap_deg) and moves on from there with the
 // estimate, as after a wrong relocalisation.
-// Scored against the simulator at every control step (never fed back): absolute
-// trajectory error of the position (RMSE, p90, max) and of the heading (max).
+// The truth mode reads the oracle's pose (Oracle); the others never see the truth:
+// what the believed pose is scored against is the referee's (closed_loop.cpp).
 #pragma once
 
 #include <memory>
@@ -43,18 +43,19 @@ class LoopLocalization {
   bool UsesObservations() const { return slam_ || localizer_; }
   // Every observation the simulator makes, in order.
   void Observe(Stamp t, const mrpt::obs::CObservation::Ptr& observation);
-  // Once per control step, before the pose is read: applies the kidnap when it is due.
-  void Tick(const sim::Simulator& sim);
+  // The truth mode: the simulator's pose of the box centre now (the oracle).
+  void Oracle(const sim::Pose2& truth) { oracle_ = truth; }
+  // Once per control step (at `t_s` of the drive), before the pose is read: applies
+  // the kidnap when it is due.
+  void Tick(double t_s);
   // The scan of the latest pose (AtLatestScan) lies at `found` on the prior map: from
   // now on the believed pose follows the estimate from there.
-  void Relocalize(const sim::Simulator& sim, const sim::Pose2& found);
-  // The believed pose now (`sim` only for the truth mode and the kidnap's clock).
-  sim::Pose2 Believed(const sim::Simulator& sim) const;
+  void Relocalize(const sim::Pose2& found);
+  // The believed pose now.
+  sim::Pose2 Believed() const;
   // The believed pose at the latest scan (where the LiDAR map inserts it).
-  sim::Pose2 AtLatestScan(const sim::Simulator& sim) const;
-  // Records the error of the believed pose against the truth.
-  void Score(const sim::Simulator& sim);
-  nlohmann::json ToJson() const;
+  sim::Pose2 AtLatestScan() const;
+  nlohmann::json ToJson() const;  // mode, scans, loops, relocalisations
   // slam: the map drawn so far, the graph finished (Finish), moved into the scenario's
   // frame, the car's footprint at every keyframe free; none in the other modes. Call
   // once, at the end of the drive.
@@ -62,8 +63,8 @@ class LoopLocalization {
 
  private:
   // The estimate, before the correction: now, and at the latest scan.
-  mrpt::poses::CPose2D Estimate(const sim::Simulator& sim) const;
-  mrpt::poses::CPose2D EstimateAtScan(const sim::Simulator& sim) const;
+  mrpt::poses::CPose2D Estimate() const;
+  mrpt::poses::CPose2D EstimateAtScan() const;
   std::string mode_;
   mrpt::poses::CPose2D start_;
   Kidnap kidnap_;
@@ -77,8 +78,7 @@ class LoopLocalization {
   mrpt::poses::CPose2D at_scan_;                      // the pose of the latest scan (SLAM's frame or the map's)
   mrpt::poses::CPose2D odometry_, odometry_at_scan_;  // the odometry pose, now and at that scan
   Stamp scan_stamp_;
-  std::vector<double> position_error_m_;
-  double max_heading_error_deg_ = 0;
+  sim::Pose2 oracle_{};
 };
 
 }  // namespace specht::pipeline::internal

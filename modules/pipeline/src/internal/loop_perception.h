@@ -12,11 +12,8 @@
 //   camera      each stereo frame the simulator renders (Camera): our SGM and the
 //               CNN detector (stereo_perception.h), box fusion placed at the
 //               believed pose → the tracker → the track and obstacle layers
-// In-loop scoring against the simulator's truth (never fed back): at each perception
-// frame, an agent in view (camera: as `specht eval perception` counts one at its
-// defaults, perception_eval.h) counts as found when a reported track lies within
-// match_m of it (recall, by the agent's class), and a track is right when an agent
-// lies within match_m of it (precision, by the track's class).
+// Scored by PerceptionScore (an agent in view, camera: as `specht eval perception`
+// counts one at its defaults, perception_eval.h).
 #pragma once
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -70,48 +67,67 @@ struct PerceptionCounts {
   long right = 0, reported = 0;  // precision
 };
 
-// A fault: from at_s (≥ 0) for for_s, perception delivers no frame (a blind camera).
 // The simulator's agents as perception would report them, exactly (perception
 // truth, and the truth side of the run video): confirmed tracks and obstacles.
 void AgentsAsPerceived(const std::vector<sim::AgentTruth>& agents, Stamp stamp, std::vector<types::Track>& tracks,
                        std::vector<types::Obstacle>& obstacles);
 
+// A fault: from at_s (≥ 0) for for_s, perception delivers no frame (a blind camera).
 struct Blindness {
   double at_s = -1, for_s = 0;
   bool Covers(double t_s) const { return at_s >= 0 && t_s >= at_s && t_s < at_s + for_s; }
 };
 
+// The stack's perception: what the car's sensors deliver, tracked and written into
+// the world model. It never reads the simulator: the oracle's agents (mode truth)
+// are handed to it like a sensor's frame.
 class LoopPerception {
  public:
-  LoopPerception(const std::string& mode, double control_hz, const sim::SyntheticDetectionOptions& detection,
-                 const track::TrackerOptions& tracking, double match_m, uint64_t seed, world::WorldModel& world,
-                 Blindness blind = {}, const LoopCameraConfig& camera = {});
+  LoopPerception(const std::string& mode, const track::TrackerOptions& tracking, world::WorldModel& world,
+                 const LoopCameraConfig& camera = {});
   ~LoopPerception();
-  // After every simulator step (and once before the first): writes the world model
-  // when a frame is due. `believed` is where the car thinks its box centre is.
-  void Step(const sim::Simulator& sim, const sim::Pose2& believed);
-  // Mode camera: one rendered stereo frame, as the simulator delivers it.
-  void Camera(const sim::Simulator& sim, const sim::StereoFrame& frame, const sim::Pose2& believed);
-  nlohmann::json ToJson() const;  // recall and precision per class, frames, detections
+  const std::string& mode() const { return mode_; }
+  // Mode truth: the simulator's agents as confirmed tracks (the oracle's frame).
+  std::vector<types::Track> Oracle(const std::vector<sim::AgentTruth>& agents, Stamp stamp);
+  // Mode detections: one detector frame, each obstacle in the car's frame (x ahead and
+  // y to the left of its box centre, yaw against its heading), placed at the believed
+  // box-centre pose `believed`.
+  std::vector<types::Track> Detections(std::vector<types::Obstacle> in_car, Stamp stamp, const sim::Pose2& believed);
+  // Mode camera: one stereo frame, as the simulator's camera delivers it.
+  std::vector<types::Track> Camera(const mrpt::obs::CObservationStereoImages& frame, Stamp stamp,
+                                   const sim::Pose2& believed);
+  nlohmann::json ToJson() const;  // mode, frames, detections
 
  private:
-  void Score(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,
-             const std::vector<types::Track>& tracks);
   // Tracks the frame's obstacles (map frame) and writes both layers.
-  void Publish(std::vector<types::Obstacle> obstacles, const sim::Simulator& sim,
-               const std::vector<sim::AgentTruth>& in_view);
+  std::vector<types::Track> Publish(std::vector<types::Obstacle> obstacles, Stamp stamp);
   // One perception frame into the world model.
   void Write(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp);
   std::string mode_;
-  Blindness blind_;
-  int truth_every_;  // simulator steps per truth frame
-  double match_m_;
   world::WorldModel& world_;
-  std::optional<sim::SyntheticDetector> detector_;
   std::optional<track::Tracker> tracker_;
   std::unique_ptr<StereoPerception> camera_;
-  std::map<std::string, PerceptionCounts> by_class_;
   long frames_ = 0, detections_ = 0;
 };
+
+// The referee's score of perception (never fed back): at each perception frame, an
+// agent in view counts as found when a reported track lies within match_m of it
+// (recall, by the agent's class), and a track is right when an agent lies within
+// match_m of it (precision, by the track's class).
+class PerceptionScore {
+ public:
+  explicit PerceptionScore(double match_m) : match_m_(match_m) {}
+  void Frame(const std::vector<sim::AgentTruth>& in_view, const std::vector<sim::AgentTruth>& all,
+             const std::vector<types::Track>& tracks);
+  nlohmann::json ToJson() const;  // match_m, by_class
+
+ private:
+  double match_m_;
+  std::map<std::string, PerceptionCounts> by_class_;
+};
+
+// A detection the simulator made in the map frame, moved into the frame of the car
+// at its true box-centre pose `truth` (what the car's own detector would report).
+types::Obstacle InCarFrame(types::Obstacle o, const sim::Pose2& truth);
 
 }  // namespace specht::pipeline::internal
