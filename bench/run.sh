@@ -50,4 +50,5 @@ run "$build/bench/plan_bench" "$root"/datasets/scenarios/{course-loop,urban-cros
 run "$build/bench/dds_bench"
 run "$build/bench/sim_node_bench" "$build/specht"
 SPECHT_BINARY=$build/specht run "$root/bench/node_bench.sh"
+SPECHT_BINARY=$build/specht run "$root/bench/run_nodes_bench.sh"
 echo "bench: results in $out" >&2

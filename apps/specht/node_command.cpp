@@ -1,7 +1,8 @@
 // `specht node play [dataset]`: a dataset published as ROS 2 topics over DDS.
 // `specht node slam`: graph SLAM on ROS 2 topics, publishing the map, TF and the
 // trajectory. `specht node sim`: the simulated car, sensors out, drive commands in.
-// `specht node record`: ROS 2 topics into an MCAP file
+// `specht node stack`: the closed loop's stack on the simulated car's topics (what
+// `specht run --nodes` starts). `specht node record`: ROS 2 topics into an MCAP file
 // (pipeline/nodes.h says what each node reads and publishes).
 #include <cstdio>
 
@@ -24,6 +25,7 @@ struct NodeArgs {
   std::optional<uint64_t> seed;
   std::optional<double> duration_s;
   bool free_run = false;
+  std::string mission, stack_mcap;
 };
 
 void AddNodeOptions(CLI::App& cmd, NodeArgs& args, const std::string& default_out) {
@@ -74,6 +76,14 @@ int RunSimNode(NodeArgs a) {
                                     a.common.out_dir, a.common.quiet);
 }
 
+int RunStack(NodeArgs a) {
+  const params::Params params = NodeParams(a);
+  PrepareOutputDir(a.common, params);
+  return pipeline::RunStackNode(
+      params, {a.dataset, a.mission, a.map_dir, a.stack_mcap, a.seed, a.common.param_files, a.common.overrides},
+      a.common.out_dir, a.common.quiet);
+}
+
 int RunRecord(NodeArgs a) {
   const params::Params params = NodeParams(a);
   PrepareOutputDir(a.common, params);
@@ -113,7 +123,8 @@ void AddNodeCommand(CLI::App& app, int& exit_code) {
 
   auto sim = std::make_shared<NodeArgs>();
   CLI::App* m = node->add_subcommand(
-      "sim", "the simulated car: /scan, /odom, /tf, /clock, /ground_truth out; AckermannDriveStamped commands in");
+      "sim",
+      "the simulated car: /scan, /odom, /imu, /tf, /clock, /ground_truth out; AckermannDriveStamped commands in");
   m->add_option("scenario", sim->dataset, "scenario file (datasets/scenarios/*.yaml)")->required();
   m->add_option("--seed", sim->seed, "seed (default: the scenario's)");
   m->add_option("--duration", sim->duration_s, "simulated seconds (default: the scenario's)");
@@ -122,6 +133,21 @@ void AddNodeCommand(CLI::App& app, int& exit_code) {
   m->add_option("--rate", sim->rate, "with --free-run: pace at R x real time (same as --set replay.rate=R)");
   AddNodeOptions(*m, *sim, "specht-out/node-sim");
   m->callback([sim, &exit_code] { exit_code = RunSimNode(*sim); });
+
+  auto stack = std::make_shared<NodeArgs>();
+  CLI::App* k = node->add_subcommand(
+      "stack",
+      "the closed loop's stack (SLAM, tracking, planning, decisions) on the simulated car's topics: /scan, /odom, "
+      "/imu, /detections, /vehicle_state in; /stack/step, /perception/tracks, /drive out (`specht run --nodes` "
+      "starts it)");
+  k->add_option("scenario", stack->dataset, "scenario file the car drives in (its site: map, bays, the car)")
+      ->required();
+  k->add_option("--seed", stack->seed, "the drive's seed (default: the scenario's)");
+  k->add_option("--mission", stack->mission, "mission file (default: park in the first bay)");
+  k->add_option("--map", stack->map_dir, "localise on a mapping drive's map-<seed>/ (closed_loop.localization map)");
+  k->add_option("--mcap", stack->stack_mcap, "record the drive as MCAP into this file (default: none)");
+  AddNodeOptions(*k, *stack, "specht-out/node-stack");
+  k->callback([stack, &exit_code] { exit_code = RunStack(*stack); });
 
   auto record = std::make_shared<NodeArgs>();
   CLI::App* r = node->add_subcommand("record", "record the ROS 2 topics specht speaks into an MCAP file");

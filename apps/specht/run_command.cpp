@@ -1,5 +1,5 @@
-// `specht run <scenario.yaml> [--mission M.yaml] [--seeds A-B] [--stack full|truth] [--map DIR] -o DIR`: the closed
-// loop (pipeline/mission_runs.h).
+// `specht run <scenario.yaml> [--mission M.yaml] [--seeds A-B] [--stack full|truth] [--map DIR] [--nodes
+// [--domain N]] -o DIR`: the closed loop (pipeline/mission_runs.h).
 #include "commands.h"
 #include "specht/pipeline/mission_runs.h"
 
@@ -11,6 +11,7 @@ struct RunArgs {
   pipeline::MissionRunInputs in;
   std::string seeds;
   std::string stack = "full";
+  std::optional<int> domain;
 };
 
 }  // namespace
@@ -31,6 +32,10 @@ void AddRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--map", args->in.map_dir,
                   "localise on the map a mapping drive of this scenario left (its map-<seed>/ folder) and plan on "
                   "its grid, instead of mapping from scratch (closed_loop.localization map; full stack only)");
+  cmd->add_flag("--nodes", args->in.nodes,
+                "run the stack as `specht node stack` in a process of its own, over DDS in lockstep with the "
+                "simulated car (its console and report in stack-<seed>/); full stack only, no video");
+  cmd->add_option("--domain", args->domain, "with --nodes: the DDS domain id (same as --set dds.domain=N)");
   AddCommonOptions(*cmd, args->common, "specht-out/run");
   cmd->callback([args, &exit_code] {
     if (!args->seeds.empty()) args->in.seeds = ParseSeedRange(args->seeds, 0);
@@ -39,6 +44,7 @@ void AddRunCommand(CLI::App& app, int& exit_code) {
     if (!full && !args->in.map_dir.empty()) throw CLI::ValidationError("--map", "the truth stack reads no map");
     const std::string localization = !full ? "truth" : args->in.map_dir.empty() ? "slam" : "map";
     auto& o = args->common.overrides;
+    if (args->domain) o.push_back("dds.domain=" + std::to_string(*args->domain));
     o.insert(o.begin(), {"closed_loop.localization=" + localization,
                          std::string("closed_loop.perception=") + (full ? "detections" : "truth")});
     exit_code = pipeline::RunMissions(LoadParams(args->common), args->in, args->common.out_dir, args->common.quiet);

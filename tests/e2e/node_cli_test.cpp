@@ -7,7 +7,12 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
 
 #include "specht/io/trajectory_io.h"
 #include "test_support.h"
@@ -152,6 +157,67 @@ TEST(NodeCliTest, LaunchPassesSigintToEveryNode) {
   EXPECT_EQ(report["status"], "interrupted");
   for (const auto& node : report["nodes"]) EXPECT_EQ(node["exit_code"], 130) << node;
   EXPECT_EQ(Report(dir + "/out/slam")["status"], "interrupted");
+}
+
+// `specht run --nodes`: the stack as `specht node stack`, its own process, hearing
+// the simulated car over DDS in lockstep, drives the run the in-process loop drives:
+// the same success and collisions, every control step's pose within 1 mm (the
+// messages round the orientations through quaternions: the poses agree to ~1e-11 m).
+TEST(NodeCliTest, RunWithTheStackAsANodeDrivesAsTheInProcessLoop) {
+  const std::string dir = testing::TempDir("run_nodes");
+  const std::string run = "run '" + testing::SourceDir() +
+                          "/datasets/scenarios/parking-lot.yaml' --seeds 101 -q --set closed_loop.mcap=off";
+  const auto here = testing::RunSpecht(run + " --set closed_loop.video=off -o '" + dir + "/here'");
+  const auto nodes = testing::RunSpecht(run + " --nodes --domain " + Domain() + " -o '" + dir + "/nodes'");
+  ASSERT_EQ(here.exit_code, 0) << here.out << here.err;
+  ASSERT_EQ(nodes.exit_code, 0) << nodes.out << nodes.err;
+  const auto a = Report(dir + "/here")["runs"][0], b = Report(dir + "/nodes")["runs"][0];
+  EXPECT_EQ(a["success"], b["success"]);
+  EXPECT_EQ(a["collisions"], b["collisions"]);
+  EXPECT_EQ(a["transitions"].size(), b["transitions"].size());
+  std::istringstream steps_here(testing::ReadFile(dir + "/here/steps-101.jsonl")),
+      steps_nodes(testing::ReadFile(dir + "/nodes/steps-101.jsonl"));
+  int steps = 0;
+  for (std::string x, y; std::getline(steps_here, x) && std::getline(steps_nodes, y); ++steps) {
+    const auto p = nlohmann::json::parse(x), q = nlohmann::json::parse(y);
+    ASSERT_LE(
+        std::hypot(p["x_m"].get<double>() - q["x_m"].get<double>(), p["y_m"].get<double>() - q["y_m"].get<double>()),
+        1e-3)
+        << "step " << steps;
+    ASSERT_EQ(p["state"], q["state"]) << "step " << steps;
+  }
+  EXPECT_GT(steps, 100);
+  EXPECT_TRUE(steps_here.eof() || steps_here.peek() == EOF);
+  EXPECT_TRUE(steps_nodes.peek() == EOF);
+  // The latency between the processes is reported; the stack node wrote its own report.
+  EXPECT_GT(b["nodes"]["answer_ms"]["count"].get<int>(), 100);
+  EXPECT_GT(b["nodes"]["published"]["/scan"].get<int>(), 100);
+  EXPECT_EQ(Report(dir + "/nodes/stack-101")["status"], "complete");
+}
+
+// The stack node dies mid-drive: the run stops within the node timeout, naming the
+// node's exit and its console, instead of waiting for an answer that cannot come.
+TEST(NodeCliTest, RunNodesEndsWithAClearErrorWhenTheStackNodeDies) {
+  const std::string dir = testing::TempDir("run_nodes_killed");
+  testing::BackgroundSpecht run("run '" + testing::SourceDir() +
+                                "/datasets/scenarios/course-loop.yaml' --seeds 101 -q --nodes --domain " + Domain() +
+                                " --set node.command_timeout_s=5 -o '" + dir + "/out'");
+  ASSERT_TRUE(run.WaitForFile(dir + "/out/stack-101/params.yaml", 30));
+  std::this_thread::sleep_for(std::chrono::seconds(2));  // driving by now
+  // "[-]o": a pattern that does not match the shell running pkill itself.
+  ASSERT_EQ(std::system(("pkill -KILL -f -- '[-]o " + dir + "/out/stack-101'").c_str()), 0);
+  const auto r = run.Wait();
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, ::testing::HasSubstr("the stack node ended with exit code 137"));
+  EXPECT_THAT(r.err, ::testing::HasSubstr(dir + "/out/stack-101/console.log"));
+}
+
+TEST(NodeCliTest, RunNodesRunsTheFullStackOnly) {
+  const auto r = testing::RunSpecht("run '" + testing::SourceDir() +
+                                    "/datasets/scenarios/parking-lot.yaml' --stack truth --nodes -q -o '" +
+                                    testing::TempDir("run_nodes_truth") + "/out'");
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_THAT(r.err, ::testing::HasSubstr("--nodes runs the full stack"));
 }
 
 }  // namespace

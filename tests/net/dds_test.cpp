@@ -281,6 +281,74 @@ nlohmann::json Json(const io::ros::AckermannDrive& m) {
             {"jerk", m.jerk}}}};
 }
 
+io::ros::Imu ImuReading() {
+  io::ros::Imu m;
+  m.header = {Stamp{1700000000250000000LL}, "base_link"};
+  m.orientation_covariance[0] = -1;
+  m.angular_velocity_covariance[4] = 0.25;
+  m.wz = 0.125, m.ax = -1.5, m.ay = 0.75;
+  return m;
+}
+nlohmann::json Vector(double x, double y, double z) { return {{"x", x}, {"y", y}, {"z", z}}; }
+nlohmann::json Json(const io::ros::Imu& m) {
+  return {{"header", Json(m.header)},
+          {"orientation", Json(m.orientation)["orientation"]},
+          {"orientation_covariance", m.orientation_covariance},
+          {"angular_velocity", Vector(m.wx, m.wy, m.wz)},
+          {"angular_velocity_covariance", m.angular_velocity_covariance},
+          {"linear_acceleration", Vector(m.ax, m.ay, m.az)},
+          {"linear_acceleration_covariance", m.linear_acceleration_covariance}};
+}
+
+// specht_msgs: Foxglove's writer takes any definition, so the custom types are
+// checked the same way.
+io::ros::Obstacles Detections() {
+  io::ros::Obstacles m{{Stamp{1700000000250000000LL}, "base_link"}, {}};
+  m.obstacles.push_back({7, "pedestrian", 4.5, -1.25, 0, 0.5, 0.75, 0.5, 0.25, {0.01, 0, 0, 0.01}, 0.875, 4.5});
+  m.obstacles.push_back({8, "car", 12, 3, 0.5, 2.25, 4.5, 1.75, -1.5, {0.04, 0.01, 0.01, 0.09}, 0.5, 0});
+  return m;
+}
+nlohmann::json Json(const io::ros::Obstacles& m) {
+  nlohmann::json obstacles = nlohmann::json::array();
+  for (const auto& o : m.obstacles)
+    obstacles.push_back({{"id", o.id},
+                         {"cls", o.cls},
+                         {"x", o.x},
+                         {"y", o.y},
+                         {"z", o.z},
+                         {"radius", o.radius},
+                         {"length", o.length},
+                         {"width", o.width},
+                         {"yaw", o.yaw},
+                         {"covariance_xy", o.covariance_xy},
+                         {"score", o.score},
+                         {"range", o.range}});
+  return {{"header", Json(m.header)}, {"obstacles", obstacles}};
+}
+io::ros::VehicleState Vehicle() { return {{Stamp{1700000000250000000LL}, "base_link"}, 12.5, 2.25, -0.125, ""}; }
+nlohmann::json Json(const io::ros::VehicleState& m) {
+  return {{"header", Json(m.header)},
+          {"time_s", m.time_s},
+          {"speed_mps", m.speed_mps},
+          {"steer_rad", m.steer_rad},
+          {"stop", m.stop}};
+}
+io::ros::StackStep Step() {
+  return {{Stamp{1700000000250000000LL}, "map"}, 2.25, -0.125, 10.5, 3.25, 1.5, "drive", 3, true, false};
+}
+nlohmann::json Json(const io::ros::StackStep& m) {
+  return {{"header", Json(m.header)},
+          {"speed_mps", m.speed_mps},
+          {"steer_rad", m.steer_rad},
+          {"x", m.x},
+          {"y", m.y},
+          {"yaw", m.yaw},
+          {"state", m.state},
+          {"tracks", m.tracks},
+          {"on_local_path", m.on_local_path},
+          {"finished", m.finished}};
+}
+
 std::string Hex(const std::vector<uint8_t>& bytes) {
   static const char* digits = "0123456789abcdef";
   std::string out;
@@ -306,6 +374,10 @@ TEST(Ros2CdrTest, BytesEqualFoxglovesWriterAndWhatDdsDelivers) {
        {{"clock", Json(Stamp{1700000000250000000LL})}},
        io::ros::EncodeClock(Stamp{1700000000250000000LL})},
       {"ackermann_msgs/msg/AckermannDriveStamped", Json(Drive()), io::ros::Encode(Drive())},
+      {"sensor_msgs/msg/Imu", Json(ImuReading()), io::ros::Encode(ImuReading())},
+      {"specht_msgs/msg/Obstacles", Json(Detections()), io::ros::Encode(Detections())},
+      {"specht_msgs/msg/VehicleState", Json(Vehicle()), io::ros::Encode(Vehicle())},
+      {"specht_msgs/msg/StackStep", Json(Step()), io::ros::Encode(Step())},
   };
   nlohmann::json input = nlohmann::json::array();
   for (const auto& [type, value, _] : cases)

@@ -33,6 +33,16 @@ LaserScan FromMrpt(const mrpt::obs::CObservation2DRangeScan& scan, Stamp stamp, 
   return m;
 }
 
+Imu FromMrpt(const mrpt::obs::CObservationIMU& imu, Stamp stamp, const std::string& frame_id) {
+  Imu m;
+  m.header = {stamp, frame_id};
+  m.orientation_covariance[0] = -1;
+  const auto get = [&](mrpt::obs::TIMUDataIndex i) { return imu.has(i) ? imu.get(i) : 0.0; };
+  m.wx = get(mrpt::obs::IMU_WX), m.wy = get(mrpt::obs::IMU_WY), m.wz = get(mrpt::obs::IMU_WZ);
+  m.ax = get(mrpt::obs::IMU_X_ACC), m.ay = get(mrpt::obs::IMU_Y_ACC), m.az = get(mrpt::obs::IMU_Z_ACC);
+  return m;
+}
+
 Odometry FromMrpt(const mrpt::obs::CObservationOdometry& o, Stamp stamp, const std::string& odom_frame,
                   const std::string& base_frame) {
   Odometry m;
@@ -107,6 +117,15 @@ mrpt::obs::CObservationOdometry::Ptr RosObservations::Odometry(const ros::Odomet
   odo->hasVelocities = m.twist_covariance[0] >= 0;
   odo->velocityLocal = {m.vx, m.vy, m.wz};
   return odo;
+}
+
+mrpt::obs::CObservationIMU::Ptr RosObservations::Imu(const ros::Imu& m, const std::string& topic) {
+  auto imu = mrpt::obs::CObservationIMU::Create();
+  imu->sensorLabel = topic;
+  imu->timestamp = specht::ToMrpt(m.header.stamp);
+  imu->set(mrpt::obs::IMU_WX, m.wx), imu->set(mrpt::obs::IMU_WY, m.wy), imu->set(mrpt::obs::IMU_WZ, m.wz);
+  imu->set(mrpt::obs::IMU_X_ACC, m.ax), imu->set(mrpt::obs::IMU_Y_ACC, m.ay), imu->set(mrpt::obs::IMU_Z_ACC, m.az);
+  return imu;
 }
 
 mrpt::obs::CObservation2DRangeScan::Ptr RosObservations::Scan(const LaserScan& m, const std::string& topic) {

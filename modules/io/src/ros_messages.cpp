@@ -79,6 +79,44 @@ Stamp DecodeClock(const std::vector<uint8_t>& payload) {
   });
 }
 
+Imu DecodeImu(const std::vector<uint8_t>& payload) {
+  return Decode<Imu>(payload, kImuType, [](Cdr& cdr, Imu& m) {
+    Read(cdr, m.header);
+    cdr >> m.orientation.qx >> m.orientation.qy >> m.orientation.qz >> m.orientation.qw >> m.orientation_covariance;
+    cdr >> m.wx >> m.wy >> m.wz >> m.angular_velocity_covariance;
+    cdr >> m.ax >> m.ay >> m.az >> m.linear_acceleration_covariance;
+  });
+}
+
+Obstacles DecodeObstacles(const std::vector<uint8_t>& payload) {
+  return Decode<Obstacles>(payload, kObstaclesType, [&](Cdr& cdr, Obstacles& m) {
+    Read(cdr, m.header);
+    uint32_t n = 0;
+    cdr >> n;
+    if (n > payload.size() / 100)  // an obstacle takes at least 100 bytes: a corrupt count
+      throw InputError(std::string(kObstaclesType) + ": " + std::to_string(n) + " obstacles in a payload of " +
+                       std::to_string(payload.size()) + " bytes");
+    m.obstacles.resize(n);
+    for (auto& o : m.obstacles)
+      cdr >> o.id >> o.cls >> o.x >> o.y >> o.z >> o.radius >> o.length >> o.width >> o.yaw >> o.covariance_xy >>
+          o.score >> o.range;
+  });
+}
+
+VehicleState DecodeVehicleState(const std::vector<uint8_t>& payload) {
+  return Decode<VehicleState>(payload, kVehicleStateType, [](Cdr& cdr, VehicleState& m) {
+    Read(cdr, m.header);
+    cdr >> m.time_s >> m.speed_mps >> m.steer_rad >> m.stop;
+  });
+}
+
+StackStep DecodeStackStep(const std::vector<uint8_t>& payload) {
+  return Decode<StackStep>(payload, kStackStepType, [](Cdr& cdr, StackStep& m) {
+    Read(cdr, m.header);
+    cdr >> m.speed_mps >> m.steer_rad >> m.x >> m.y >> m.yaw >> m.state >> m.tracks >> m.on_local_path >> m.finished;
+  });
+}
+
 Odometry DecodeOdometry(const std::vector<uint8_t>& payload) {
   return Decode<Odometry>(payload, kOdometryType, [](Cdr& cdr, Odometry& m) {
     Read(cdr, m.header);
@@ -166,6 +204,19 @@ const std::map<std::string, std::string>& Definitions() {
       {"ackermann_msgs/AckermannDrive",
        "float32 steering_angle\nfloat32 steering_angle_velocity\nfloat32 speed\nfloat32 acceleration\nfloat32 jerk\n"},
       {"ackermann_msgs/AckermannDriveStamped", "std_msgs/Header header\nAckermannDrive drive\n"},
+      {"sensor_msgs/Imu",
+       "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\nfloat64[9] orientation_covariance\n"
+       "geometry_msgs/Vector3 angular_velocity\nfloat64[9] angular_velocity_covariance\n"
+       "geometry_msgs/Vector3 linear_acceleration\nfloat64[9] linear_acceleration_covariance\n"},
+      {"specht_msgs/Obstacle",
+       "int64 id\nstring cls\nfloat64 x\nfloat64 y\nfloat64 z\nfloat64 radius\nfloat64 length\nfloat64 width\n"
+       "float64 yaw\nfloat64[4] covariance_xy\nfloat64 score\nfloat64 range\n"},
+      {"specht_msgs/Obstacles", "std_msgs/Header header\nObstacle[] obstacles\n"},
+      {"specht_msgs/VehicleState",
+       "std_msgs/Header header\nfloat64 time_s\nfloat64 speed_mps\nfloat64 steer_rad\nstring stop\n"},
+      {"specht_msgs/StackStep",
+       "std_msgs/Header header\nfloat64 speed_mps\nfloat64 steer_rad\nfloat64 x\nfloat64 y\nfloat64 yaw\n"
+       "string state\nint32 tracks\nbool on_local_path\nbool finished\n"},
   };
   return d;
 }
@@ -256,6 +307,39 @@ std::vector<uint8_t> Encode(const AckermannDrive& m) {
 std::vector<uint8_t> EncodeClock(Stamp t) {
   return EncodeWith(16, [&](Cdr& cdr) {
     cdr << static_cast<int32_t>(t.ns / 1000000000) << static_cast<uint32_t>(t.ns % 1000000000);
+  });
+}
+
+std::vector<uint8_t> Encode(const Imu& m) {
+  return EncodeWith(512, [&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << m.orientation.qx << m.orientation.qy << m.orientation.qz << m.orientation.qw << m.orientation_covariance;
+    cdr << m.wx << m.wy << m.wz << m.angular_velocity_covariance;
+    cdr << m.ax << m.ay << m.az << m.linear_acceleration_covariance;
+  });
+}
+
+std::vector<uint8_t> Encode(const Obstacles& m) {
+  return EncodeWith(128 + 160 * m.obstacles.size(), [&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << static_cast<uint32_t>(m.obstacles.size());
+    for (const auto& o : m.obstacles)
+      cdr << o.id << o.cls << o.x << o.y << o.z << o.radius << o.length << o.width << o.yaw << o.covariance_xy
+          << o.score << o.range;
+  });
+}
+
+std::vector<uint8_t> Encode(const VehicleState& m) {
+  return EncodeWith(128 + m.stop.size(), [&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << m.time_s << m.speed_mps << m.steer_rad << m.stop;
+  });
+}
+
+std::vector<uint8_t> Encode(const StackStep& m) {
+  return EncodeWith(128 + m.state.size(), [&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << m.speed_mps << m.steer_rad << m.x << m.y << m.yaw << m.state << m.tracks << m.on_local_path << m.finished;
   });
 }
 

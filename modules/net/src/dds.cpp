@@ -29,6 +29,10 @@ const std::map<std::string, const dds_topic_descriptor_t*>& Descriptors() {
       {io::ros::kPoseArrayType, &geometry_msgs_msg_dds__PoseArray__desc},
       {io::ros::kClockType, &rosgraph_msgs_msg_dds__Clock__desc},
       {io::ros::kAckermannDriveType, &ackermann_msgs_msg_dds__AckermannDriveStamped__desc},
+      {io::ros::kImuType, &sensor_msgs_msg_dds__Imu__desc},
+      {io::ros::kObstaclesType, &specht_msgs_msg_dds__Obstacles__desc},
+      {io::ros::kVehicleStateType, &specht_msgs_msg_dds__VehicleState__desc},
+      {io::ros::kStackStepType, &specht_msgs_msg_dds__StackStep__desc},
   };
   return d;
 }

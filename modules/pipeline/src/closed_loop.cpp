@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -13,6 +14,7 @@
 #include "internal/loop_stack.h"
 #include "internal/loop_video.h"
 #include "internal/sim_stereo.h"
+#include "internal/stack_link.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/pipeline/perception_eval.h"
@@ -166,17 +168,30 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   if (loop.perception == "detections") detector.emplace(config.detection, seed);
   const internal::Blindness blind{loop.blind_at_s, loop.blind_for_s};
   const int substeps = std::max(1, static_cast<int>(std::lround(1.0 / (loop.control_hz * sim::Simulator::kStepS))));
-  // The stack, fed by what the car delivers.
-  internal::LoopStack stack(scenario, seed, mission, config, sim.stamp(), r);
   // The referee: the truth the run is scored against, never fed back.
   const mrpt::maps::COccupancyGridMap2D true_grid = sim::World(scenario).TrueGrid(kPlanningResolutionM);
   const plan::DistanceMap truth_map = plan::DistanceMap::FromGrid(true_grid);
   ContactScore contacts(scenario, config, truth_map);
   LocalizationScore localization_score;
   internal::PerceptionScore perception_score(loop.perception_match_m);
+  // The truth of each detector frame until its tracks come back: in view, all agents.
+  std::map<int64_t, std::pair<std::vector<sim::AgentTruth>, std::vector<sim::AgentTruth>>> unscored;
+  const auto on_tracks = [&](Stamp stamp, const std::vector<types::Track>& tracks) {
+    const auto it = unscored.find(stamp.ns);
+    if (it == unscored.end()) return;
+    perception_score.Frame(it->second.first, it->second.second, tracks);
+    unscored.erase(it);
+  };
+  // The stack, fed by what the car delivers: here, or in a process of its own.
+  const std::unique_ptr<internal::StackLink> link =
+      config.stack_node ? internal::DdsStackLink(scenario, seed, config, r, on_tracks)
+                        : internal::LocalStackLink(scenario, seed, mission, config, sim.stamp(), r, on_tracks);
+  internal::LoopStack* const here = link->local();
   // The oracle's pose reaches the stack wherever it may read its pose (the truth
   // mode's localisation; the other modes ignore it).
-  const auto oracle = [&] { stack.OracleEgo(sim.ego().pose); };
+  const auto oracle = [&] {
+    if (here) here->OracleEgo(sim.ego().pose);
+  };
   // A perception frame after every simulator step (and once before the first):
   // the truth mode's at the control rate, the detector's at its own.
   const auto perceive = [&] {
@@ -184,16 +199,17 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     if (!detector) {
       if (std::llround(sim.time_s() / sim::Simulator::kStepS) % substeps != 0) return;
       const std::vector<sim::AgentTruth> agents = sim.agents();
-      return perception_score.Frame(agents, agents, stack.OracleAgents(agents, sim.stamp()));
+      return perception_score.Frame(agents, agents, here->OracleAgents(agents, sim.stamp()));
     }
     if (!detector->Due(sim)) return;
     std::vector<types::Obstacle> in_car = detector->Detect(sim);
     for (auto& o : in_car) o = internal::InCarFrame(o, sim.ego().pose);
-    perception_score.Frame(detector->visible(), sim.agents(), stack.Detections(std::move(in_car), sim.stamp()));
+    unscored[sim.stamp().ns] = {detector->visible(), sim.agents()};
+    link->Detections(std::move(in_car), sim.stamp());
   };
   const auto on_observation = [&](Stamp t, const mrpt::obs::CObservation::Ptr& obs) {
     oracle();
-    stack.Observe(t, sim.time_s(), obs);
+    link->Observe(t, sim.time_s(), obs);
   };
   // Rendered stereo frames, only where perception reads them (rendering costs).
   sim::Simulator::StereoSink on_stereo;
@@ -203,7 +219,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
       oracle();
       const auto t0 = std::chrono::steady_clock::now();
       const auto tracks =
-          stack.Camera(*internal::SimStereoObservation(sim.stamp(), *scenario.stereo, frame), sim.stamp());
+          here->Camera(*internal::SimStereoObservation(sim.stamp(), *scenario.stereo, frame), sim.stamp());
       r.stage_ms["camera_in_simulate"] +=
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       const PerceptionEvalOptions counted;  // which agents in the image count as seeable
@@ -224,7 +240,9 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   const auto run_start = Clock::now();
   std::optional<internal::LoopVideo> video;
   if (!config.video.empty()) video.emplace(config.video, true_grid, config.world, sim.stamp());
-  while (!stack.Final()) {
+  bool finished = false;
+  std::string time_limit;
+  while (!finished) {
     const double t = sim.time_s();
     if (InterruptRequested()) {  // stop at this control step; what was driven is the result
       r.interrupted = true;
@@ -232,25 +250,25 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
       break;
     }
     if (t > loop.time_limit_s) {
-      r.failure = "time limit of " + std::to_string(loop.time_limit_s) + " s";
-      stack.TimeLimit(t, r.failure);
+      r.failure = time_limit = "time limit of " + std::to_string(loop.time_limit_s) + " s";
       break;
     }
     oracle();
     const auto& ego = sim.ego();
-    const plan::Command cmd = stack.Control(t, sim.stamp(), ego.speed_mps, ego.steer_rad);
-    localization_score.Add(stack.Believed(), ego.pose);
+    const internal::StackDecision decided = link->Control(t, sim.stamp(), ego.speed_mps, ego.steer_rad);
+    finished = decided.finished;
+    localization_score.Add(decided.believed, ego.pose);
+    const plan::Command& cmd = decided.command;
     sim.CommandEgo({cmd.speed_mps, cmd.steer_rad, config.car.max_steer_rate_deg_s * M_PI / 180});
     const plan::Pose pose = EgoRearAxle(scenario, ego.pose);
     r.trajectory.push_back(pose);
     if (video) {
       const auto t0 = Clock::now();
-      video->Step(sim, stack.snapshot(), stack.Believed(), stack.PathAhead());
+      video->Step(sim, here->snapshot(), decided.believed, here->PathAhead());
       r.stage_ms["video"] += since(t0);
     }
     if (on_step)
-      on_step(
-          {t, stack.state(), pose, EgoRearAxle(scenario, stack.Believed()), stack.tracks_seen(), stack.OnLocalPath()});
+      on_step({t, decided.state, pose, EgoRearAxle(scenario, decided.believed), decided.tracks, decided.on_local_path});
     for (int k = 0; k < substeps; ++k) {
       auto t0 = Clock::now();
       sim.Step(on_observation, on_stereo);  // localisation and camera perception run inside
@@ -262,7 +280,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   }
   r.time_s = sim.time_s();
   if (video) r.video = video->Close();
-  stack.Finish(sim.stamp());
+  link->Finish(sim.time_s(), sim.stamp(), time_limit, r);
   r.localization.update(localization_score.ToJson());
   r.perception.update(perception_score.ToJson());
   // What ran inside the simulator's step belongs to its own stage; rendering is its own.
@@ -325,6 +343,7 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"mcap", mcap},
           {"localization", localization},
           {"perception", perception},
+          {"nodes", nodes},
           {"interrupted", interrupted},
           {"collisions", collisions},
           {"collision_events", collision_events},

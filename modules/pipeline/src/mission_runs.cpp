@@ -22,6 +22,7 @@
 #include "specht/io/map_io.h"
 #include "specht/io/report.h"
 #include "specht/pipeline/closed_loop.h"
+#include "specht/pipeline/nodes.h"
 #include "specht/pipeline/perception.h"
 #include "specht/pipeline/run_directory.h"
 #include "specht/plan/draw.h"
@@ -61,6 +62,15 @@ nlohmann::json LoopTotals(const nlohmann::json& runs) {
     }
   }
   std::sort(times.begin(), times.end());
+  // --nodes: the slowest run's latencies between the car and the stack node.
+  nlohmann::json nodes;
+  for (const auto& r : runs)
+    if (!r["nodes"].is_null())
+      for (const char* key : {"acknowledged_ms", "answer_ms"})
+        for (const char* q : {"p50", "p99", "max"}) {
+          const double ms = r["nodes"][key][q].get<double>();
+          nodes[key][q] = nodes[key].contains(q) ? std::max(nodes[key][q].get<double>(), ms) : ms;
+        }
   nlohmann::json perception = nlohmann::json::object();
   const auto ratio = [](long a, long b) { return b ? nlohmann::json(static_cast<double>(a) / b) : nlohmann::json(); };
   for (const auto& [cls, p] : pooled)
@@ -75,7 +85,8 @@ nlohmann::json LoopTotals(const nlohmann::json& runs) {
             {"ms_max", local_ms_max},
             {"over_budget", over_budget},
             {"share_of_driving_outside_manoeuvres", outside_s > 0 ? on_local_s / outside_s : 0.0}}},
-          {"real_time_factor", wall_s > 0 ? sim_s / wall_s : 0.0}};
+          {"real_time_factor", wall_s > 0 ? sim_s / wall_s : 0.0},
+          {"nodes", nodes}};
 }
 
 // The map of `dir` (map_artefact.h), which must have been drawn in this scenario.
@@ -90,10 +101,36 @@ std::shared_ptr<const MapArtefact> SiteMap(const std::string& dir, const sim::Sc
   return map;
 }
 
+// `--nodes`: `specht node stack` on this run's parameters (the params.yaml its folder
+// holds: the files and overrides resolved), its scenario, mission and map.
+ClosedLoopConfig::StackNode StackNodeOf(const params::Params& params, const MissionRunInputs& a,
+                                        const std::string& out) {
+  const auto& loop = params.Get<ClosedLoopOptions>("closed_loop");
+  if (loop.perception == "camera" || loop.localization == "truth" || loop.perception == "truth")
+    throw InputError(
+        "--nodes runs the full stack (closed_loop.localization slam or map, perception detections); "
+        "this run has localization " +
+        loop.localization + ", perception " + loop.perception);
+  ClosedLoopConfig::StackNode node;
+  node.command = {std::filesystem::read_symlink("/proc/self/exe").string(),
+                  "node",
+                  "stack",
+                  a.scenario,
+                  "-q",
+                  "-p",
+                  out + "/params.yaml"};
+  if (!a.mission.empty()) node.command.insert(node.command.end(), {"--mission", a.mission});
+  if (!a.map_dir.empty()) node.command.insert(node.command.end(), {"--map", a.map_dir});
+  node.out_dir = out;
+  node.dds = params.Get<net::Options>("dds");
+  node.timeout_s = params.Get<NodeOptions>("node").command_timeout_s;
+  return node;
+}
+
 }  // namespace
 
-int RunMissions(const params::Params& params, const MissionRunInputs& a, const std::string& out, bool quiet) {
-  const sim::Scenario scenario = sim::LoadScenario(a.scenario);
+ClosedLoopConfig LoopConfigFrom(const params::Params& params, const sim::Scenario& scenario,
+                                const std::string& map_dir) {
   ClosedLoopConfig config;
   config.car = ScenarioCar(scenario, params.Get<plan::CarOptions>("car"));
   config.search = params.Get<plan::HybridAStarOptions>("hybrid_astar");
@@ -110,11 +147,23 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
                  params.Get<slam::GridOptions>("grid"),
                  4.0,
                  nullptr};
-  if (!a.map_dir.empty()) config.slam.site_map = SiteMap(a.map_dir, scenario);
+  if (!map_dir.empty()) config.slam.site_map = SiteMap(map_dir, scenario);
   config.pose_check = params.Get<slam::PoseCheckOptions>("pose_check");
   config.detection = params.Get<sim::SyntheticDetectionOptions>("synthetic_detections");
   config.tracking = params.Get<track::TrackerOptions>("track");
   config.world = params.Get<world::WorldModelOptions>("world");
+  return config;
+}
+
+std::vector<decide::Goal> MissionOf(const std::string& mission_file, const sim::Scenario& scenario,
+                                    const plan::CarOptions& car) {
+  return mission_file.empty() ? decide::DefaultMission(MissionSiteOf(scenario), car)
+                              : decide::LoadMission(mission_file, MissionSiteOf(scenario), car);
+}
+
+int RunMissions(const params::Params& params, const MissionRunInputs& a, const std::string& out, bool quiet) {
+  const sim::Scenario scenario = sim::LoadScenario(a.scenario);
+  ClosedLoopConfig config = LoopConfigFrom(params, scenario, a.map_dir);
   std::optional<sim::SpriteLibrary> sprites;
   if (config.loop.perception == "camera") {
     if (a.data_dir.empty())
@@ -129,9 +178,8 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
                      a.data_dir,
                      &*sprites};
   }
-  const std::vector<decide::Goal> mission = a.mission.empty()
-                                                ? decide::DefaultMission(MissionSiteOf(scenario), config.car)
-                                                : decide::LoadMission(a.mission, MissionSiteOf(scenario), config.car);
+  const std::vector<decide::Goal> mission = MissionOf(a.mission, scenario, config.car);
+  if (a.nodes) config.stack_node = StackNodeOf(params, a, out);
   const auto [first, last] = a.seeds.value_or(std::pair<uint64_t, uint64_t>{scenario.seed, scenario.seed});
   PrepareRunDirectory(out, params);
   const auto map = plan::DistanceMap::FromGrid(sim::World(scenario).TrueGrid(0.1));
@@ -147,7 +195,8 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
       return which == "all" || (which == "first" && seed == first) ? out + "/run-" + std::to_string(seed) + extension
                                                                    : std::string();
     };
-    config.video = chosen(config.loop.video, ".mp4");
+    // The video draws the stack's world model, which a stack node keeps in its process.
+    config.video = a.nodes ? "" : chosen(config.loop.video, ".mp4");
     config.mcap = chosen(config.loop.mcap, ".mcap");
     const ClosedLoopResult r = RunClosedLoop(scenario, seed, mission, config, [&](const LoopStep& k) {
       char line[256];

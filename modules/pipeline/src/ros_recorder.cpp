@@ -106,6 +106,8 @@ void RosRecorder::Observation(Stamp t, const mrpt::obs::CObservation::Ptr& o) {
     odom_from_base_ = CPose3D(odo->odometry.x(), odo->odometry.y(), 0, odo->odometry.phi(), 0, 0);
     Emit("/odom", io::ros::kOdometryType, Origin::kInput, t, io::ros::Encode(io::ros::FromMrpt(*odo, t, kOdom, kBase)));
     Tf(t, kOdom, kBase, odom_from_base_, Origin::kInput);
+  } else if (const auto imu = std::dynamic_pointer_cast<mrpt::obs::CObservationIMU>(o)) {
+    Emit("/imu", io::ros::kImuType, Origin::kInput, t, io::ros::Encode(io::ros::FromMrpt(*imu, t, kBase)));
   }
 }
 

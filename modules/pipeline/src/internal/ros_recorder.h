@@ -3,6 +3,7 @@
 // nodes, or both: the same messages, the same CDR bytes (io/ros_messages.h):
 //   /scan        sensor_msgs/msg/LaserScan, each scan as read (frame: its label)
 //   /odom        nav_msgs/msg/Odometry, each odometry reading (odom → base_link)
+//   /imu         sensor_msgs/msg/Imu, each IMU reading (base_link)
 //   /tf          tf2_msgs/msg/TFMessage: odom → base_link at each odometry reading,
 //                map → odom at each scan SLAM placed (REP-105)
 //   /tf_static   base_link → each scan frame (its mount): every mount known so far in

@@ -7,10 +7,13 @@
 //              [range_min, range_max] invalid; a scan not centred on its x axis is
 //              rotated by its mid angle (MRPT's scans are symmetric about it)
 //   Odometry   a CObservationOdometry (x, y, yaw; the twist as its local velocity)
+//   Imu        a CObservationIMU: angular velocity and linear acceleration (its
+//              orientation, when it carries one, is not read)
 // Out of MRPT: the same fields; an invalid beam becomes +inf (above range_max).
 #pragma once
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose3D.h>
 
@@ -29,6 +32,9 @@ Pose FromMrpt(const mrpt::poses::CPose3D& p);
 LaserScan FromMrpt(const mrpt::obs::CObservation2DRangeScan& scan, Stamp stamp, const std::string& frame_id);
 Odometry FromMrpt(const mrpt::obs::CObservationOdometry& odometry, Stamp stamp, const std::string& odom_frame,
                   const std::string& base_frame);
+// The IMU's rates and accelerations (the components it holds; the others zero), no
+// orientation (orientation_covariance[0] = -1, as REP-145 marks it).
+Imu FromMrpt(const mrpt::obs::CObservationIMU& imu, Stamp stamp, const std::string& frame_id);
 
 // A TF frame name for a sensor label ("/scan" → "scan"; "" → "laser").
 std::string FrameName(const std::string& label);
@@ -45,6 +51,7 @@ class RosObservations {
   // `topic` labels the observation; `received_ns` stamps a message whose header has none.
   mrpt::obs::CObservation2DRangeScan::Ptr Scan(const LaserScan& m, const std::string& topic);
   mrpt::obs::CObservationOdometry::Ptr Odometry(const ros::Odometry& m, const std::string& topic);
+  static mrpt::obs::CObservationIMU::Ptr Imu(const ros::Imu& m, const std::string& topic);
   static Stamp StampOf(const Header& h, int64_t received_ns) { return h.stamp.ns > 0 ? h.stamp : Stamp{received_ns}; }
   // The same as dataset observations, stamped by their headers (else `received_ns`),
   // `index` naming the message in its recording.

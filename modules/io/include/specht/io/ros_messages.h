@@ -22,6 +22,13 @@ inline constexpr char kPathType[] = "nav_msgs/msg/Path";
 inline constexpr char kPoseArrayType[] = "geometry_msgs/msg/PoseArray";
 inline constexpr char kClockType[] = "rosgraph_msgs/msg/Clock";
 inline constexpr char kAckermannDriveType[] = "ackermann_msgs/msg/AckermannDriveStamped";
+inline constexpr char kImuType[] = "sensor_msgs/msg/Imu";
+// specht's own messages (package specht_msgs), between the simulated car and the
+// stack of `specht run --nodes`; a ROS 2 workspace builds them from the .msg text
+// Definition() gives.
+inline constexpr char kObstaclesType[] = "specht_msgs/msg/Obstacles";
+inline constexpr char kVehicleStateType[] = "specht_msgs/msg/VehicleState";
+inline constexpr char kStackStepType[] = "specht_msgs/msg/StackStep";
 
 struct Header {  // std_msgs/msg/Header
   Stamp stamp;
@@ -81,6 +88,50 @@ struct AckermannDrive {
   float jerk = 0;
 };
 
+struct Imu {  // sensor_msgs/msg/Imu; orientation_covariance[0] = -1: no orientation estimate
+  Header header;
+  Pose orientation;  // the quaternion only
+  std::array<double, 9> orientation_covariance{}, angular_velocity_covariance{}, linear_acceleration_covariance{};
+  double wx = 0, wy = 0, wz = 0;  // rad/s
+  double ax = 0, ay = 0, az = 0;  // m/s²
+};
+
+// specht_msgs/msg/Obstacle: a detection or a track (types::Obstacle's fields), in the
+// header's frame.
+struct Obstacle {
+  int64_t id = 0;
+  std::string cls;
+  double x = 0, y = 0, z = 0, radius = 0, length = 0, width = 0, yaw = 0;
+  std::array<double, 4> covariance_xy{};  // row-major 2×2
+  double score = 0, range = 0;
+};
+struct Obstacles {  // specht_msgs/msg/Obstacles
+  Header header;
+  std::vector<Obstacle> obstacles;
+};
+
+// specht_msgs/msg/VehicleState: the car's own state at a control step, which asks
+// the stack for that step's command; `stop` non-empty ends the drive (the reason).
+struct VehicleState {
+  Header header;
+  double time_s = 0;  // into the drive
+  double speed_mps = 0, steer_rad = 0;
+  std::string stop;
+};
+
+// specht_msgs/msg/StackStep: the stack's answer to a control step: the command at
+// full precision (the /drive message carries it as float32), the pose it believes
+// (box centre, map frame), its mission state, how many tracks it saw, whether it
+// follows a local plan, and whether the mission is over (finished).
+struct StackStep {
+  Header header;
+  double speed_mps = 0, steer_rad = 0;
+  double x = 0, y = 0, yaw = 0;
+  std::string state;
+  int32_t tracks = 0;
+  bool on_local_path = false, finished = false;
+};
+
 struct Path {  // nav_msgs/msg/Path of geometry_msgs/msg/PoseStamped
   Header header;
   std::vector<std::pair<Header, Pose>> poses;
@@ -93,6 +144,10 @@ Odometry DecodeOdometry(const std::vector<uint8_t>& cdr);
 std::vector<TransformStamped> DecodeTfMessage(const std::vector<uint8_t>& cdr);  // tf2_msgs/msg/TFMessage
 AckermannDrive DecodeAckermannDrive(const std::vector<uint8_t>& cdr);
 Stamp DecodeClock(const std::vector<uint8_t>& cdr);  // rosgraph_msgs/msg/Clock
+Imu DecodeImu(const std::vector<uint8_t>& cdr);
+Obstacles DecodeObstacles(const std::vector<uint8_t>& cdr);
+VehicleState DecodeVehicleState(const std::vector<uint8_t>& cdr);
+StackStep DecodeStackStep(const std::vector<uint8_t>& cdr);
 
 // CDR payloads (little-endian, with the encapsulation header) of the same messages,
 // as rosbag2 and MCAP store them.
@@ -104,6 +159,10 @@ std::vector<uint8_t> Encode(const Path& m);
 std::vector<uint8_t> Encode(const PoseArray& m);
 std::vector<uint8_t> Encode(const AckermannDrive& m);
 std::vector<uint8_t> EncodeClock(Stamp t);  // rosgraph_msgs/msg/Clock: the simulated time
+std::vector<uint8_t> Encode(const Imu& m);
+std::vector<uint8_t> Encode(const Obstacles& m);
+std::vector<uint8_t> Encode(const VehicleState& m);
+std::vector<uint8_t> Encode(const StackStep& m);
 
 // The ros2msg definition of `type` (e.g. "sensor_msgs/msg/LaserScan") with every
 // type it uses appended, as MCAP's ros2msg schema encoding and Foxglove expect.

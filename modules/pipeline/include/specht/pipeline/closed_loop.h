@@ -82,6 +82,7 @@
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,7 @@
 #include "specht/decide/mission_state.h"
 #include "specht/detect/detector.h"
 #include "specht/detect/fusion.h"
+#include "specht/net/dds.h"
 #include "specht/pipeline/map_artefact.h"
 #include "specht/plan/hybrid_astar.h"
 #include "specht/plan/local_planner.h"
@@ -287,6 +289,10 @@ struct ClosedLoopResult {
   std::string mcap;                    // the run's MCAP written (file name), or ""
   nlohmann::json localization;         // mode and trajectory error against the truth
   nlohmann::json perception;           // mode, frames, recall and precision per class
+  // --nodes: the stack node's folder, the DDS domain, the wall-clock milliseconds per
+  // control step until the stack acknowledged the step's inputs and until its decision
+  // came (p50, p99, max), messages published by topic; null in process.
+  nlohmann::json nodes;
   // localization slam: the map this drive drew, in the scenario's frame (a mapping
   // drive: what `--map` reads back).
   std::shared_ptr<const MapArtefact> drawn_map;
@@ -339,6 +345,15 @@ struct ClosedLoopConfig {
   // TF at the believed pose, the static layer, the path followed, the tracks, the
   // believed trajectory; "" for none.
   std::string mcap;
+  // `specht run --nodes`: the stack runs as `specht node stack` (nodes.h) in a process
+  // of its own and hears the car over DDS; none: in this process.
+  struct StackNode {
+    std::vector<std::string> command;  // the node's command line, but for --seed and -o
+    std::string out_dir;               // its output folder for seed N: <out_dir>/stack-N
+    net::Options dds;
+    double timeout_s = 60;  // the longest wait for the node to start or answer
+  };
+  std::optional<StackNode> stack_node;
 };
 
 // One control step as it happened: the state, the true pose and the believed one

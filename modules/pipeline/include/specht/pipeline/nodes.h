@@ -12,7 +12,7 @@
 //         the end, /trajectory; it writes what `specht slam` writes (map artefact,
 //         trajectory, report) when its input ends (node.idle_end_s of silence) or a
 //         signal stops it
-//   sim   the simulated car and its world (a scenario): /scan, /odom, /tf, /tf_static,
+//   sim   the simulated car and its world (a scenario): /scan, /odom, /imu, /tf, /tf_static,
 //         /clock and /ground_truth (nav_msgs/Odometry: the ego's true pose, the
 //         simulator's box centre, frame "map") out; ackermann_msgs/msg/
 //         AckermannDriveStamped commands in (node.command_topic, /drive as on
@@ -24,6 +24,16 @@
 //         every run. Without lockstep it runs paced by replay.rate and applies the
 //         latest command, as a car would. Ends at the scenario's duration
 //         (--duration) or on a signal; writes ground_truth.tum and report.json
+//   stack the closed loop's stack (pipeline/closed_loop.h: SLAM localisation, the
+//         tracker on the car's detections, the world model, the planners and the
+//         mission state machine) on the simulated car's topics, in lockstep with the
+//         run that started it (`specht run --nodes`): /scan, /odom, /imu, /tf_static,
+//         /detections (specht_msgs/Obstacles) and /vehicle_state
+//         (specht_msgs/VehicleState: the car's speed and steering angle, asking for
+//         a control step's command) in; /stack/step (specht_msgs/StackStep: the
+//         command and what it was decided on), /perception/tracks and /drive out.
+//         Writes stack.json (its figures, for the run), map/ after a mapping drive,
+//         and report.json when the car says the drive ended
 //   record  the ROS 2 topics specht speaks (/scan, /odom, /tf, /tf_static, /map,
 //         /trajectory, /path, /tracks), from specht's nodes or any ROS 2 node, into
 //         an MCAP file (ROS 2 schemas) in source-time order, the bytes as they came;
@@ -122,6 +132,19 @@ struct SimNodeInputs {
 // (above), writes ground_truth.tum and report.json. Returns 0, 1 when the commands
 // stopped coming (lockstep), 128 + the signal when interrupted.
 int RunSimulatorNode(const params::Params& params, const SimNodeInputs& inputs, const std::string& out_dir, bool quiet);
+
+struct StackNodeInputs {
+  std::string scenario;          // the site: static map, bays, the car's dimensions
+  std::string mission;           // mission file, or "" (park in the first bay)
+  std::string map_dir;           // a mapping drive's map to localise on, or ""
+  std::string mcap;              // record the drive into this MCAP file, or ""
+  std::optional<uint64_t> seed;  // default: the scenario's
+  std::vector<std::string> param_files, overrides;
+};
+
+// `specht node stack`: returns 0 when the drive ended, 1 when the car fell silent
+// for node.command_timeout_s, 128 + the signal when interrupted.
+int RunStackNode(const params::Params& params, const StackNodeInputs& inputs, const std::string& out_dir, bool quiet);
 
 // The simulator node's loop, commands from a function: at each control step of
 // `control_hz`, `command(t)` gives the car's command for the step starting at t
