@@ -37,6 +37,7 @@ PACKAGES=(
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   jq                 # reading JSON reports in bench scripts
+  procps             # pkill: a test kills a node by its command line
 )
 
 # The independent readers the tests check specht's MCAP with (tests/npm: @mcap/core,
