@@ -40,11 +40,22 @@ int PlayDataset(const params::Params& params, const PlayInputs& inputs, const st
                  {"domain", params.Get<net::Options>("dds").domain},
                  {"params_files", inputs.param_files},
                  {"overrides", inputs.overrides}};
+  // Every writer before the wait, so that the subscribers match them all while the
+  // player waits for its scans' subscribers; then a moment more for as many readers
+  // of the odometry (a subscriber may read none).
+  for (const auto& [topic, type] : {std::pair{"/odom", io::ros::kOdometryType},
+                                    {"/tf", io::ros::kTfMessageType},
+                                    {"/tf_static", io::ros::kTfMessageType},
+                                    {"/imu", io::ros::kImuType},
+                                    {"/clock", io::ros::kClockType}})
+    publisher->Advertise(topic, type);
   const auto wait = std::chrono::duration<double>(node.wait_for_subscriber_s);
   if (!publisher->WaitForReaders(node.scan_topic, io::ros::kLaserScanType, node.subscribers,
                                  std::chrono::duration_cast<std::chrono::milliseconds>(wait)))
     spdlog::warn("node play: fewer than {} subscribers to {} after {:.0f} s; publishing anyway", node.subscribers,
                  node.scan_topic, node.wait_for_subscriber_s);
+  else
+    publisher->WaitForReaders("/odom", io::ros::kOdometryType, node.subscribers, std::chrono::seconds(2));
   io::ReplayClock clock(replay);
   io::StageTimer timer;
   int exit_code = 0;

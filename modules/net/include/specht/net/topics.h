@@ -38,6 +38,10 @@ class TopicPublisher {
  public:
   TopicPublisher(std::shared_ptr<Participant> participant, Qos stream);
   void Publish(const std::string& ros_topic, const std::string& ros_type, Stamp stamp, const std::vector<uint8_t>& cdr);
+  // Makes the topic's writer now rather than at its first sample, so that readers
+  // match it before that sample is written (a volatile topic's sample reaches only
+  // the readers matched when it is written).
+  void Advertise(const std::string& ros_topic, const std::string& ros_type) { WriterFor(ros_topic, ros_type); }
   // Waits until `ros_topic` (published with `ros_type`) has `n` readers; false after `timeout`.
   bool WaitForReaders(const std::string& ros_topic, const std::string& ros_type, int n,
                       std::chrono::milliseconds timeout);
