@@ -1,5 +1,5 @@
 // ROS 2 message payloads (io/ros_messages.h): LaserScan, Odometry, TFMessage, AckermannDriveStamped, Clock,
-// Imu and specht_msgs' Obstacles, VehicleState and StackStep
+// Imu and specht_msgs' Obstacles, VehicleState, StackStep and Tracks
 // decoded from the input, and from every CDR encapsulation header (00 01 00 00) in
 // it, so that a seed cut from a rosbag2 .db3 file feeds its real payloads in.
 #include <algorithm>
@@ -23,6 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     specht::fuzz::Expect([&] { specht::io::ros::DecodeObstacles(payload); });
     specht::fuzz::Expect([&] { specht::io::ros::DecodeVehicleState(payload); });
     specht::fuzz::Expect([&] { specht::io::ros::DecodeStackStep(payload); });
+    specht::fuzz::Expect([&] { specht::io::ros::DecodeTracks(payload); });
     ++decoded;
   }
   return 0;

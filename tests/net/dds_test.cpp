@@ -348,6 +348,47 @@ nlohmann::json Json(const io::ros::StackStep& m) {
           {"on_local_path", m.on_local_path},
           {"finished", m.finished}};
 }
+io::ros::Tracks TrackCycle() {
+  io::ros::Tracks m{{Stamp{1700000000250000000LL}, "map"}, {}};
+  io::ros::Track t;
+  t.id = 12, t.cls = "pedestrian", t.x = 4.5, t.y = -1.25, t.vx = 0.75, t.vy = -0.5;
+  for (int i = 0; i < 16; ++i) t.covariance[i] = i % 5 == 0 ? 0.25 : 0.0625 * i;
+  t.length = 0.75, t.width = 0.5, t.yaw = 0.25, t.state = "confirmed", t.motion_model = "ct";
+  t.history = {{Stamp{1700000000150000000LL}, 4.25, -1.0}, {Stamp{1700000000250000000LL}, 4.5, -1.25}};
+  t.prediction = {{0.5, 4.875, -1.5, {0.25, 0.125, 0.125, 0.5}}};
+  t.classes = {"car", "pedestrian"}, t.probabilities = {0.125, 0.875};
+  m.tracks.push_back(t);
+  io::ros::Track coasting;
+  coasting.id = 13, coasting.cls = "car", coasting.state = "coasting", coasting.motion_model = "cv";
+  m.tracks.push_back(coasting);
+  return m;
+}
+nlohmann::json Json(const io::ros::Tracks& m) {
+  nlohmann::json tracks = nlohmann::json::array();
+  for (const auto& t : m.tracks) {
+    nlohmann::json history = nlohmann::json::array(), prediction = nlohmann::json::array();
+    for (const auto& p : t.history) history.push_back({{"stamp", Json(p.stamp)}, {"x", p.x}, {"y", p.y}});
+    for (const auto& p : t.prediction)
+      prediction.push_back({{"dt", p.dt}, {"x", p.x}, {"y", p.y}, {"covariance_xy", p.covariance_xy}});
+    tracks.push_back({{"id", t.id},
+                      {"cls", t.cls},
+                      {"x", t.x},
+                      {"y", t.y},
+                      {"vx", t.vx},
+                      {"vy", t.vy},
+                      {"covariance", t.covariance},
+                      {"length", t.length},
+                      {"width", t.width},
+                      {"yaw", t.yaw},
+                      {"state", t.state},
+                      {"motion_model", t.motion_model},
+                      {"history", history},
+                      {"prediction", prediction},
+                      {"classes", t.classes},
+                      {"probabilities", t.probabilities}});
+  }
+  return {{"header", Json(m.header)}, {"tracks", tracks}};
+}
 
 std::string Hex(const std::vector<uint8_t>& bytes) {
   static const char* digits = "0123456789abcdef";
@@ -378,6 +419,7 @@ TEST(Ros2CdrTest, BytesEqualFoxglovesWriterAndWhatDdsDelivers) {
       {"specht_msgs/msg/Obstacles", Json(Detections()), io::ros::Encode(Detections())},
       {"specht_msgs/msg/VehicleState", Json(Vehicle()), io::ros::Encode(Vehicle())},
       {"specht_msgs/msg/StackStep", Json(Step()), io::ros::Encode(Step())},
+      {"specht_msgs/msg/Tracks", Json(TrackCycle()), io::ros::Encode(TrackCycle())},
   };
   nlohmann::json input = nlohmann::json::array();
   for (const auto& [type, value, _] : cases)

@@ -117,6 +117,39 @@ StackStep DecodeStackStep(const std::vector<uint8_t>& payload) {
   });
 }
 
+Tracks DecodeTracks(const std::vector<uint8_t>& payload) {
+  // A count larger than the bytes left could hold: a corrupt payload, before it allocates.
+  const auto count = [&](Cdr& cdr, size_t least_bytes, const char* what) {
+    uint32_t n = 0;
+    cdr >> n;
+    if (n > payload.size() / least_bytes)
+      throw InputError(std::string(kTracksType) + ": " + std::to_string(n) + " " + what + " in a payload of " +
+                       std::to_string(payload.size()) + " bytes");
+    return n;
+  };
+  return Decode<Tracks>(payload, kTracksType, [&](Cdr& cdr, Tracks& m) {
+    Read(cdr, m.header);
+    m.tracks.resize(count(cdr, 200, "tracks"));
+    for (auto& t : m.tracks) {
+      cdr >> t.id >> t.cls >> t.x >> t.y >> t.vx >> t.vy >> t.covariance >> t.length >> t.width >> t.yaw >> t.state >>
+          t.motion_model;
+      t.history.resize(count(cdr, 24, "history points"));
+      for (auto& p : t.history) {
+        int32_t sec = 0;
+        uint32_t nanosec = 0;
+        cdr >> sec >> nanosec >> p.x >> p.y;
+        p.stamp = Stamp{static_cast<int64_t>(sec) * 1000000000LL + nanosec};
+      }
+      t.prediction.resize(count(cdr, 56, "predicted points"));
+      for (auto& p : t.prediction) cdr >> p.dt >> p.x >> p.y >> p.covariance_xy;
+      t.classes.resize(count(cdr, 5, "classes"));
+      for (auto& c : t.classes) cdr >> c;
+      t.probabilities.resize(count(cdr, 8, "probabilities"));
+      for (auto& p : t.probabilities) cdr >> p;
+    }
+  });
+}
+
 Odometry DecodeOdometry(const std::vector<uint8_t>& payload) {
   return Decode<Odometry>(payload, kOdometryType, [](Cdr& cdr, Odometry& m) {
     Read(cdr, m.header);
@@ -217,6 +250,13 @@ const std::map<std::string, std::string>& Definitions() {
       {"specht_msgs/StackStep",
        "std_msgs/Header header\nfloat64 speed_mps\nfloat64 steer_rad\nfloat64 x\nfloat64 y\nfloat64 yaw\n"
        "string state\nint32 tracks\nbool on_local_path\nbool finished\n"},
+      {"specht_msgs/TrackPoint", "builtin_interfaces/Time stamp\nfloat64 x\nfloat64 y\n"},
+      {"specht_msgs/PredictedPoint", "float64 dt\nfloat64 x\nfloat64 y\nfloat64[4] covariance_xy\n"},
+      {"specht_msgs/Track",
+       "int64 id\nstring cls\nfloat64 x\nfloat64 y\nfloat64 vx\nfloat64 vy\nfloat64[16] covariance\n"
+       "float64 length\nfloat64 width\nfloat64 yaw\nstring state\nstring motion_model\nTrackPoint[] history\n"
+       "PredictedPoint[] prediction\nstring[] classes\nfloat64[] probabilities\n"},
+      {"specht_msgs/Tracks", "std_msgs/Header header\nTrack[] tracks\n"},
   };
   return d;
 }
@@ -340,6 +380,27 @@ std::vector<uint8_t> Encode(const StackStep& m) {
   return EncodeWith(128 + m.state.size(), [&](Cdr& cdr) {
     Write(cdr, m.header);
     cdr << m.speed_mps << m.steer_rad << m.x << m.y << m.yaw << m.state << m.tracks << m.on_local_path << m.finished;
+  });
+}
+
+std::vector<uint8_t> Encode(const Tracks& m) {
+  size_t bytes = 128;
+  for (const auto& t : m.tracks)
+    bytes += 320 + 24 * t.history.size() + 64 * t.prediction.size() + 40 * t.classes.size() + t.cls.size();
+  return EncodeWith(bytes, [&](Cdr& cdr) {
+    Write(cdr, m.header);
+    cdr << static_cast<uint32_t>(m.tracks.size());
+    for (const auto& t : m.tracks) {
+      cdr << t.id << t.cls << t.x << t.y << t.vx << t.vy << t.covariance << t.length << t.width << t.yaw << t.state
+          << t.motion_model;
+      cdr << static_cast<uint32_t>(t.history.size());
+      for (const auto& p : t.history)
+        cdr << static_cast<int32_t>(p.stamp.ns / 1000000000) << static_cast<uint32_t>(p.stamp.ns % 1000000000) << p.x
+            << p.y;
+      cdr << static_cast<uint32_t>(t.prediction.size());
+      for (const auto& p : t.prediction) cdr << p.dt << p.x << p.y << p.covariance_xy;
+      cdr << t.classes << t.probabilities;
+    }
   });
 }
 

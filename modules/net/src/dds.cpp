@@ -33,6 +33,7 @@ const std::map<std::string, const dds_topic_descriptor_t*>& Descriptors() {
       {io::ros::kObstaclesType, &specht_msgs_msg_dds__Obstacles__desc},
       {io::ros::kVehicleStateType, &specht_msgs_msg_dds__VehicleState__desc},
       {io::ros::kStackStepType, &specht_msgs_msg_dds__StackStep__desc},
+      {io::ros::kTracksType, &specht_msgs_msg_dds__Tracks__desc},
   };
   return d;
 }

@@ -29,6 +29,7 @@ inline constexpr char kImuType[] = "sensor_msgs/msg/Imu";
 inline constexpr char kObstaclesType[] = "specht_msgs/msg/Obstacles";
 inline constexpr char kVehicleStateType[] = "specht_msgs/msg/VehicleState";
 inline constexpr char kStackStepType[] = "specht_msgs/msg/StackStep";
+inline constexpr char kTracksType[] = "specht_msgs/msg/Tracks";
 
 struct Header {  // std_msgs/msg/Header
   Stamp stamp;
@@ -132,6 +133,33 @@ struct StackStep {
   bool on_local_path = false, finished = false;
 };
 
+// specht_msgs/msg/Track: a tracked object in the header's frame, every field of
+// types::Track (the tracker's estimate), so that a track crosses a process whole.
+struct TrackPoint {  // specht_msgs/msg/TrackPoint: a filtered position
+  Stamp stamp;
+  double x = 0, y = 0;
+};
+struct PredictedPoint {  // specht_msgs/msg/PredictedPoint
+  double dt = 0, x = 0, y = 0;
+  std::array<double, 4> covariance_xy{};  // row-major 2×2
+};
+struct Track {
+  int64_t id = 0;
+  std::string cls;
+  double x = 0, y = 0, vx = 0, vy = 0;
+  std::array<double, 16> covariance{};  // row-major 4×4 over (x, y, vx, vy)
+  double length = 0, width = 0, yaw = 0;
+  std::string state, motion_model;
+  std::vector<TrackPoint> history;
+  std::vector<PredictedPoint> prediction;
+  std::vector<std::string> classes;  // the trajectory classifier's, with
+  std::vector<double> probabilities;  // their probabilities
+};
+struct Tracks {  // specht_msgs/msg/Tracks: one tracker cycle, stamped with its frame's time
+  Header header;
+  std::vector<Track> tracks;
+};
+
 struct Path {  // nav_msgs/msg/Path of geometry_msgs/msg/PoseStamped
   Header header;
   std::vector<std::pair<Header, Pose>> poses;
@@ -148,6 +176,7 @@ Imu DecodeImu(const std::vector<uint8_t>& cdr);
 Obstacles DecodeObstacles(const std::vector<uint8_t>& cdr);
 VehicleState DecodeVehicleState(const std::vector<uint8_t>& cdr);
 StackStep DecodeStackStep(const std::vector<uint8_t>& cdr);
+Tracks DecodeTracks(const std::vector<uint8_t>& cdr);
 
 // CDR payloads (little-endian, with the encapsulation header) of the same messages,
 // as rosbag2 and MCAP store them.
@@ -163,6 +192,7 @@ std::vector<uint8_t> Encode(const Imu& m);
 std::vector<uint8_t> Encode(const Obstacles& m);
 std::vector<uint8_t> Encode(const VehicleState& m);
 std::vector<uint8_t> Encode(const StackStep& m);
+std::vector<uint8_t> Encode(const Tracks& m);
 
 // The ros2msg definition of `type` (e.g. "sensor_msgs/msg/LaserScan") with every
 // type it uses appended, as MCAP's ros2msg schema encoding and Foxglove expect.

@@ -87,7 +87,7 @@ std::string DdsTypeName(const std::string& ros_type);    // throws InputError fo
 // nav_msgs/msg/OccupancyGrid, nav_msgs/msg/Path, tf2_msgs/msg/TFMessage,
 // geometry_msgs/msg/PoseArray, rosgraph_msgs/msg/Clock,
 // ackermann_msgs/msg/AckermannDriveStamped, sensor_msgs/msg/Imu, and specht's own
-// specht_msgs/msg/Obstacles, VehicleState and StackStep (io/ros_messages.h).
+// specht_msgs/msg/Obstacles, VehicleState, StackStep and Tracks (io/ros_messages.h).
 std::vector<std::string> SupportedTypes();
 
 // One DDS domain participant; writers and readers belong to one. The domain's
