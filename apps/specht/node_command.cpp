@@ -2,8 +2,8 @@
 // `specht node slam`: graph SLAM on ROS 2 topics, publishing the map, TF and the
 // trajectory. `specht node sim`: the simulated car, sensors out, drive commands in.
 // `specht node stack`: the closed loop's stack on the simulated car's topics (what
-// `specht run --nodes` starts). `specht node record`: ROS 2 topics into an MCAP file
-// (pipeline/nodes.h says what each node reads and publishes).
+// `specht run --nodes` starts). `specht node perception`: its tracker on its own. `specht node record`: ROS 2 topics
+// into an MCAP file (pipeline/nodes.h says what each node reads and publishes).
 #include <cstdio>
 
 #include "commands.h"
@@ -26,6 +26,7 @@ struct NodeArgs {
   std::optional<double> duration_s;
   bool free_run = false;
   std::string mission, stack_mcap;
+  bool perception_node = false;
 };
 
 void AddNodeOptions(CLI::App& cmd, NodeArgs& args, const std::string& default_out) {
@@ -79,9 +80,17 @@ int RunSimNode(NodeArgs a) {
 int RunStack(NodeArgs a) {
   const params::Params params = NodeParams(a);
   PrepareOutputDir(a.common, params);
-  return pipeline::RunStackNode(
-      params, {a.dataset, a.mission, a.map_dir, a.stack_mcap, a.seed, a.common.param_files, a.common.overrides},
-      a.common.out_dir, a.common.quiet);
+  return pipeline::RunStackNode(params,
+                                {a.dataset, a.mission, a.map_dir, a.stack_mcap, a.seed, a.perception_node,
+                                 a.common.param_files, a.common.overrides},
+                                a.common.out_dir, a.common.quiet);
+}
+
+int RunPerception(NodeArgs a) {
+  const params::Params params = NodeParams(a);
+  PrepareOutputDir(a.common, params);
+  return pipeline::RunPerceptionNode(params, {a.common.param_files, a.common.overrides}, a.common.out_dir,
+                                     a.common.quiet);
 }
 
 int RunRecord(NodeArgs a) {
@@ -146,8 +155,19 @@ void AddNodeCommand(CLI::App& app, int& exit_code) {
   k->add_option("--mission", stack->mission, "mission file (default: park in the first bay)");
   k->add_option("--map", stack->map_dir, "localise on a mapping drive's map-<seed>/ (closed_loop.localization map)");
   k->add_option("--mcap", stack->stack_mcap, "record the drive as MCAP into this file (default: none)");
+  k->add_flag("--perception-node", stack->perception_node,
+              "take the tracks from `specht node perception` (/localization/odometry out, /perception/tracks and "
+              "/perception/obstacles in) instead of tracking here");
   AddNodeOptions(*k, *stack, "specht-out/node-stack");
   k->callback([stack, &exit_code] { exit_code = RunStack(*stack); });
+
+  auto perception = std::make_shared<NodeArgs>();
+  CLI::App* c = node->add_subcommand(
+      "perception",
+      "the stack's tracker: /detections and /localization/odometry in; /perception/tracks and /perception/obstacles "
+      "out (`specht run --nodes --perception-node` starts it)");
+  AddNodeOptions(*c, *perception, "specht-out/node-perception");
+  c->callback([perception, &exit_code] { exit_code = RunPerception(*perception); });
 
   auto record = std::make_shared<NodeArgs>();
   CLI::App* r = node->add_subcommand("record", "record the ROS 2 topics specht speaks into an MCAP file");

@@ -1,5 +1,5 @@
 // `specht run <scenario.yaml> [--mission M.yaml] [--seeds A-B] [--stack full|truth] [--map DIR] [--nodes
-// [--domain N]] -o DIR`: the closed loop (pipeline/mission_runs.h).
+// [--perception-node] [--domain N]] -o DIR`: the closed loop (pipeline/mission_runs.h).
 #include "commands.h"
 #include "specht/pipeline/mission_runs.h"
 
@@ -35,6 +35,9 @@ void AddRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_flag("--nodes", args->in.nodes,
                 "run the stack as `specht node stack` in a process of its own, over DDS in lockstep with the "
                 "simulated car (its console and report in stack-<seed>/); full stack only, no video");
+  cmd->add_flag("--perception-node", args->in.perception_node,
+                "with --nodes: the tracker runs as `specht node perception`, a third process the run restarts when "
+                "it dies (its console and report in perception-<seed>/)");
   cmd->add_option("--domain", args->domain, "with --nodes: the DDS domain id (same as --set dds.domain=N)");
   AddCommonOptions(*cmd, args->common, "specht-out/run");
   cmd->callback([args, &exit_code] {

@@ -179,35 +179,28 @@ TEST(NodeCliTest, LaunchPassesSigintToEveryNode) {
   EXPECT_EQ(Report(dir + "/out/slam")["status"], "interrupted");
 }
 
-// `specht run --nodes`: the stack as `specht node stack`, its own process, hearing
-// the simulated car over DDS in lockstep, drives the run the in-process loop drives:
-// the same success and collisions, every control step's pose within 1 mm (the
-// messages round the orientations through quaternions: the poses agree to ~1e-11 m).
-TEST(NodeCliTest, RunWithTheStackAsANodeDrivesAsTheInProcessLoop) {
-  const std::string dir = testing::TempDir("run_nodes");
-  const std::string run = "run '" + testing::SourceDir() +
-                          "/datasets/scenarios/parking-lot.yaml' --seeds 101 -q --set closed_loop.mcap=off";
-  const auto here = testing::RunSpecht(run + " --set closed_loop.video=off -o '" + dir + "/here'");
-  const auto nodes = testing::RunSpecht(run + " --nodes --domain " + Domain() + " -o '" + dir + "/nodes'");
-  ASSERT_EQ(here.exit_code, 0) << here.out << here.err;
-  ASSERT_EQ(nodes.exit_code, 0) << nodes.out << nodes.err;
-  auto a = Report(dir + "/here")["runs"][0], b = Report(dir + "/nodes")["runs"][0];
+// Expects the drive in `other` (a run of parking-lot seed 101) to be the one in
+// `here`: the same success and collisions, every other report figure within 1e-9 but
+// for the wall clock's, the video and the nodes' own, every control step's pose within
+// 1 mm (the messages round the orientations through quaternions: the poses agree to
+// ~1e-11 m) and its state the same.
+void ExpectTheSameDrive(const std::string& here, const std::string& other) {
+  auto a = Report(here)["runs"][0], b = Report(other)["runs"][0];
   EXPECT_EQ(a["success"], b["success"]);
   EXPECT_EQ(a["collisions"], b["collisions"]);
-  // Every other figure too (the stack's come back from its node), but for the wall
-  // clock's and the video, which only the in-process run draws.
   EXPECT_GT(b["nodes"]["answer_ms"]["count"].get<int>(), 100);
   EXPECT_GT(b["nodes"]["published"]["/scan"].get<int>(), 100);
   for (auto* run : {&a, &b}) {
     for (const char* key : {"timing", "planning_ms", "video", "nodes"}) run->erase(key);
     (*run)["local_planner"].erase("ms");
+    (*run)["perception"].erase("tracked_by_perception_node");
   }
   std::string where;
   EXPECT_TRUE(Close(a, b, 1e-9, where)) << where;
-  std::istringstream steps_here(testing::ReadFile(dir + "/here/steps-101.jsonl")),
-      steps_nodes(testing::ReadFile(dir + "/nodes/steps-101.jsonl"));
+  std::istringstream steps_here(testing::ReadFile(here + "/steps-101.jsonl")),
+      steps_other(testing::ReadFile(other + "/steps-101.jsonl"));
   int steps = 0;
-  for (std::string x, y; std::getline(steps_here, x) && std::getline(steps_nodes, y); ++steps) {
+  for (std::string x, y; std::getline(steps_here, x) && std::getline(steps_other, y); ++steps) {
     const auto p = nlohmann::json::parse(x), q = nlohmann::json::parse(y);
     ASSERT_LE(
         std::hypot(p["x_m"].get<double>() - q["x_m"].get<double>(), p["y_m"].get<double>() - q["y_m"].get<double>()),
@@ -217,8 +210,67 @@ TEST(NodeCliTest, RunWithTheStackAsANodeDrivesAsTheInProcessLoop) {
   }
   EXPECT_GT(steps, 100);
   EXPECT_TRUE(steps_here.eof() || steps_here.peek() == EOF);
-  EXPECT_TRUE(steps_nodes.peek() == EOF);
-  EXPECT_EQ(Report(dir + "/nodes/stack-101")["status"], "complete");
+  EXPECT_TRUE(steps_other.peek() == EOF);
+  EXPECT_EQ(Report(other + "/stack-101")["status"], "complete");
+}
+
+// `specht run --nodes`: the stack as `specht node stack`, its own process, hearing
+// the simulated car over DDS in lockstep, drives the run the in-process loop drives;
+// so it does with its tracker in a third process (--perception-node), which tracks
+// every detector frame at the pose the stack sent it.
+TEST(NodeCliTest, RunWithTheStackAsANodeDrivesAsTheInProcessLoop) {
+  const std::string dir = testing::TempDir("run_nodes");
+  const std::string run = "run '" + testing::SourceDir() +
+                          "/datasets/scenarios/parking-lot.yaml' --seeds 101 -q --set closed_loop.mcap=off";
+  const auto here = testing::RunSpecht(run + " --set closed_loop.video=off -o '" + dir + "/here'");
+  const auto nodes = testing::RunSpecht(run + " --nodes --domain " + Domain() + " -o '" + dir + "/nodes'");
+  const auto three =
+      testing::RunSpecht(run + " --nodes --perception-node --domain " + Domain() + " -o '" + dir + "/three'");
+  ASSERT_EQ(here.exit_code, 0) << here.out << here.err;
+  ASSERT_EQ(nodes.exit_code, 0) << nodes.out << nodes.err;
+  ASSERT_EQ(three.exit_code, 0) << three.out << three.err;
+  ExpectTheSameDrive(dir + "/here", dir + "/nodes");
+  ExpectTheSameDrive(dir + "/here", dir + "/three");
+  const auto perception = Report(dir + "/three/perception-101");
+  EXPECT_EQ(perception["status"], "complete");
+  EXPECT_EQ(perception["counts"]["frames"], Report(dir + "/here")["runs"][0]["perception"]["frames"]);
+  EXPECT_EQ(perception["counts"]["skipped"], 0);
+  EXPECT_EQ(Report(dir + "/three/stack-101")["perception_node"]["missing"], 0);
+}
+
+// Faults: the perception node is killed mid-drive. The stack, without the frames'
+// tracks, stops the car within 0.5 s of simulated time (closed_loop.blind_stop_s,
+// 0.4 s after the last frame); the run restarts the node, and once its tracks come
+// the car drives on and completes the mission.
+TEST(NodeCliTest, APerceptionNodeKilledMidDriveStopsTheCarUntilItIsBack) {
+  const std::string dir = testing::TempDir("run_nodes_perception_killed");
+  testing::BackgroundSpecht run("run '" + testing::SourceDir() +
+                                "/datasets/scenarios/course-loop.yaml' --seeds 101 -q --nodes --perception-node "
+                                "--domain " +
+                                Domain() + " --set closed_loop.mcap=off -o '" + dir + "/out'");
+  ASSERT_TRUE(run.WaitForFile(dir + "/out/perception-101/params.yaml", 30));
+  std::this_thread::sleep_for(std::chrono::seconds(2));  // driving by now
+  ASSERT_EQ(std::system(("pkill -KILL -f -- '[-]o " + dir + "/out/perception-101'").c_str()), 0);
+  const auto r = run.Wait();
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_THAT(r.err, ::testing::HasSubstr("the perception node ended with exit code 137"));
+  const auto drive = Report(dir + "/out")["runs"][0];
+  const auto& restarts = drive["nodes"]["perception_node"]["restarts"];
+  ASSERT_EQ(restarts.size(), 1u);
+  EXPECT_EQ(restarts[0]["exit_code"], 137);
+  const double gone_at = restarts[0]["gone_at_s"].get<double>();
+  double blind_at = -1, back_at = -1;
+  for (const auto& t : drive["transitions"]) {
+    const double at = t["t_s"].get<double>();
+    if (t["to"] == "blind" && blind_at < 0 && at >= gone_at) blind_at = at;
+    if (t["from"] == "blind" && blind_at >= 0 && back_at < 0) back_at = at;
+  }
+  ASSERT_GE(blind_at, gone_at) << drive["transitions"].dump();
+  EXPECT_LE(blind_at - gone_at, 0.5);
+  EXPECT_GT(back_at, blind_at) << "the car did not drive on when the restarted node's tracks came";
+  EXPECT_TRUE(drive["success"].get<bool>());
+  EXPECT_EQ(drive["collisions"], 0);
+  EXPECT_GT(Report(dir + "/out/stack-101")["perception_node"]["missing"].get<int>(), 0);
 }
 
 // The stack node dies mid-drive: the run stops within the node timeout, naming the

@@ -234,7 +234,7 @@ TEST(RunCliTest, ABlindSensorSlowsThenStopsTheCarUntilFramesReturn) {
     if (t["to"] == "blind" && blind_at < 0) blind_at = t["t_s"].get<double>();
     if (t["from"] == "blind" && restored_at < 0) restored_at = t["t_s"].get<double>();
   }
-  EXPECT_NEAR(blind_at, 4.0 + 1.5, 0.11);  // blind_stop_s after the last frame
+  EXPECT_NEAR(blind_at, 4.0 + 0.4, 0.11);  // blind_stop_s after the last frame
   EXPECT_NEAR(restored_at, 7.0, 0.11);     // the first frame after the fault
   // While frames were late but not yet missing long enough to stop, the car slowed
   // (it waits for a cyclist at the start of seed 1, so it may not have been moving).

@@ -5,6 +5,7 @@
 #include <dds/ddsi/ddsi_cdrstream.h>
 #include <dds/ddsi/ddsi_serdata.h>
 
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -148,7 +149,8 @@ std::string CycloneConfig(const Options& options) {
                     "<Discovery><ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>" +
                     std::to_string(options.max_participants - 1) + "</MaxAutoParticipantIndex><Peers>";
   for (const auto& p : options.peers) xml += "<Peer address=\"" + p + "\"/>";
-  xml += "</Peers></Discovery>";
+  xml += "</Peers><LeaseDuration>" + std::to_string(static_cast<long>(std::lround(1000 * options.lease_s))) +
+         "ms</LeaseDuration></Discovery>";
   // A writer with samples not yet acknowledged asks for acks every heartbeat_ms and
   // readers answer at once: a lockstep barrier (WaitForAcks) then costs about that,
   // not Cyclone's default 100 ms heartbeat. Once all is acknowledged the writer is

@@ -107,14 +107,24 @@ std::vector<types::Track> LoopPerception::Oracle(const std::vector<sim::AgentTru
   return tracks;
 }
 
-std::vector<types::Track> LoopPerception::Detections(std::vector<types::Obstacle> in_car, Stamp stamp,
-                                                     const sim::Pose2& believed) {
+std::vector<types::Obstacle> PlacedAt(std::vector<types::Obstacle> in_car, const sim::Pose2& believed) {
   const double c = std::cos(believed.yaw_rad), s = std::sin(believed.yaw_rad);
   for (auto& o : in_car) {
     const double x = o.x_m, y = o.y_m;
     o.x_m = believed.x + c * x - s * y, o.y_m = believed.y + s * x + c * y, o.yaw_rad += believed.yaw_rad;
   }
-  return Publish(std::move(in_car), stamp);
+  return in_car;
+}
+
+std::vector<types::Track> LoopPerception::Detections(std::vector<types::Obstacle> in_car, Stamp stamp,
+                                                     const sim::Pose2& believed) {
+  return Publish(PlacedAt(std::move(in_car), believed), stamp);
+}
+
+void LoopPerception::Tracked(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp) {
+  detections_ += static_cast<long>(obstacles.size());
+  ++tracked_elsewhere_;
+  Write(std::move(tracks), std::move(obstacles), stamp);
 }
 
 std::vector<types::Track> LoopPerception::Camera(const mrpt::obs::CObservationStereoImages& frame, Stamp stamp,
@@ -158,7 +168,9 @@ void PerceptionScore::Frame(const std::vector<sim::AgentTruth>& in_view, const s
 }
 
 nlohmann::json LoopPerception::ToJson() const {
-  return {{"mode", mode_}, {"frames", frames_}, {"detections", detections_}};
+  nlohmann::json j = {{"mode", mode_}, {"frames", frames_}, {"detections", detections_}};
+  if (tracked_elsewhere_ > 0) j["tracked_by_perception_node"] = tracked_elsewhere_;
+  return j;
 }
 
 nlohmann::json PerceptionScore::ToJson() const {

@@ -656,6 +656,10 @@ class LoopStack::Impl {
     return Timed(r_.stage_ms["perceive"],
                  [&] { return perceive_.Detections(std::move(in_car), stamp, where_.Believed()); });
   }
+  void Tracked(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp) {
+    Timed(r_.stage_ms["perceive"], [&] { perceive_.Tracked(std::move(tracks), std::move(obstacles), stamp); });
+  }
+  sim::Pose2 Localized() const { return where_.Believed(); }
   std::vector<types::Track> Camera(const mrpt::obs::CObservationStereoImages& frame, Stamp stamp) {
     return Timed(r_.stage_ms["perceive"], [&] { return perceive_.Camera(frame, stamp, where_.Believed()); });
   }
@@ -773,6 +777,10 @@ void LoopStack::Observe(Stamp t, double t_s, const mrpt::obs::CObservation::Ptr&
 std::vector<types::Track> LoopStack::Detections(std::vector<types::Obstacle> in_car, Stamp stamp) {
   return impl_->Detections(std::move(in_car), stamp);
 }
+void LoopStack::Tracked(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp) {
+  impl_->Tracked(std::move(tracks), std::move(obstacles), stamp);
+}
+sim::Pose2 LoopStack::Localized() const { return impl_->Localized(); }
 std::vector<types::Track> LoopStack::Camera(const mrpt::obs::CObservationStereoImages& frame, Stamp stamp) {
   return impl_->Camera(frame, stamp);
 }

@@ -121,6 +121,17 @@ ClosedLoopConfig::StackNode StackNodeOf(const params::Params& params, const Miss
                   out + "/params.yaml"};
   if (!a.mission.empty()) node.command.insert(node.command.end(), {"--mission", a.mission});
   if (!a.map_dir.empty()) node.command.insert(node.command.end(), {"--map", a.map_dir});
+  if (a.perception_node) {
+    node.command.push_back("--perception-node");
+    node.perception_command = {node.command[0],
+                               "node",
+                               "perception",
+                               "-q",
+                               "-p",
+                               out + "/params.yaml",
+                               "--set",
+                               "dds.lease_s=" + std::to_string(params.Get<NodeOptions>("node").perception_lease_s)};
+  }
   node.out_dir = out;
   node.dds = params.Get<net::Options>("dds");
   node.timeout_s = params.Get<NodeOptions>("node").command_timeout_s;
@@ -179,6 +190,7 @@ int RunMissions(const params::Params& params, const MissionRunInputs& a, const s
                      &*sprites};
   }
   const std::vector<decide::Goal> mission = MissionOf(a.mission, scenario, config.car);
+  if (a.perception_node && !a.nodes) throw InputError("--perception-node needs --nodes");
   if (a.nodes) config.stack_node = StackNodeOf(params, a, out);
   const auto [first, last] = a.seeds.value_or(std::pair<uint64_t, uint64_t>{scenario.seed, scenario.seed});
   PrepareRunDirectory(out, params);

@@ -6,9 +6,14 @@
 //                /vehicle_state (specht_msgs/VehicleState: a control step, or with
 //                `stop` the end of the drive)
 //   stack → car  /stack/step (specht_msgs/StackStep: the decision), /perception/tracks
-//                (specht_msgs/Obstacles, map frame: the tracks of each detector frame,
+//                (specht_msgs/Tracks, map frame: the tracks of each detector frame,
 //                for the referee) and /drive (ackermann_msgs/AckermannDriveStamped:
 //                the command as ROS tools read it, float32)
+// With a perception node (perception_node.cpp) the tracks come from it: the stack
+// answers each detector frame with its pose on /localization/odometry and takes the
+// node's /perception/tracks and /perception/obstacles for it (internal/
+// perception_messages.h). The car starts the perception node and restarts it when it
+// dies, as a launch file's respawn would.
 // Lockstep: the car publishes a step's inputs, waits until the stack has acknowledged
 // them, then asks for the step's decision. Every car message comes from one
 // publisher, whose source times increase in publication order (net/topics.h): the
@@ -18,8 +23,11 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <thread>
 
+#include "internal/perception_messages.h"
 #include "internal/ros_recorder.h"
 #include "internal/stack_link.h"
 #include "specht/core/error.h"
@@ -40,11 +48,9 @@ namespace {
 
 namespace ros = io::ros;
 
-constexpr char kDetectionsTopic[] = "/detections";
-constexpr char kVehicleStateTopic[] = "/vehicle_state";
 constexpr char kStepTopic[] = "/stack/step";
-constexpr char kTracksTopic[] = "/perception/tracks";
-constexpr char kEndOfDrive[] = "end of drive";  // VehicleState.stop when no time limit ended it
+using internal::kDetectionsTopic, internal::kEndOfDrive, internal::kLocalizationTopic, internal::kObstaclesTopic,
+    internal::kTracksTopic, internal::kVehicleStateTopic;
 // The car's topics, as the stack reads them.
 const std::vector<std::pair<std::string, std::string>>& CarTopics() {
   static const std::vector<std::pair<std::string, std::string>> topics = {
@@ -52,45 +58,6 @@ const std::vector<std::pair<std::string, std::string>>& CarTopics() {
       {"/odom", ros::kOdometryType},           {"/imu", ros::kImuType},
       {kDetectionsTopic, ros::kObstaclesType}, {kVehicleStateTopic, ros::kVehicleStateType}};
   return topics;
-}
-
-ros::Obstacle ToRos(const types::Obstacle& o) {
-  const auto& c = o.covariance_xy;
-  return {o.id,       o.cls,      o.x_m,     o.y_m,     o.z_m,
-          o.radius_m, o.length_m, o.width_m, o.yaw_rad, {c(0, 0), c(0, 1), c(1, 0), c(1, 1)},
-          o.score,    o.range_m};
-}
-
-types::Obstacle FromRos(const ros::Obstacle& m, Stamp stamp) {
-  types::Obstacle o;
-  o.id = m.id, o.cls = m.cls, o.stamp = stamp;
-  o.x_m = m.x, o.y_m = m.y, o.z_m = m.z, o.radius_m = m.radius, o.length_m = m.length, o.width_m = m.width;
-  o.yaw_rad = m.yaw;
-  o.covariance_xy = {m.covariance_xy[0], m.covariance_xy[1], m.covariance_xy[2], m.covariance_xy[3]};
-  o.score = m.score, o.range_m = m.range;
-  return o;
-}
-
-ros::Obstacles TracksToRos(const std::vector<types::Track>& tracks, Stamp stamp) {
-  ros::Obstacles m{{stamp, "map"}, {}};
-  for (const auto& t : tracks) {
-    ros::Obstacle o;
-    o.id = t.id, o.cls = t.cls, o.x = t.x_m, o.y = t.y_m, o.yaw = t.yaw_rad, o.length = t.length_m;
-    o.width = t.width_m;
-    m.obstacles.push_back(o);
-  }
-  return m;
-}
-
-std::vector<types::Track> TracksFromRos(const ros::Obstacles& m) {
-  std::vector<types::Track> tracks;
-  for (const auto& o : m.obstacles) {
-    types::Track t;
-    t.id = o.id, t.cls = o.cls, t.stamp = m.header.stamp, t.x_m = o.x, t.y_m = o.y, t.yaw_rad = o.yaw;
-    t.length_m = o.length, t.width_m = o.width;
-    tracks.push_back(t);
-  }
-  return tracks;
 }
 
 // The drive's time of a simulator stamp, as the simulator computes it (step × 10 ms).
@@ -110,19 +77,24 @@ class Dds : public internal::StackLink {
         publisher_(std::make_shared<net::TopicPublisher>(participant_, net::Qos::kKeepAll)),
         recorder_(Sinks(publisher_), 0, config.slam.grid),
         steps_(*participant_, kStepTopic, ros::kStackStepType, net::Qos::kKeepAll),
-        tracks_(*participant_, kTracksTopic, ros::kObstaclesType, net::Qos::kKeepAll),
+        tracks_(*participant_, kTracksTopic, ros::kTracksType, net::Qos::kKeepAll),
         on_tracks_(std::move(on_tracks)),
-        dir_(node.out_dir + "/stack-" + std::to_string(seed)) {
+        dir_(node.out_dir + "/stack-" + std::to_string(seed)),
+        perception_dir_(node.out_dir + "/perception-" + std::to_string(seed)) {
     std::filesystem::create_directories(dir_);
     std::vector<std::string> argv = node.command;
     argv.insert(argv.end(), {"--seed", std::to_string(seed), "-o", dir_});
     if (!config.mcap.empty()) argv.insert(argv.end(), {"--mcap", std::filesystem::absolute(config.mcap).string()});
     child_.emplace(argv, dir_ + "/console.log");
-    // Started when it reads every topic the car publishes and answers on both of its own.
+    if (!node.perception_command.empty()) StartPerception();
+    // Started when it reads every topic the car publishes and answers on both of its
+    // own; the perception node reads the detections and the vehicle state too.
     const auto deadline = std::chrono::steady_clock::now() + timeout_;
-    for (const auto& [topic, type] : CarTopics())
-      while (!publisher_->WaitForReaders(topic, type, 1, std::chrono::milliseconds(100)))
+    for (const auto& [topic, type] : CarTopics()) {
+      const bool perceived = perception_ && (topic == kDetectionsTopic || topic == kVehicleStateTopic);
+      while (!publisher_->WaitForReaders(topic, type, perceived ? 2 : 1, std::chrono::milliseconds(100)))
         Alive("a reader of " + topic, deadline);
+    }
     while (!steps_.WaitForWriters(1, std::chrono::milliseconds(100)) ||
            !tracks_.WaitForWriters(1, std::chrono::milliseconds(100)))
       Alive("start", deadline);
@@ -133,12 +105,12 @@ class Dds : public internal::StackLink {
   }
 
   void Detections(std::vector<types::Obstacle> in_car, Stamp stamp) override {
-    ros::Obstacles m{{stamp, "base_link"}, {}};
-    for (const auto& o : in_car) m.obstacles.push_back(ToRos(o));
-    publisher_->Publish(kDetectionsTopic, ros::kObstaclesType, stamp, ros::Encode(m));
+    publisher_->Publish(kDetectionsTopic, ros::kObstaclesType, stamp,
+                        ros::Encode(internal::ObstaclesToRos(in_car, stamp, "base_link")));
   }
 
   internal::StackDecision Control(double t_s, Stamp stamp, double speed_mps, double steer_rad) override {
+    if (perception_) RespawnPerceptionIfGone(t_s);
     Ask({{stamp, "base_link"}, t_s, speed_mps, steer_rad, ""});
     const auto asked = std::chrono::steady_clock::now();
     const auto deadline = asked + timeout_;
@@ -159,6 +131,12 @@ class Dds : public internal::StackLink {
     const int code = child_->WaitOrKill(node_.timeout_s);
     TakeTracks();
     if (code != 0) throw RuntimeError("the stack node " + Failed(code));
+    nlohmann::json perception;
+    if (perception_) {
+      perception = {{"node", std::filesystem::path(perception_dir_).filename().string()},
+                    {"exit_code", perception_->WaitOrKill(node_.timeout_s)},
+                    {"restarts", perception_restarts_}};
+    }
     std::ifstream in(dir_ + "/stack.json");
     internal::StackFiguresFromJson(nlohmann::json::parse(in), r);
     if (std::filesystem::exists(dir_ + "/map"))
@@ -168,6 +146,7 @@ class Dds : public internal::StackLink {
                {"acknowledged_ms", Latency(acknowledged_ms_)},
                {"answer_ms", Latency(answer_ms_)},
                {"published", publisher_->Counts()}};
+    if (perception_) r.nodes["perception_node"] = perception;
   }
 
  private:
@@ -200,9 +179,25 @@ class Dds : public internal::StackLink {
   }
   void TakeTracks() {
     for (const auto& sample : tracks_.Take()) {
-      const ros::Obstacles m = ros::DecodeObstacles(sample.cdr);
-      on_tracks_(m.header.stamp, TracksFromRos(m));
+      const ros::Tracks m = ros::DecodeTracks(sample.cdr);
+      on_tracks_(m.header.stamp, internal::TracksFromRos(m));
     }
+  }
+  void StartPerception() {
+    std::filesystem::create_directories(perception_dir_);
+    std::vector<std::string> argv = node_.perception_command;
+    argv.insert(argv.end(), {"-o", perception_dir_});
+    perception_.emplace(argv, perception_dir_ + "/console.log");
+  }
+  // A perception node that ended is started again at once (its tracks of the frames
+  // in between are missing: the stack's perception timeout decides what the car does).
+  void RespawnPerceptionIfGone(double t_s) {
+    const auto code = perception_->Poll();
+    if (!code) return;
+    spdlog::warn("run: the perception node ended with exit code {} at {:.2f} s into the drive; restarting it", *code,
+                 t_s);
+    perception_restarts_.push_back({{"gone_at_s", t_s}, {"exit_code", *code}});
+    StartPerception();
   }
   // Throws when the node ended, or `deadline` passed, while waiting for `what`.
   void Alive(const std::string& what, std::chrono::steady_clock::time_point deadline) {
@@ -224,11 +219,75 @@ class Dds : public internal::StackLink {
   internal::RosRecorder recorder_;
   net::Reader steps_, tracks_;
   OnTracks on_tracks_;
-  std::string dir_;
-  std::optional<ChildProcess> child_;
+  std::string dir_, perception_dir_;
+  std::optional<ChildProcess> child_, perception_;
+  nlohmann::json perception_restarts_ = nlohmann::json::array();
   // Wall clock per control step: until the stack acknowledged the step's inputs, and
   // from the question to the decision.
   std::vector<double> acknowledged_ms_, answer_ms_;
+};
+
+// The stack node's side of a perception node: for each detector frame, the pose it
+// is placed at goes out and the frame's tracks and obstacles come back.
+class RemotePerception {
+ public:
+  struct Frame {
+    std::vector<types::Track> tracks;
+    std::vector<types::Obstacle> obstacles;
+  };
+  RemotePerception(net::Participant& participant, net::TopicPublisher& publisher, double wait_s)
+      : publisher_(publisher),
+        wait_(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(wait_s))),
+        tracks_(participant, kTracksTopic, ros::kTracksType, net::Qos::kKeepAll),
+        obstacles_(participant, kObstaclesTopic, ros::kObstaclesType, net::Qos::kKeepAll) {
+    publisher_.Advertise(kLocalizationTopic, ros::kOdometryType);
+  }
+  // Until the perception node is there to answer the first frame.
+  void WaitForNode(std::chrono::milliseconds timeout) {
+    publisher_.WaitForReaders(kLocalizationTopic, ros::kOdometryType, 1, timeout);
+    tracks_.WaitForWriters(1, timeout);
+    obstacles_.WaitForWriters(1, timeout);
+  }
+  // The perception node's answer to the detector frame at `stamp`, placed at
+  // `believed`; none when no node is there or it did not answer in time.
+  std::optional<Frame> Ask(Stamp stamp, const sim::Pose2& believed) {
+    publisher_.Publish(kLocalizationTopic, ros::kOdometryType, stamp,
+                       ros::Encode(internal::PoseToRos(believed, stamp)));
+    const auto deadline = std::chrono::steady_clock::now() + wait_;
+    for (;;) {
+      for (const auto& sample : tracks_.Take())
+        if (ros::Tracks m = ros::DecodeTracks(sample.cdr); m.header.stamp >= stamp)
+          tracks_at_[m.header.stamp] = internal::TracksFromRos(m);
+      for (const auto& sample : obstacles_.Take())
+        if (ros::Obstacles m = ros::DecodeObstacles(sample.cdr); m.header.stamp >= stamp)
+          obstacles_at_[m.header.stamp] = internal::ObstaclesFromRos(m);
+      tracks_at_.erase(tracks_at_.begin(), tracks_at_.lower_bound(stamp));
+      obstacles_at_.erase(obstacles_at_.begin(), obstacles_at_.lower_bound(stamp));
+      const auto t = tracks_at_.find(stamp);
+      const auto o = obstacles_at_.find(stamp);
+      if (t != tracks_at_.end() && o != obstacles_at_.end()) {
+        Frame frame{std::move(t->second), std::move(o->second)};
+        tracks_at_.erase(t), obstacles_at_.erase(o);
+        ++answered_;
+        return frame;
+      }
+      if (tracks_.MatchedWriters() == 0 || std::chrono::steady_clock::now() > deadline) break;
+      tracks_.WaitForData(std::chrono::milliseconds(2));
+    }
+    if (missing_++ == 0 || answered_ > answered_at_last_warning_)
+      spdlog::warn("node stack: no tracks from the perception node for the frame at {} s", stamp.Seconds());
+    answered_at_last_warning_ = answered_;
+    return std::nullopt;
+  }
+  nlohmann::json ToJson() const { return {{"answered", answered_}, {"missing", missing_}}; }
+
+ private:
+  net::TopicPublisher& publisher_;
+  std::chrono::steady_clock::duration wait_;
+  net::Reader tracks_, obstacles_;
+  std::map<Stamp, std::vector<types::Track>> tracks_at_;
+  std::map<Stamp, std::vector<types::Obstacle>> obstacles_at_;
+  long answered_ = 0, missing_ = 0, answered_at_last_warning_ = -1;
 };
 
 // A message from the car, for the stack node to handle in source-time order.
@@ -266,10 +325,16 @@ int RunStackNode(const params::Params& params, const StackNodeInputs& inputs, co
     wait.Attach(*readers.back());
   }
   net::TopicPublisher publisher(participant, net::Qos::kKeepAll);
+  std::optional<RemotePerception> remote;
+  if (inputs.perception_node)
+    remote.emplace(*participant, publisher, params.Get<NodeOptions>("node").perception_wait_s);
   // The car waits for this node's writers; this node for the car's readers of them.
   const auto wait_ms = std::chrono::milliseconds(static_cast<long>(1000 * timeout_s));
   publisher.WaitForReaders(kStepTopic, ros::kStackStepType, 1, wait_ms);
-  publisher.WaitForReaders(kTracksTopic, ros::kObstaclesType, 1, wait_ms);
+  if (remote)
+    remote->WaitForNode(wait_ms);
+  else
+    publisher.WaitForReaders(kTracksTopic, ros::kTracksType, 1, wait_ms);
 
   ClosedLoopResult r;
   internal::LoopStack stack(scenario, seed, mission, config, Stamp{sim::Simulator::kEpochNs}, r);
@@ -294,11 +359,14 @@ int RunStackNode(const params::Params& params, const StackNodeInputs& inputs, co
       stack.Observe(imu.header.stamp, DriveSeconds(imu.header.stamp), ros::RosObservations::Imu(imu, topic));
     } else if (topic == kDetectionsTopic) {
       const ros::Obstacles d = ros::DecodeObstacles(m.cdr);
-      std::vector<types::Obstacle> in_car;
-      for (const auto& o : d.obstacles) in_car.push_back(FromRos(o, d.header.stamp));
-      const auto tracks = stack.Detections(std::move(in_car), d.header.stamp);
-      publisher.Publish(kTracksTopic, ros::kObstaclesType, d.header.stamp,
-                        ros::Encode(TracksToRos(tracks, d.header.stamp)));
+      if (remote) {
+        if (auto frame = remote->Ask(d.header.stamp, stack.Localized()))
+          stack.Tracked(std::move(frame->tracks), std::move(frame->obstacles), d.header.stamp);
+      } else {
+        const auto tracks = stack.Detections(internal::ObstaclesFromRos(d), d.header.stamp);
+        publisher.Publish(kTracksTopic, ros::kTracksType, d.header.stamp,
+                          ros::Encode(internal::TracksToRos(tracks, d.header.stamp)));
+      }
     } else {  // the vehicle state: a control step, or the end
       const ros::VehicleState v = ros::DecodeVehicleState(m.cdr);
       if (!v.stop.empty()) {
@@ -369,6 +437,7 @@ int RunStackNode(const params::Params& params, const StackNodeInputs& inputs, co
     report.AddOutput("map/");
   }
   report.json()["counts"] = {{"messages", handled}, {"published", publisher.Counts()}};
+  if (remote) report.json()["perception_node"] = remote->ToJson();
   int exit_code = 0;
   if (InterruptRequested()) {
     report.SetInterrupted(std::to_string(handled) + " messages");

@@ -78,6 +78,11 @@ struct Blindness {
   bool Covers(double t_s) const { return at_s >= 0 && t_s >= at_s && t_s < at_s + for_s; }
 };
 
+// A detector frame's obstacles, each in the car's frame (x ahead and y to the left of
+// its box centre, yaw against its heading), placed in the map frame at the believed
+// box-centre pose `believed`.
+std::vector<types::Obstacle> PlacedAt(std::vector<types::Obstacle> in_car, const sim::Pose2& believed);
+
 // The stack's perception: what the car's sensors deliver, tracked and written into
 // the world model. It never reads the simulator: the oracle's agents (mode truth)
 // are handed to it like a sensor's frame.
@@ -93,6 +98,9 @@ class LoopPerception {
   // y to the left of its box centre, yaw against its heading), placed at the believed
   // box-centre pose `believed`.
   std::vector<types::Track> Detections(std::vector<types::Obstacle> in_car, Stamp stamp, const sim::Pose2& believed);
+  // Mode detections with the tracker in a perception node of its own (`specht node
+  // perception`): the node's tracks and map-frame obstacles of one frame.
+  void Tracked(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp);
   // Mode camera: one stereo frame, as the simulator's camera delivers it.
   std::vector<types::Track> Camera(const mrpt::obs::CObservationStereoImages& frame, Stamp stamp,
                                    const sim::Pose2& believed);
@@ -107,7 +115,7 @@ class LoopPerception {
   world::WorldModel& world_;
   std::optional<track::Tracker> tracker_;
   std::unique_ptr<StereoPerception> camera_;
-  long frames_ = 0, detections_ = 0;
+  long frames_ = 0, detections_ = 0, tracked_elsewhere_ = 0;
 };
 
 // The referee's score of perception (never fed back): at each perception frame, an

@@ -41,6 +41,12 @@ class LoopStack {
   void Observe(Stamp t, double t_s, const mrpt::obs::CObservation::Ptr& observation);
   // A detector frame, each obstacle in the car's frame (loop_perception.h); returns the tracks.
   std::vector<types::Track> Detections(std::vector<types::Obstacle> in_car, Stamp stamp);
+  // A detector frame tracked by a perception node of its own: its tracks and
+  // map-frame obstacles, placed at Localized() when the frame came.
+  void Tracked(std::vector<types::Track> tracks, std::vector<types::Obstacle> obstacles, Stamp stamp);
+  // The box-centre pose localisation believes now (map frame): where a detector
+  // frame that comes now is placed.
+  sim::Pose2 Localized() const;
   // A stereo frame of the car's camera; returns the tracks.
   std::vector<types::Track> Camera(const mrpt::obs::CObservationStereoImages& frame, Stamp stamp);
 

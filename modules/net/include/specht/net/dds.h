@@ -33,6 +33,7 @@ struct Options {
   std::vector<std::string> peers = {"127.0.0.1"};
   int max_participants = 20;
   int heartbeat_ms = 2;
+  double lease_s = 10;
   std::string trace_file;
 
   template <class V>
@@ -52,6 +53,10 @@ struct Options {
             "a writer with samples not yet acknowledged asks its readers for acks this often (Cyclone's default: "
             "100): how long a lockstep step waits for its sensor messages to be acknowledged",
             Range::Of(1, 1000));
+    v.Param("lease_s", lease_s,
+            "a participant silent this long counts as gone: its readers stop holding up reliable writers and its "
+            "writers are unmatched (Cyclone's default: 10)",
+            Range::Of(0.2, 3600.0));
     v.Param("trace_file", trace_file, "when set, Cyclone DDS writes the configuration it runs with there");
   }
   // The relations a range cannot state: the addresses are IPv4, a peer is listed.

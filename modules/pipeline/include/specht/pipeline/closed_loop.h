@@ -147,8 +147,8 @@ struct ClosedLoopOptions {
   std::string video = "first";
   std::string mcap = "first";
   double relocalize_timeout_s = 30.0;
-  double blind_slow_s = 0.5;
-  double blind_stop_s = 1.5;
+  double blind_slow_s = 0.2;
+  double blind_stop_s = 0.4;
   double blind_slow_speed_mps = 1.0;
   double blind_at_s = -1;
   double blind_for_s = 5.0;
@@ -349,7 +349,10 @@ struct ClosedLoopConfig {
   // of its own and hears the car over DDS; none: in this process.
   struct StackNode {
     std::vector<std::string> command;  // the node's command line, but for --seed and -o
-    std::string out_dir;               // its output folder for seed N: <out_dir>/stack-N
+    // `specht node perception`'s command line but for -o, when the tracker runs in a
+    // node of its own (--perception-node); empty: the stack node tracks.
+    std::vector<std::string> perception_command;
+    std::string out_dir;  // its output folder for seed N: <out_dir>/stack-N
     net::Options dds;
     double timeout_s = 60;  // the longest wait for the node to start or answer
   };

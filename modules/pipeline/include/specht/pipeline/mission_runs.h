@@ -24,9 +24,10 @@ struct MissionRunInputs {
   std::string scenario;                                // scenario file
   std::string mission;                                 // mission file, or "" (park in the scenario's first bay)
   std::optional<std::pair<uint64_t, uint64_t>> seeds;  // first and last; none = the scenario's own
-  std::string data_dir;  // detector models and sprites/, for closed_loop.perception camera
-  std::string map_dir;   // a mapping drive's map-<seed>/ to localise on (closed_loop.localization map), or ""
-  bool nodes = false;    // the stack in a process of its own, over DDS
+  std::string data_dir;          // detector models and sprites/, for closed_loop.perception camera
+  std::string map_dir;           // a mapping drive's map-<seed>/ to localise on (closed_loop.localization map), or ""
+  bool nodes = false;            // the stack in a process of its own, over DDS
+  bool perception_node = false;  // with nodes: its tracker in a third process
 };
 
 // The closed loop's configuration from the parameter sections (car limits over the

@@ -33,7 +33,17 @@
 //         a control step's command) in; /stack/step (specht_msgs/StackStep: the
 //         command and what it was decided on), /perception/tracks and /drive out.
 //         Writes stack.json (its figures, for the run), map/ after a mapping drive,
-//         and report.json when the car says the drive ended
+//         and report.json when the car says the drive ended. With a perception node
+//         (--perception-node) it tracks nothing itself: for each detector frame it
+//         publishes the pose it believes on /localization/odometry and waits (at
+//         most node.perception_wait_s, and only while a perception node is there)
+//         for that frame's tracks; without them the frame is missing, and the
+//         mission state machine's perception timeout (closed_loop.blind_slow_s,
+//         blind_stop_s) slows, then stops the car until frames come again
+//   perception  the tracker of the stack as a node of its own: /detections and
+//         /localization/odometry in, /perception/tracks (specht_msgs/Tracks) and
+//         /perception/obstacles (map frame) out; ends with the drive
+//         (/vehicle_state), on a signal, or after node.command_timeout_s of silence
 //   record  the ROS 2 topics specht speaks (/scan, /odom, /tf, /tf_static, /map,
 //         /trajectory, /path, /tracks), from specht's nodes or any ROS 2 node, into
 //         an MCAP file (ROS 2 schemas) in source-time order, the bytes as they came;
@@ -68,6 +78,8 @@ struct NodeOptions {
   std::string command_topic = "/drive";
   bool lockstep = true;
   double command_timeout_s = 10;
+  double perception_wait_s = 1.0;
+  double perception_lease_s = 1.0;
 
   template <class V>
   void Visit(V& v) {
@@ -98,6 +110,14 @@ struct NodeOptions {
             "in lockstep, the simulator node ends (status incomplete) when a step's command has not come after "
             "this long",
             Range::Of(0.1, 3600.0));
+    v.Param("perception_wait_s", perception_wait_s,
+            "the stack node waits this long (wall clock) for a perception node's tracks of a detector frame, then "
+            "goes on without them",
+            Range::Of(0.01, 60.0));
+    v.Param("perception_lease_s", perception_lease_s,
+            "`run --nodes --perception-node` starts the perception node with this DDS lease (dds.lease_s): a "
+            "killed perception node is noticed as gone within it",
+            Range::Of(0.2, 60.0));
   }
 };
 
@@ -139,12 +159,22 @@ struct StackNodeInputs {
   std::string map_dir;           // a mapping drive's map to localise on, or ""
   std::string mcap;              // record the drive into this MCAP file, or ""
   std::optional<uint64_t> seed;  // default: the scenario's
+  bool perception_node = false;  // the tracker runs in `specht node perception`
   std::vector<std::string> param_files, overrides;
 };
 
 // `specht node stack`: returns 0 when the drive ended, 1 when the car fell silent
 // for node.command_timeout_s, 128 + the signal when interrupted.
 int RunStackNode(const params::Params& params, const StackNodeInputs& inputs, const std::string& out_dir, bool quiet);
+
+struct PerceptionNodeInputs {
+  std::vector<std::string> param_files, overrides;  // recorded in the report
+};
+
+// `specht node perception`: returns 0 when the drive ended, 1 after
+// node.command_timeout_s of silence, 128 + the signal when interrupted.
+int RunPerceptionNode(const params::Params& params, const PerceptionNodeInputs& inputs, const std::string& out_dir,
+                      bool quiet);
 
 // The simulator node's loop, commands from a function: at each control step of
 // `control_hz`, `command(t)` gives the car's command for the step starting at t
