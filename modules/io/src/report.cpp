@@ -1,11 +1,21 @@
 #include "specht/io/report.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "specht/core/interrupt.h"
+#include "specht/core/statistics.h"
 #include "specht/io/atomic_file.h"
 
 namespace specht::io {
+
+nlohmann::json Quantiles(const std::vector<double>& values, std::initializer_list<double> levels) {
+  nlohmann::json j = {{"count", values.size()}};
+  for (double level : levels) j["p" + std::to_string(std::lround(100 * level))] = Percentile(values, level);
+  j["max"] = values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
+  return j;
+}
 
 StageTimer::Scope::Scope(StageTimer& timer, std::string stage)
     : timer_(timer), stage_(std::move(stage)), start_(std::chrono::steady_clock::now()) {}

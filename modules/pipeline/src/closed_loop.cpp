@@ -17,6 +17,7 @@
 #include "internal/stack_link.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
+#include "specht/io/report.h"
 #include "specht/pipeline/perception_eval.h"
 #include "specht/sim/detections.h"
 #include "specht/sim/simulator.h"
@@ -189,9 +190,7 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   internal::LoopStack* const here = link->local();
   // The oracle's pose reaches the stack wherever it may read its pose (the truth
   // mode's localisation; the other modes ignore it).
-  const auto oracle = [&] {
-    if (here) here->OracleEgo(sim.ego().pose);
-  };
+  const auto oracle = [&] { link->OracleEgo(sim.ego().pose); };
   // A perception frame after every simulator step (and once before the first):
   // the truth mode's at the control rate, the detector's at its own.
   const auto perceive = [&] {
@@ -199,7 +198,8 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
     if (!detector) {
       if (std::llround(sim.time_s() / sim::Simulator::kStepS) % substeps != 0) return;
       const std::vector<sim::AgentTruth> agents = sim.agents();
-      return perception_score.Frame(agents, agents, here->OracleAgents(agents, sim.stamp()));
+      unscored[sim.stamp().ns] = {agents, agents};
+      return link->OracleAgents(agents, sim.stamp());
     }
     if (!detector->Due(sim)) return;
     std::vector<types::Obstacle> in_car = detector->Detect(sim);
@@ -284,7 +284,9 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
   r.localization.update(localization_score.ToJson());
   r.perception.update(perception_score.ToJson());
   // What ran inside the simulator's step belongs to its own stage; rendering is its own.
-  r.stage_ms["simulate"] -= r.stage_ms["localize"] + r.stage_ms["camera_in_simulate"] + 1e3 * sim.render_seconds();
+  // A stack node localises in its own process: there the step only publishes.
+  const double localized_inside = here ? r.stage_ms["localize"] : 0.0;
+  r.stage_ms["simulate"] -= localized_inside + r.stage_ms["camera_in_simulate"] + 1e3 * sim.render_seconds();
   r.stage_ms.erase("camera_in_simulate");
   if (camera) r.stage_ms["render"] = 1e3 * sim.render_seconds();
   r.wall_s = since(run_start) / 1e3;
@@ -293,15 +295,6 @@ ClosedLoopResult RunClosedLoop(const sim::Scenario& scenario, uint64_t seed, con
 }
 
 namespace {
-
-// p50, p90 and max of `values` (0 when there are none).
-nlohmann::json Quantiles(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const auto q = [&](double p) {
-    return values.empty() ? 0.0 : values[std::min(values.size() - 1, static_cast<size_t>(p * values.size()))];
-  };
-  return {{"count", values.size()}, {"p50", q(0.5)}, {"p90", q(0.9)}, {"max", values.empty() ? 0.0 : values.back()}};
-}
 
 // Wall-clock milliseconds per stage per simulated second.
 nlohmann::json PerSecond(const std::map<std::string, double>& stage_ms, double sim_s) {
@@ -318,7 +311,7 @@ nlohmann::json LocalToJson(const ClosedLoopResult::LocalPlanning& l) {
           {"failed", l.failed},
           {"failures", l.failures},
           {"success_rate", l.calls - l.skipped > 0 ? static_cast<double>(l.found) / (l.calls - l.skipped) : 0.0},
-          {"ms", Quantiles(l.ms)},
+          {"ms", io::Quantiles(l.ms, {0.5, 0.9})},
           {"max_iterations", l.max_iterations},
           {"over_budget", l.over_budget},
           {"driving_s", l.driving_s},
@@ -355,7 +348,7 @@ nlohmann::json ClosedLoopResult::ToJson() const {
           {"park_error_deg", park_error_deg},
           {"believed_park_error_m", believed_park_error_m},
           {"believed_park_error_deg", believed_park_error_deg},
-          {"planning_ms", Quantiles(plan_ms)},
+          {"planning_ms", io::Quantiles(plan_ms, {0.5, 0.9})},
           {"speed_limited_s", limited_s},
           {"map_replans", map_replans},
           {"local_planner", LocalToJson(local)},

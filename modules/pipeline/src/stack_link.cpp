@@ -15,6 +15,10 @@ class Local : public StackLink {
   void Detections(std::vector<types::Obstacle> in_car, Stamp stamp) override {
     on_tracks_(stamp, stack_.Detections(std::move(in_car), stamp));
   }
+  void OracleEgo(const sim::Pose2& truth) override { stack_.OracleEgo(truth); }
+  void OracleAgents(const std::vector<sim::AgentTruth>& agents, Stamp stamp) override {
+    on_tracks_(stamp, stack_.OracleAgents(agents, stamp));
+  }
   StackDecision Control(double t_s, Stamp stamp, double speed_mps, double steer_rad) override {
     const plan::Command command = stack_.Control(t_s, stamp, speed_mps, steer_rad);
     return {command, stack_.Believed(), stack_.state(), stack_.tracks_seen(), stack_.OnLocalPath(), stack_.Final()};

@@ -60,11 +60,6 @@ const std::vector<std::pair<std::string, std::string>>& CarTopics() {
   return topics;
 }
 
-// The drive's time of a simulator stamp, as the simulator computes it (step × 10 ms).
-double DriveSeconds(Stamp t) {
-  return static_cast<double>((t.ns - sim::Simulator::kEpochNs) / 10'000'000LL) * sim::Simulator::kStepS;
-}
-
 // The car side's link: publishes what the car delivers, waits for the stack node's
 // decisions; the node runs as a child process for one drive.
 class Dds : public internal::StackLink {
@@ -109,6 +104,13 @@ class Dds : public internal::StackLink {
                         ros::Encode(internal::ObstaclesToRos(in_car, stamp, "base_link")));
   }
 
+  // The oracle reads the simulator, which stays with the car: refused before the drive
+  // (mission_runs.cpp), and ignored here as the full stack ignores it.
+  void OracleEgo(const sim::Pose2&) override {}
+  void OracleAgents(const std::vector<sim::AgentTruth>&, Stamp) override {
+    throw RuntimeError("the truth stack's perception oracle does not run over --nodes");
+  }
+
   internal::StackDecision Control(double t_s, Stamp stamp, double speed_mps, double steer_rad) override {
     if (perception_) RespawnPerceptionIfGone(t_s);
     Ask({{stamp, "base_link"}, t_s, speed_mps, steer_rad, ""});
@@ -143,8 +145,8 @@ class Dds : public internal::StackLink {
       r.drawn_map = std::make_shared<MapArtefact>(ReadMapArtefact(dir_ + "/map"));
     r.nodes = {{"stack_node", std::filesystem::path(dir_).filename().string()},
                {"domain", node_.dds.domain},
-               {"acknowledged_ms", Latency(acknowledged_ms_)},
-               {"answer_ms", Latency(answer_ms_)},
+               {"acknowledged_ms", io::Quantiles(acknowledged_ms_, {0.5, 0.99})},
+               {"answer_ms", io::Quantiles(answer_ms_, {0.5, 0.99})},
                {"published", publisher_->Counts()}};
     if (perception_) r.nodes["perception_node"] = perception;
   }
@@ -160,15 +162,6 @@ class Dds : public internal::StackLink {
   static double MsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
-  // p50, p99 and max of wall-clock milliseconds (the report's; never a pass/fail figure).
-  static nlohmann::json Latency(std::vector<double> ms) {
-    std::sort(ms.begin(), ms.end());
-    const auto q = [&](double p) {
-      return ms.empty() ? 0.0 : ms[std::min(ms.size() - 1, static_cast<size_t>(p * ms.size()))];
-    };
-    return {{"count", ms.size()}, {"p50", q(0.5)}, {"p99", q(0.99)}, {"max", ms.empty() ? 0.0 : ms.back()}};
-  }
-
   // Once the stack has every message before it: the step's question.
   void Ask(const ros::VehicleState& m) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -350,13 +343,14 @@ int RunStackNode(const params::Params& params, const StackNodeInputs& inputs, co
       convert.AddStatic(ros::DecodeTfMessage(m.cdr));
     } else if (topic == "/scan") {
       const auto o = convert.Observe(ros::DecodeLaserScan(m.cdr), topic, 0, handled);
-      stack.Observe(o.stamp, DriveSeconds(o.stamp), o.data);
+      stack.Observe(o.stamp, sim::Simulator::SecondsAt(o.stamp), o.data);
     } else if (topic == "/odom") {
       const auto o = convert.Observe(ros::DecodeOdometry(m.cdr), topic, 0, handled);
-      stack.Observe(o.stamp, DriveSeconds(o.stamp), o.data);
+      stack.Observe(o.stamp, sim::Simulator::SecondsAt(o.stamp), o.data);
     } else if (topic == "/imu") {
       const ros::Imu imu = ros::DecodeImu(m.cdr);
-      stack.Observe(imu.header.stamp, DriveSeconds(imu.header.stamp), ros::RosObservations::Imu(imu, topic));
+      stack.Observe(imu.header.stamp, sim::Simulator::SecondsAt(imu.header.stamp),
+                    ros::RosObservations::Imu(imu, topic));
     } else if (topic == kDetectionsTopic) {
       const ros::Obstacles d = ros::DecodeObstacles(m.cdr);
       if (remote) {

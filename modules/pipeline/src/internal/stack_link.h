@@ -39,14 +39,19 @@ class StackLink {
   virtual void Observe(Stamp t, double t_s, const mrpt::obs::CObservation::Ptr& observation) = 0;
   // A detector frame, each obstacle in the car's frame; its tracks come to OnTracks.
   virtual void Detections(std::vector<types::Obstacle> in_car, Stamp stamp) = 0;
+  // The oracle's inputs of the truth modes (loop_stack.h): the simulator's pose of the
+  // car, and its agents as a perception frame whose tracks come to OnTracks. Only a
+  // stack in this process takes them (`--nodes` runs the full stack only).
+  virtual void OracleEgo(const sim::Pose2& truth) = 0;
+  virtual void OracleAgents(const std::vector<sim::AgentTruth>& agents, Stamp stamp) = 0;
   // A control step: the car's own speed and steering angle in, the decision out.
   virtual StackDecision Control(double t_s, Stamp stamp, double speed_mps, double steer_rad) = 0;
   // Ends the drive at `end` (`t_s` into it), after a time limit when `time_limit`
   // says why; the stack's figures go into `r` (closed_loop.h: planning, transitions,
   // localisation and perception summaries, the drawn map).
   virtual void Finish(double t_s, Stamp end, const std::string& time_limit, ClosedLoopResult& r) = 0;
-  // The stack when it runs in this process (the oracle's inputs, the camera, the
-  // video read it directly), else nullptr.
+  // The stack when it runs in this process (the camera's frames and the video reach
+  // it directly), else nullptr.
   virtual LoopStack* local() { return nullptr; }
 };
 

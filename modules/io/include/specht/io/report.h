@@ -13,6 +13,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace specht::io {
 
@@ -43,6 +44,11 @@ class StageTimer {
   };
   std::map<std::string, Entry> stages_;
 };
+
+// How a report gives a spread of values (wall-clock milliseconds, say): {"count",
+// "p50", "p99", …, "max"}, a nearest-rank percentile (core/statistics.h) for each of
+// `levels`; zeros for no values.
+nlohmann::json Quantiles(const std::vector<double>& values, std::initializer_list<double> levels);
 
 class RunReport {
  public:

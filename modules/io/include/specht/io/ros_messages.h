@@ -152,7 +152,7 @@ struct Track {
   std::string state, motion_model;
   std::vector<TrackPoint> history;
   std::vector<PredictedPoint> prediction;
-  std::vector<std::string> classes;  // the trajectory classifier's, with
+  std::vector<std::string> classes;   // the trajectory classifier's, with
   std::vector<double> probabilities;  // their probabilities
 };
 struct Tracks {  // specht_msgs/msg/Tracks: one tracker cycle, stamped with its frame's time

@@ -60,8 +60,10 @@ class Simulator {
   // The agents as the camera sees them (boxes with class heights and KITTI names).
   std::vector<Box3> AgentBoxes() const;
 
-  double time_s() const { return static_cast<double>(step_) * kStepS; }
+  double time_s() const { return SecondsAt(stamp()); }
   Stamp stamp() const { return Stamp{kEpochNs + step_ * 10'000'000LL}; }
+  // The drive's time of a stamp the simulator gave (its step × kStepS).
+  static double SecondsAt(Stamp t) { return static_cast<double>((t.ns - kEpochNs) / 10'000'000LL) * kStepS; }
   const MoverState& ego() const { return ego_.state(); }
   std::vector<AgentTruth> agents() const;  // the agents that have started
   const World& world() const { return world_; }
