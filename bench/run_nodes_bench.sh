@@ -9,7 +9,9 @@
 # the stack's own work: planning steps take longer) — p50 / p99 / max over the runs,
 # and both real-time factors. With "perception" as the third argument the tracker runs
 # as a third process (`--perception-node`); the perception frames written into the
-# world model on both sides show whether every frame's tracks came back.
+# world model on both sides show whether every frame's tracks came back, and the
+# stack's round trip to the perception node (pose out, tracks back) is the worst
+# drive's p50 / p99 / max.
 # Usage: bench/run_nodes_bench.sh [seeds, default 101-103] [DDS domain, default 230] [stack|perception]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -30,7 +32,11 @@ for scenario in course-loop parking-lot urban-crossing; do
       '[range(0; [$a, $b] | map(length) | min) | ((($a[.].x_m - $b[.].x_m) | . * .) + (($a[.].y_m - $b[.].y_m) | . * .)) | sqrt] |
        {max: max, last: last, same_length: (($a | length) == ($b | length))}'
   done | jq -s -c '.')
+  # The stack's round trip to the perception node per detector frame, from each stack node's report.
+  round_trip=$(cat "$work/$scenario-nodes"/stack-*/report.json | jq -s -c 'map(.perception_node.answer_ms // empty) |
+    if length == 0 then null else {p50: (map(.p50) | max), p99: (map(.p99) | max), max: (map(.max) | max)} end')
   jq -c -n --slurpfile here "$work/$scenario-here/report.json" --slurpfile nodes "$work/$scenario-nodes/report.json" \
+    --argjson round_trip "$round_trip" \
     --argjson steps "$steps" --arg scenario "$scenario" --arg seeds "$seeds" --arg split "$split" '
     ($here[0].runs) as $a | ($nodes[0].runs) as $b |
     {bench: "run_nodes", case: $scenario, split: $split, seeds: $seeds, runs: ($a | length),
@@ -42,5 +48,6 @@ for scenario in course-loop parking-lot urban-crossing; do
      real_time_factor_here: $here[0].metrics.real_time_factor,
      real_time_factor_nodes: $nodes[0].metrics.real_time_factor,
      perception_frames_here: ([$a[].perception.frames] | add),
-     perception_frames_nodes: ([$b[].perception.frames] | add)}'
+     perception_frames_nodes: ([$b[].perception.frames] | add),
+     perception_round_trip_ms_worst_drive: $round_trip}'
 done

@@ -1,5 +1,7 @@
 #include "specht/io/report.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -58,6 +60,17 @@ void RunReport::SetIncomplete(const std::string& error) {
 void RunReport::SetInterrupted(const std::string& done) {
   json_["status"] = "interrupted";
   json_["error"] = "interrupted by " + InterruptName() + " after " + done;
+}
+
+int RunReport::Ended(const std::string& done, const std::string& stopped) {
+  if (InterruptRequested()) {
+    SetInterrupted(done);
+    return InterruptExitCode();
+  }
+  if (stopped.empty()) return 0;
+  SetIncomplete(stopped);
+  spdlog::error("{}: {}", json_.value("command", "run"), stopped);
+  return 1;
 }
 
 void RunReport::AddOutput(const std::string& file) { json_["outputs"].push_back(file); }

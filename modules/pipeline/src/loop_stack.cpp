@@ -83,8 +83,12 @@ plan::HybridAStarOptions Budgeted(const plan::HybridAStarOptions& o, const Close
 
 class Machine {
  public:
-  Machine(const ClosedLoopConfig& c, const std::vector<Goal>& mission, uint64_t seed, ClosedLoopResult& r)
-      : c_(c), mission_(mission), r_(r), seed_(static_cast<unsigned>(seed)) {
+  // `confirm_s`: how long perception takes to confirm the road users around the car
+  // (the tracker's confirmation window): the car sets off, and drives on after a blind
+  // spell, only once frames have come that long.
+  Machine(const ClosedLoopConfig& c, const std::vector<Goal>& mission, uint64_t seed, double confirm_s,
+          ClosedLoopResult& r)
+      : c_(c), mission_(mission), r_(r), seed_(static_cast<unsigned>(seed)), confirm_s_(confirm_s) {
     // Paths on a map still being drawn (map_source lidar) keep map_margin_m more
     // clearance than the check that gives them up needs: a wall's outline firming up
     // by a cell as the car comes closer must not send it back to plan at every update.
@@ -151,8 +155,14 @@ class Machine {
       std::snprintf(reason, sizeof(reason), "no perception frame for %.2f s", perception_age_s);
       Handle(MissionEvent::kSensorBlind, t, reason);
     } else if (!perception_late_ && machine_.state() == MissionState::kBlind) {
-      Handle(MissionEvent::kSensorRestored, t, "perception frames again");
+      if (frames_back_since_ < 0) frames_back_since_ = t;
+      if (t - frames_back_since_ >= confirm_s_ - 1e-9) {
+        char reason[96];
+        std::snprintf(reason, sizeof(reason), "perception frames again for %.2f s", t - frames_back_since_);
+        Handle(MissionEvent::kSensorRestored, t, reason);
+      }
     }
+    if (perception_late_) frames_back_since_ = -1;
     // The emergency check first: it overrides whatever the machine is doing.
     std::string what = ObstacleAhead(pose, speed, seen.obstacles);
     const bool by_lidar = what.empty() && !(what = ReturnAhead(speed, returns)).empty();
@@ -513,6 +523,8 @@ class Machine {
   int corrections_ = 0;
   double blocked_since_ = 0, clear_since_ = -1, estop_clear_since_ = -1, lost_since_ = -1;
   bool perception_late_ = false;  // perception's latest frame older than blind_slow_s
+  double confirm_s_;
+  double frames_back_since_ = -1;  // blind, frames came again from here on
 };
 
 // The believed pose against the prior map (slam/pose_check.h): every scan, its
@@ -618,6 +630,14 @@ auto Timed(double& ms, F&& f) {
 
 }  // namespace
 
+// How long perception takes to confirm the road users around the car: the tracker's
+// confirmation window at the frame rate (none for the oracle).
+double ConfirmSeconds(const sim::Scenario& scenario, const ClosedLoopConfig& config) {
+  if (config.loop.perception == "truth") return 0.0;
+  const double frame_rate_hz = config.loop.perception == "camera" ? scenario.stereo->rate_hz : config.detection.rate_hz;
+  return config.tracking.confirm_window / frame_rate_hz;
+}
+
 class LoopStack::Impl {
  public:
   Impl(const sim::Scenario& scenario, uint64_t seed, const std::vector<Goal>& mission, const ClosedLoopConfig& config,
@@ -631,7 +651,8 @@ class LoopStack::Impl {
                {config.loop.kidnap_at_s, config.loop.kidnap_m, config.loop.kidnap_deg}),
         perceive_(config.loop.perception, config.tracking, world_, config.camera),
         site_grid_(sim::World(scenario).TrueGrid(kPlanningResolutionM)),
-        machine_(config, mission, seed, r),
+        warmup_s_(ConfirmSeconds(scenario, config)),
+        machine_(config, mission, seed, warmup_s_, r),
         centre_from_axle_{scenario.ego.model.PivotAhead(), 0, 0} {
     const ClosedLoopOptions& loop = config.loop;
     if (loop.map_source == "lidar")
@@ -642,9 +663,6 @@ class LoopStack::Impl {
     if (config.pose_check.enabled && !lidar_ && (loop.localization != "truth" || loop.kidnap_at_s >= 0))
       pose_check_.emplace(world_.snapshot()->static_map, config.pose_check);
     if (!config.mcap.empty()) record_.emplace(config.mcap, config.slam.grid);
-    // The car sets off once perception could have confirmed the road users around it.
-    const double frame_rate_hz = loop.perception == "camera" ? scenario.stereo->rate_hz : config.detection.rate_hz;
-    warmup_s_ = loop.perception == "truth" ? 0.0 : config.tracking.confirm_window / frame_rate_hz;
     snapshot_ = world_.snapshot();
   }
 
@@ -752,13 +770,14 @@ class LoopStack::Impl {
   LoopLocalization where_;
   LoopPerception perceive_;
   mrpt::maps::COccupancyGridMap2D site_grid_;  // the site's true static grid: the truth stack's prior map
+  const double warmup_s_;                      // ConfirmSeconds: the car sets off after this
   Machine machine_;
   std::optional<LidarMap> lidar_;
   std::optional<LoopPoseCheck> pose_check_;
   std::optional<LoopRecording> record_;  // the run as MCAP (config.mcap)
   std::vector<cv::Point2d> returns_;     // the latest scan's, rear-axle frame (the emergency check's)
   sim::Pose2 centre_from_axle_;
-  double warmup_s_ = 0, map_updated_s_ = -INFINITY;
+  double map_updated_s_ = -INFINITY;
   std::shared_ptr<const world::Snapshot> snapshot_;  // the latest control step's
   int tracks_seen_ = 0;
 };

@@ -104,15 +104,7 @@ int RunPerceptionNode(const params::Params& params, const PerceptionNodeInputs& 
   publisher.WaitForAcks(std::chrono::seconds(10));
   report.json()["counts"] = {
       {"frames", frames}, {"detections", detected}, {"skipped", skipped}, {"published", publisher.Counts()}};
-  int exit_code = 0;
-  if (InterruptRequested()) {
-    report.SetInterrupted(std::to_string(frames) + " frames");
-    exit_code = InterruptExitCode();
-  } else if (!stopped.empty()) {
-    report.SetIncomplete(stopped);
-    spdlog::error("node perception: {}", stopped);
-    exit_code = 1;
-  }
+  const int exit_code = report.Ended(std::to_string(frames) + " frames", stopped);
   report.Write(out_dir);
   return exit_code;
 }

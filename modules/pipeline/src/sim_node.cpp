@@ -165,15 +165,7 @@ int RunSimulatorNode(const params::Params& params, const SimNodeInputs& inputs, 
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   io::WriteTum(truth, out_dir + "/ground_truth.tum");
   report.AddOutput("ground_truth.tum");
-  int exit_code = 0;
-  if (InterruptRequested()) {
-    report.SetInterrupted(std::to_string(sim.time_s()) + " s simulated");
-    exit_code = InterruptExitCode();
-  } else if (!stopped.empty()) {
-    report.SetIncomplete(stopped);
-    spdlog::error("node sim: {}", stopped);
-    exit_code = 1;
-  }
+  const int exit_code = report.Ended(std::to_string(sim.time_s()) + " s simulated", stopped);
   j["counts"] = {{"published", publisher->Counts()},
                  {"commands", commands.received()},
                  {"control_steps", static_cast<long>(truth.size()) - 1}};

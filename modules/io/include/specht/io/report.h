@@ -58,6 +58,10 @@ class RunReport {
   void SetIncomplete(const std::string& error);
   // A signal stopped the run (core/interrupt.h) after `done` (e.g. "5210 scans").
   void SetInterrupted(const std::string& done);
+  // How a run that a signal may have stopped (after `done`), or that stopped early for
+  // the reason `stopped` (non-empty; logged as an error), ended: sets the status and
+  // returns the exit code — 128 + the signal, 1, or 0 when it ran to its end.
+  int Ended(const std::string& done, const std::string& stopped);
   void AddOutput(const std::string& file);
   // Writes report.json and report.md into `dir` (atomically).
   void Write(const std::string& dir) const;
