@@ -51,4 +51,6 @@ run "$build/bench/dds_bench"
 run "$build/bench/sim_node_bench" "$build/specht"
 SPECHT_BINARY=$build/specht run "$root/bench/node_bench.sh"
 SPECHT_BINARY=$build/specht run "$root/bench/run_nodes_bench.sh"
+SPECHT_BINARY=$build/specht run "$root/bench/run_nodes_bench.sh" 101-103 230 perception
+SPECHT_BINARY=$build/specht run "$root/bench/perception_fault_bench.sh"
 echo "bench: results in $out" >&2
