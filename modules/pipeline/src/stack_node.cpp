@@ -88,11 +88,11 @@ class Dds : public internal::StackLink {
     for (const auto& [topic, type] : CarTopics()) {
       const bool perceived = perception_ && (topic == kDetectionsTopic || topic == kVehicleStateTopic);
       while (!publisher_->WaitForReaders(topic, type, perceived ? 2 : 1, std::chrono::milliseconds(100)))
-        Alive("a reader of " + topic, deadline);
+        Starting("a reader of " + topic, deadline);
     }
     while (!steps_.WaitForWriters(1, std::chrono::milliseconds(100)) ||
            !tracks_.WaitForWriters(1, std::chrono::milliseconds(100)))
-      Alive("start", deadline);
+      Starting("start", deadline);
   }
 
   void Observe(Stamp t, double, const mrpt::obs::CObservation::Ptr& observation) override {
@@ -191,6 +191,15 @@ class Dds : public internal::StackLink {
                  t_s);
     perception_restarts_.push_back({{"gone_at_s", t_s}, {"exit_code", *code}});
     StartPerception();
+  }
+  // As Alive, and a perception node that ended before the drive began ends the run
+  // too (during the drive one is restarted instead).
+  void Starting(const std::string& what, std::chrono::steady_clock::time_point deadline) {
+    if (perception_)
+      if (const auto code = perception_->Poll())
+        throw RuntimeError("the perception node ended with exit code " + std::to_string(*code) + " (waiting for " +
+                           what + "); its console: " + perception_dir_ + "/console.log");
+    Alive(what, deadline);
   }
   // Throws when the node ended, or `deadline` passed, while waiting for `what`.
   void Alive(const std::string& what, std::chrono::steady_clock::time_point deadline) {
