@@ -628,8 +628,6 @@ auto Timed(double& ms, F&& f) {
   return f();
 }
 
-}  // namespace
-
 // How long perception takes to confirm the road users around the car: the tracker's
 // confirmation window at the frame rate (none for the oracle).
 double ConfirmSeconds(const sim::Scenario& scenario, const ClosedLoopConfig& config) {
@@ -637,6 +635,8 @@ double ConfirmSeconds(const sim::Scenario& scenario, const ClosedLoopConfig& con
   const double frame_rate_hz = config.loop.perception == "camera" ? scenario.stereo->rate_hz : config.detection.rate_hz;
   return config.tracking.confirm_window / frame_rate_hz;
 }
+
+}  // namespace
 
 class LoopStack::Impl {
  public:

@@ -271,7 +271,7 @@ class RemotePerception {
       if (t != tracks_at_.end() && o != obstacles_at_.end()) {
         Frame frame{std::move(t->second), std::move(o->second)};
         tracks_at_.erase(t), obstacles_at_.erase(o);
-        ++answered_;
+        ++answered_, warned_ = false;
         answer_ms_.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - asked).count());
         return frame;
@@ -279,9 +279,10 @@ class RemotePerception {
       if (tracks_.MatchedWriters() == 0 || std::chrono::steady_clock::now() > deadline) break;
       tracks_.WaitForData(std::chrono::milliseconds(2));
     }
-    if (missing_++ == 0 || answered_ > answered_at_last_warning_)
+    ++missing_;
+    if (!warned_)  // once a gap: the first frame missing after one answered
       spdlog::warn("node stack: no tracks from the perception node for the frame at {} s", stamp.Seconds());
-    answered_at_last_warning_ = answered_;
+    warned_ = true;
     return std::nullopt;
   }
   // Frames answered and missing, and the wall-clock milliseconds from a frame's pose
@@ -296,7 +297,8 @@ class RemotePerception {
   net::Reader tracks_, obstacles_;
   std::map<Stamp, std::vector<types::Track>> tracks_at_;
   std::map<Stamp, std::vector<types::Obstacle>> obstacles_at_;
-  long answered_ = 0, missing_ = 0, answered_at_last_warning_ = -1;
+  long answered_ = 0, missing_ = 0;
+  bool warned_ = false;  // of the current gap
   std::vector<double> answer_ms_;
 };
 
