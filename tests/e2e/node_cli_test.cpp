@@ -241,11 +241,13 @@ TEST(NodeCliTest, RunWithTheStackAsANodeDrivesAsTheInProcessLoop) {
 // Faults: the perception node is killed mid-drive. The stack, without the frames'
 // tracks, stops the car within 0.5 s of simulated time (closed_loop.blind_stop_s,
 // 0.4 s after the last frame); the run restarts the node, and once its tracks come
-// the car drives on and completes the mission.
+// the car drives on and completes the mission. In the parking lot, whose missions
+// complete whenever the stall falls (on the course the stall shifts the drive against
+// the traffic and bay-a, which seed 101 then missed in about half the runs).
 TEST(NodeCliTest, APerceptionNodeKilledMidDriveStopsTheCarUntilItIsBack) {
   const std::string dir = testing::TempDir("run_nodes_perception_killed");
   testing::BackgroundSpecht run("run '" + testing::SourceDir() +
-                                "/datasets/scenarios/course-loop.yaml' --seeds 101 -q --nodes --perception-node "
+                                "/datasets/scenarios/parking-lot.yaml' --seeds 101 -q --nodes --perception-node "
                                 "--domain " +
                                 Domain() + " --set closed_loop.mcap=off -o '" + dir + "/out'");
   ASSERT_TRUE(run.WaitForFile(dir + "/out/perception-101/params.yaml", 30));
