@@ -241,9 +241,9 @@ TEST(NodeCliTest, RunWithTheStackAsANodeDrivesAsTheInProcessLoop) {
 // Faults: the perception node is killed mid-drive. The stack, without the frames'
 // tracks, stops the car within 0.5 s of simulated time (closed_loop.blind_stop_s,
 // 0.4 s after the last frame); the run restarts the node, and once its tracks come
-// the car drives on and completes the mission. In the parking lot, whose missions
-// complete whenever the stall falls (on the course the stall shifts the drive against
-// the traffic and bay-a, which seed 101 then missed in about half the runs).
+// the car drives on and completes the mission. In the parking lot: on the course the
+// stall shifts the drive against the traffic, and whether seed 101 then parks in bay-a
+// depends on when the kill lands.
 TEST(NodeCliTest, APerceptionNodeKilledMidDriveStopsTheCarUntilItIsBack) {
   const std::string dir = testing::TempDir("run_nodes_perception_killed");
   testing::BackgroundSpecht run("run '" + testing::SourceDir() +
