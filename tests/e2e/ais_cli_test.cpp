@@ -6,14 +6,13 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "report.h"
 #include "test_support.h"
 
 namespace specht {
 namespace {
 
 using ::testing::HasSubstr;
-
-nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
 // The first `lines` lines of a shipped track file (grouped by MMSI) as <dir>/slice.csv.
 void WriteSliceOfTracks(const std::string& file, int lines, const std::string& dir) {

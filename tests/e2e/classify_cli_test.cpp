@@ -7,14 +7,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "report.h"
 #include "test_support.h"
 
 namespace specht {
 namespace {
 
 using ::testing::HasSubstr;
-
-nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
 // `classify crossval` on the prepared windows (the forest alone, fast): every window
 // tested once per deal, a track's windows all in one fold, and the forest well above

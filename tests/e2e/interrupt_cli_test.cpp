@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "report.h"
 #include "specht/io/g2o.h"
 #include "specht/io/map_io.h"
 #include "specht/io/trajectory_io.h"
@@ -26,8 +27,6 @@ std::string LastLine(std::string err) {
   while (!err.empty() && err.back() == '\n') err.pop_back();
   return err.substr(err.rfind('\n') + 1);
 }
-
-nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
 // Starts `args`, waits until its output directory is set up (params.yaml: the run has
 // begun), lets it work `seconds` more, then sends `signal`.

@@ -14,13 +14,12 @@
 #include <sstream>
 #include <thread>
 
+#include "report.h"
 #include "specht/io/trajectory_io.h"
 #include "test_support.h"
 
 namespace specht {
 namespace {
-
-nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
 std::string Domain() { return std::to_string(1 + getpid() % 200); }
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "report.h"
 #include "specht/io/mcap.h"
 #include "specht/io/ros_messages.h"
 #include "specht/io/trajectory_io.h"
@@ -19,8 +20,6 @@ using ::testing::HasSubstr;
 
 const char* kOutputs[] = {"map.yaml",         "map.pgm",   "map.gridmap", "map.png",     "trajectory.tum", "graph.g2o",
                           "keyframes.rawlog", "loops.png", "params.yaml", "report.json", "report.md"};
-
-nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
 TEST(ReplayCliTest, DefaultRunWritesEveryOutput) {
   SPECHT_REQUIRE_FILE(testing::BuiltInRawlog());

@@ -1,12 +1,11 @@
 // Longer `specht replay` runs (label: slow).
 #include <nlohmann/json.hpp>
 
+#include "report.h"
 #include "test_support.h"
 
 namespace specht {
 namespace {
-
-nlohmann::json Report(const std::string& dir) { return nlohmann::json::parse(testing::ReadFile(dir + "/report.json")); }
 
 // MRPT's simulated rawlogs come with ground truth: the run reports ATE against it.
 // The bounds sit above the measured figures by a margin run-to-run noise does not

@@ -23,7 +23,7 @@ struct Counts {
   std::vector<std::string> skipped;
 };
 
-Counts ReadAll(const std::string& path, OnBadRecord on_bad = OnBadRecord::kStop) {
+Counts CountRecords(const std::string& path, OnBadRecord on_bad = OnBadRecord::kStop) {
   Counts c;
   auto source = OpenDataset(path, on_bad);
   try {
@@ -45,7 +45,7 @@ TEST(CarmenTest, ReadsTheIntelLogAndItsReference) {
   const std::string data = testing::DataDir();
   SPECHT_REQUIRE_FILE(data);
   const std::string log = data + "/slam/carmen/intel-corrected.log.gz";
-  const Counts c = ReadAll(log);
+  const Counts c = CountRecords(log);
   EXPECT_EQ(c.error, "");
   EXPECT_EQ(c.scans, 910);
   EXPECT_EQ(c.odometry, 14541);
@@ -106,7 +106,7 @@ TEST(CarmenTest, ParsesFlaserAndOdometryWithTheLaserOffset) {
   EXPECT_NEAR(scan->aperture, M_PI, 1e-6);
   EXPECT_NEAR(scan->sensorPose.x(), 0.1, 1e-9);
   EXPECT_NEAR(obs->stamp.Seconds(), 1.0, 1e-9);
-  const Counts c = ReadAll(path);
+  const Counts c = CountRecords(path);
   // After the laser message the chain continues from its pose: 1 m forward in the
   // laser's heading frame (0.5 rad), from the origin.
   EXPECT_NEAR(c.last_odometry.norm(), 1.0, 1e-6);
@@ -145,28 +145,28 @@ TEST(CarmenTest, FlaserReferenceIsTheRobotBehindTheLaser) {
 }
 
 TEST(CarmenTest, MalformedLinesAreNamedByLine) {
-  EXPECT_THAT(ReadAll(Log(Flaser(181).substr(0, 300) + "\n")).error,
+  EXPECT_THAT(CountRecords(Log(Flaser(181).substr(0, 300) + "\n")).error,
               HasSubstr("test.log:3: FLASER with 181 beams needs at least 190 fields"));
-  EXPECT_THAT(ReadAll(Log(Flaser(10, "nan"))).error, HasSubstr("test.log:3: field 'range 1' is nan"));
-  EXPECT_THAT(ReadAll(Log(Flaser(10, "-1"))).error, HasSubstr("test.log:3: 'range 1' is negative"));
-  EXPECT_THAT(ReadAll(Log("ODOM 1 2\n")).error, HasSubstr("test.log:3: ODOM needs at least 8 fields, got 3"));
-  EXPECT_THAT(ReadAll(Log("ODOM 1 x 0 0 0 0 1 host 1\n")).error,
+  EXPECT_THAT(CountRecords(Log(Flaser(10, "nan"))).error, HasSubstr("test.log:3: field 'range 1' is nan"));
+  EXPECT_THAT(CountRecords(Log(Flaser(10, "-1"))).error, HasSubstr("test.log:3: 'range 1' is negative"));
+  EXPECT_THAT(CountRecords(Log("ODOM 1 2\n")).error, HasSubstr("test.log:3: ODOM needs at least 8 fields, got 3"));
+  EXPECT_THAT(CountRecords(Log("ODOM 1 x 0 0 0 0 1 host 1\n")).error,
               HasSubstr("test.log:3: field 'y' is not a number: 'x'"));
-  EXPECT_THAT(ReadAll(Log("FLASER 0\n")).error, HasSubstr("test.log:3: 'num_readings' must be a positive count"));
+  EXPECT_THAT(CountRecords(Log("FLASER 0\n")).error, HasSubstr("test.log:3: 'num_readings' must be a positive count"));
   // Found by fuzz_carmen: a stamp no clock holds overflowed the stamp arithmetic.
-  EXPECT_THAT(ReadAll(Log("ODOM 1 2 0 0 0 0 1 host 1\nODOM 1 2 0 0 0 0 -9.7e17 host 1\n")).error,
+  EXPECT_THAT(CountRecords(Log("ODOM 1 2 0 0 0 0 1 host 1\nODOM 1 2 0 0 0 0 -9.7e17 host 1\n")).error,
               HasSubstr("test.log:4: 'ipc_timestamp' is out of range: -9.7e17"));
   // fr-clinic's ROBOTLASER1, cut short after its remissions: the fields it lacks.
-  EXPECT_THAT(ReadAll(Log("ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 0 1.3 0 0 1 0\n")).error,
+  EXPECT_THAT(CountRecords(Log("ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 0 1.3 0 0 1 0\n")).error,
               HasSubstr("test.log:3: ROBOTLASER1 with 5 beams needs at least 27 fields, got 20"));
   // Found by fuzz_trajectory: a remission count no integer holds overflowed its conversion.
-  EXPECT_THAT(ReadAll(Log("ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 3.2e45 1.3 0 0 1 0\n")).error,
+  EXPECT_THAT(CountRecords(Log("ROBOTLASER1 0 -0.2 0.4 0.1 30 0.01 0 5 1 1 1 1 1 3.2e45 1.3 0 0 1 0\n")).error,
               HasSubstr("test.log:3: 'num_remissions' must be a count no larger than the line"));
 }
 
 TEST(CarmenTest, SkipModeGoesOnAndListsWhatItSkipped) {
-  const Counts c = ReadAll(Log(Flaser(10, "nan", 1.0) + Flaser(10, "1.5", 2.0) + "ODOM 1 2\n" + Flaser(10, "1.5", 3.0)),
-                           OnBadRecord::kSkip);
+  const Counts c = CountRecords(
+      Log(Flaser(10, "nan", 1.0) + Flaser(10, "1.5", 2.0) + "ODOM 1 2\n" + Flaser(10, "1.5", 3.0)), OnBadRecord::kSkip);
   EXPECT_EQ(c.error, "");
   EXPECT_EQ(c.scans, 2);
   ASSERT_EQ(c.skipped.size(), 2u);
@@ -265,7 +265,7 @@ TEST(CarmenTest, TruncatedGzipStopsWithTheLineWhereItBreaks) {
   const std::string gz = testing::ReadFile(data + "/slam/carmen/freiburg-101-corrected.log.gz");
   const std::string cut = testing::TempDir() + "/cut.log.gz";
   testing::WriteFile(cut, gz.substr(0, gz.size() / 2));
-  const Counts c = ReadAll(cut);
+  const Counts c = CountRecords(cut);
   EXPECT_THAT(c.error, HasSubstr("truncated or corrupt gzip file"));
   EXPECT_THAT(c.error, ::testing::MatchesRegex(".*cut.log.gz:[0-9]+: .*"));
   EXPECT_GT(c.scans, 50);  // what came before the break was delivered
@@ -304,7 +304,7 @@ TEST(CarmenTest, ReadsBzip2InOneStreamOrSeveral) {
   ASSERT_EQ(expected.size(), 5000u);
   EXPECT_EQ(Lines(dir + "/one.log.bz2"), expected);
   EXPECT_EQ(Lines(dir + "/two.log.bz2"), expected);
-  EXPECT_EQ(ReadAll(dir + "/two.log.bz2").odometry, 5000);
+  EXPECT_EQ(CountRecords(dir + "/two.log.bz2").odometry, 5000);
 
   const std::string whole = Bzip2(text);
   testing::WriteFile(dir + "/cut.log.bz2", whole.substr(0, whole.size() / 2));

@@ -38,9 +38,9 @@ struct LaserMessage {
 };
 
 // Parses one line into tokens and checks numbers, naming the field on error.
-class Fields {
+class LineFields {
  public:
-  explicit Fields(const std::string& line) {
+  explicit LineFields(const std::string& line) {
     std::istringstream s(line);
     for (std::string t; s >> t;) tokens_.push_back(std::move(t));
   }
@@ -75,12 +75,12 @@ class Fields {
   std::vector<std::string> tokens_;
 };
 
-std::vector<float> Ranges(const Fields& f, size_t first, int n) {
+std::vector<float> Ranges(const LineFields& f, size_t first, int n) {
   std::vector<float> r(n);
   for (int i = 0; i < n; ++i) {
     const std::string name = "range " + std::to_string(i + 1);
     const double v = f.Number(first + i, name.c_str());
-    if (v < 0) throw Fields::Bad("'" + name + "' is negative");
+    if (v < 0) throw LineFields::Bad("'" + name + "' is negative");
     r[i] = static_cast<float>(v);
   }
   return r;
@@ -100,11 +100,11 @@ double FlaserIncrement(int n) {
 }
 
 // FLASER n r_1..r_n x y θ odom_x odom_y odom_θ ipc_t [host logger_t]
-LaserMessage ParseFlaser(const Fields& f) {
+LaserMessage ParseFlaser(const LineFields& f) {
   const int n = f.Count(1, "num_readings");
   if (f.size() < static_cast<size_t>(2 + n + 7)) {
-    throw Fields::Bad("FLASER with " + std::to_string(n) + " beams needs at least " + std::to_string(2 + n + 7) +
-                      " fields, got " + std::to_string(f.size()) + " (beam count mismatch or truncated line)");
+    throw LineFields::Bad("FLASER with " + std::to_string(n) + " beams needs at least " + std::to_string(2 + n + 7) +
+                          " fields, got " + std::to_string(f.size()) + " (beam count mismatch or truncated line)");
   }
   LaserMessage m;
   m.ranges = Ranges(f, 2, n);
@@ -116,7 +116,7 @@ LaserMessage ParseFlaser(const Fields& f) {
 }
 
 // ROBOTLASER1 type start fov res max acc mode n r.. m e.. lx ly lθ rx ry rθ tv rv fs ss ta ipc_t ...
-LaserMessage ParseRobotLaser(const Fields& f) {
+LaserMessage ParseRobotLaser(const LineFields& f) {
   LaserMessage m;
   m.start_angle = f.Number(2, "start_angle");
   m.increment = f.Number(4, "angular_resolution");
@@ -126,11 +126,11 @@ LaserMessage ParseRobotLaser(const Fields& f) {
   const size_t rem = 9 + n;
   const double remissions = f.Number(rem, "num_remissions");
   if (remissions < 0 || remissions != std::floor(remissions) || remissions > static_cast<double>(f.size()))
-    throw Fields::Bad("'num_remissions' must be a count no larger than the line");
+    throw LineFields::Bad("'num_remissions' must be a count no larger than the line");
   const size_t p = rem + 1 + static_cast<size_t>(remissions);
   if (f.size() < p + 12) {
-    throw Fields::Bad("ROBOTLASER1 with " + std::to_string(n) + " beams needs at least " + std::to_string(p + 12) +
-                      " fields, got " + std::to_string(f.size()));
+    throw LineFields::Bad("ROBOTLASER1 with " + std::to_string(n) + " beams needs at least " + std::to_string(p + 12) +
+                          " fields, got " + std::to_string(f.size()));
   }
   const CPose2D laser(f.Number(p, "laser_pose_x"), f.Number(p + 1, "laser_pose_y"),
                       f.Number(p + 2, "laser_pose_theta"));
@@ -210,7 +210,7 @@ class CarmenReader {
     while (lines_.Next(line)) {
       try {
         if (auto e = Parse(line)) return e;
-      } catch (const Fields::Bad& bad) {
+      } catch (const LineFields::Bad& bad) {
         if (on_bad_ == OnBadRecord::kStop) throw DatasetError(path_, lines_.number(), -1, bad.what());
         skipped_.push_back(path_ + ":" + std::to_string(lines_.number()) + ": " + bad.what());
       }
@@ -238,7 +238,7 @@ class CarmenReader {
       "its own line's";
 
   std::optional<Event> Parse(const std::string& line) {
-    const Fields f(line);
+    const LineFields f(line);
     if (f.size() == 0 || f[0][0] == '#') return std::nullopt;
     const std::string& kind = f[0];
     if (kind == "PARAM") {
@@ -247,7 +247,7 @@ class CarmenReader {
       return std::nullopt;
     }
     if (kind == "ODOM") {
-      if (f.size() < 8) throw Fields::Bad("ODOM needs at least 8 fields, got " + std::to_string(f.size()));
+      if (f.size() < 8) throw LineFields::Bad("ODOM needs at least 8 fields, got " + std::to_string(f.size()));
       const CPose2D odom(f.Number(1, "x"), f.Number(2, "y"), f.Number(3, "theta"));
       const double t = f.Seconds(7, "ipc_timestamp");
       if (!corrected_) {

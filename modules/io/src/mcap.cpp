@@ -52,9 +52,9 @@ uint32_t Crc(uint32_t crc, const std::string& bytes) {
 }
 
 // Reads fields from a record body; a field past its end is a malformed record.
-class Fields {
+class RecordFields {
  public:
-  explicit Fields(const std::string& body) : body_(body) {}
+  explicit RecordFields(const std::string& body) : body_(body) {}
   template <class T>
   T Get() {
     Need(sizeof(T));
@@ -284,7 +284,7 @@ bool McapReader::NextRecord(uint8_t& opcode, std::string& body, uint64_t& at) {
 
 void McapReader::Take(uint8_t opcode, const std::string& body, uint64_t at) {
   try {
-    Fields f(body);
+    RecordFields f(body);
     switch (opcode) {
       case kHeader:
         profile_ = f.String();
@@ -351,7 +351,7 @@ void McapReader::Take(uint8_t opcode, const std::string& body, uint64_t at) {
         for (size_t i = 0; i < plain.size();) {  // the chunk's own records
           if (plain.size() - i < 9) throw InputError("a chunk whose last record is cut");
           const std::string head_bytes = plain.substr(i, 9);
-          Fields head(head_bytes);
+          RecordFields head(head_bytes);
           const auto op = head.Get<uint8_t>();
           const auto n = head.Get<uint64_t>();
           if (n > plain.size() - i - 9) throw InputError("a chunk record runs past the chunk's end");

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "internal/address.h"
 #include "specht/core/error.h"
 #include "specht/core/interrupt.h"
 #include "specht/core/params.h"
@@ -74,11 +75,6 @@ class FileReader {
  private:
   std::string path_;
 };
-
-bool IsIpv4(const std::string& address) {
-  in_addr parsed{};
-  return inet_pton(AF_INET, address.c_str(), &parsed) == 1;
-}
 
 LaunchNode ParseNode(const FileReader& in, const YAML::Node& n, const std::vector<std::string>& stages,
                      const std::string& folder) {
@@ -174,7 +170,8 @@ LaunchFile ParseLaunchFile(const std::string& text, const std::string& path, con
     if (!hosts.IsMap()) in.Fail(hosts, "hosts must be a map of host name to IPv4 address");
     for (const auto& kv : hosts) {
       const std::string name = in.Scalar(kv.first, "a host name"), address = in.Scalar(kv.second, "an address");
-      if (!IsIpv4(address)) in.Fail(kv.second, "host '" + name + "': '" + address + "' is not an IPv4 address");
+      if (!internal::IsIpv4(address))
+        in.Fail(kv.second, "host '" + name + "': '" + address + "' is not an IPv4 address");
       if (name == kLocalhost && address != "127.0.0.1") in.Fail(kv.second, "localhost is 127.0.0.1");
       file.hosts[name] = address;
     }

@@ -53,9 +53,9 @@ class Mcap : public MessageSink {
   std::map<std::string, uint16_t> schemas_, channels_;
 };
 
-class Dds : public MessageSink {
+class PublishingSink : public MessageSink {
  public:
-  Dds(std::shared_ptr<net::TopicPublisher> publisher, Origin origin)
+  PublishingSink(std::shared_ptr<net::TopicPublisher> publisher, Origin origin)
       : publisher_(std::move(publisher)), origin_(origin) {}
   void Write(const std::string& topic, const std::string& type, Origin origin, Stamp t,
              const std::vector<uint8_t>& cdr) override {
@@ -76,7 +76,7 @@ std::string RecordingPath(const std::string& out_dir, const std::string& file) {
 }
 
 std::unique_ptr<MessageSink> DdsSink(std::shared_ptr<net::TopicPublisher> publisher, Origin origin) {
-  return std::make_unique<Dds>(std::move(publisher), origin);
+  return std::make_unique<PublishingSink>(std::move(publisher), origin);
 }
 
 RosRecorder::RosRecorder(std::vector<std::unique_ptr<MessageSink>> sinks, double map_every_s,

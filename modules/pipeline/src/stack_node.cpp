@@ -62,9 +62,10 @@ const std::vector<std::pair<std::string, std::string>>& CarTopics() {
 
 // The car side's link: publishes what the car delivers, waits for the stack node's
 // decisions; the node runs as a child process for one drive.
-class Dds : public internal::StackLink {
+class NodeStackLink : public internal::StackLink {
  public:
-  Dds(uint64_t seed, const ClosedLoopConfig& config, const ClosedLoopConfig::StackNode& node, OnTracks on_tracks)
+  NodeStackLink(uint64_t seed, const ClosedLoopConfig& config, const ClosedLoopConfig::StackNode& node,
+                OnTracks on_tracks)
       : node_(node),
         timeout_(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::duration<double>(node.timeout_s))),
@@ -315,7 +316,7 @@ namespace internal {
 
 std::unique_ptr<StackLink> DdsStackLink(const sim::Scenario&, uint64_t seed, const ClosedLoopConfig& config,
                                         ClosedLoopResult&, StackLink::OnTracks on_tracks) {
-  return std::make_unique<Dds>(seed, config, *config.stack_node, std::move(on_tracks));
+  return std::make_unique<NodeStackLink>(seed, config, *config.stack_node, std::move(on_tracks));
 }
 
 }  // namespace internal

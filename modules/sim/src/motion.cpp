@@ -3,12 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "internal/geometry.h"
+
 namespace specht::sim {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
-
-double Wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 // One step of motion with the speed and yaw rate set: the rear axle, `pivot_ahead`
 // behind the pose point, moves along the heading and the body turns about it (a
@@ -16,7 +14,7 @@ double Wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 void Advance(MoverState& s, double dt, double pivot_ahead) {
   const double rear_x = s.pose.x - pivot_ahead * std::cos(s.pose.yaw_rad) + s.speed_mps * std::cos(s.pose.yaw_rad) * dt;
   const double rear_y = s.pose.y - pivot_ahead * std::sin(s.pose.yaw_rad) + s.speed_mps * std::sin(s.pose.yaw_rad) * dt;
-  s.pose.yaw_rad = Wrap(s.pose.yaw_rad + s.yaw_rate * dt);
+  s.pose.yaw_rad = internal::WrapAngle(s.pose.yaw_rad + s.yaw_rate * dt);
   s.pose.x = rear_x + pivot_ahead * std::cos(s.pose.yaw_rad);
   s.pose.y = rear_y + pivot_ahead * std::sin(s.pose.yaw_rad);
 }
@@ -33,19 +31,20 @@ MotionParams SampleMotion(AgentClass cls, std::mt19937_64& rng) {
     case AgentClass::kPedestrian:
       p.cruise_mps = Clip(1.4 + 0.3 * n01(rng), 0.5, 2.8);
       if (u01(rng) < 0.15) p.cruise_mps *= 1.9;  // a jogger
-      p.accel_mps2 = 1.0, p.decel_mps2 = 1.5, p.max_turn_rate = 120 * kDeg;
+      p.accel_mps2 = 1.0, p.decel_mps2 = 1.5, p.max_turn_rate = 120 * internal::kDeg;
       p.heading_noise = 0.3, p.pause_probability = 0.6, p.reach_m = 0.4;
       p.length_m = 0.5, p.width_m = 0.5;
       break;
     case AgentClass::kCyclist:
       p.cruise_mps = Clip(4.5 + 1.2 * n01(rng), 1.8, 8.0);
-      p.accel_mps2 = 1.2, p.decel_mps2 = 2.0, p.max_turn_rate = 35 * kDeg;
+      p.accel_mps2 = 1.2, p.decel_mps2 = 2.0, p.max_turn_rate = 35 * internal::kDeg;
       p.heading_noise = 0.05, p.reach_m = 1.0;
       p.length_m = 1.8, p.width_m = 0.6;
       break;
     case AgentClass::kCar:
       p.cruise_mps = Clip(7.0 + 2.0 * n01(rng), 3.0, 12.0);
-      p.accel_mps2 = 2.5, p.decel_mps2 = 4.0, p.bicycle = true, p.wheelbase_m = 2.7, p.max_steer_rad = 35 * kDeg;
+      p.accel_mps2 = 2.5, p.decel_mps2 = 4.0, p.bicycle = true, p.wheelbase_m = 2.7,
+      p.max_steer_rad = 35 * internal::kDeg;
       p.stop_s = 1.0 + 2.0 * u01(rng), p.reach_m = 2.0;
       p.length_m = 4.5, p.width_m = 1.8;
       break;
@@ -123,7 +122,7 @@ double RouteFollower::PursuePath() {
     t = Next(t);
   }
   const double dx = goal.x - s.pose.x, dy = goal.y - s.pose.y, dist = std::max(std::hypot(dx, dy), 0.5);
-  const double alpha = Wrap(std::atan2(dy, dx) - s.pose.yaw_rad);
+  const double alpha = internal::WrapAngle(std::atan2(dy, dx) - s.pose.yaw_rad);
   const double delta = Clip(std::atan2(2 * p.wheelbase_m * std::sin(alpha), dist), -p.max_steer_rad, p.max_steer_rad);
   s.yaw_rate = s.speed_mps * std::tan(delta) / p.wheelbase_m;
   const double curvature = std::abs(2 * std::sin(alpha) / dist);
@@ -150,7 +149,7 @@ double RouteFollower::HeadForWaypoint(std::mt19937_64& rng) {
       s.finished = true;
     return 0;
   }
-  const double bearing = Wrap(std::atan2(dy, dx) - s.pose.yaw_rad);
+  const double bearing = internal::WrapAngle(std::atan2(dy, dx) - s.pose.yaw_rad);
   std::normal_distribution<double> noise(0.0, p.heading_noise);
   s.yaw_rate = Clip(3.0 * bearing + (p.heading_noise > 0 ? noise(rng) : 0.0), -p.max_turn_rate, p.max_turn_rate);
   // Slow in turns and when arriving: full speed straight ahead, a quarter at 90° off.

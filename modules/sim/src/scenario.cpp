@@ -32,8 +32,6 @@ namespace {
 using internal::InsidePolygon;
 using internal::SegmentsCross;
 
-constexpr double kDeg = M_PI / 180.0;
-
 // Reads YAML maps key by key, collecting one message per problem.
 class Reader {
  public:
@@ -182,7 +180,7 @@ class Reader {
       return fallback;
     }
     try {
-      return {n[0].as<double>(), n[1].as<double>(), n[2].as<double>() * kDeg};
+      return {n[0].as<double>(), n[1].as<double>(), n[2].as<double>() * internal::kDeg};
     } catch (const YAML::Exception&) {
       Error(n, Join(ctx, key), "expected three numbers");
       return fallback;
@@ -334,7 +332,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
                   "rear_overhang_m", "start", "route", "cruise_speed_mps", "loop"})) {
     VehicleModel& m = s.ego.model;
     m.wheelbase_m = r.Number(e, "ego", "wheelbase_m", m.wheelbase_m, 0.2, 10);
-    m.max_steer_rad = r.Number(e, "ego", "max_steer_deg", 30, 1, 80) * kDeg;
+    m.max_steer_rad = r.Number(e, "ego", "max_steer_deg", 30, 1, 80) * internal::kDeg;
     m.max_speed_mps = r.Number(e, "ego", "max_speed_mps", m.max_speed_mps, 0, 60);
     m.max_accel_mps2 = r.Number(e, "ego", "max_accel_mps2", m.max_accel_mps2, 0.1, 20);
     m.length_m = r.Number(e, "ego", "length_m", m.length_m, 0.3, 20);
@@ -405,7 +403,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
       if (const YAML::Node n = st["mount"];
           n && r.Numbers(n, ctx + ".mount", 5, "[x_m, y_m, z_m, yaw_deg, pitch_deg]", m)) {
         x.x_m = m[0], x.y_m = m[1], x.z_m = m[2];
-        x.yaw_rad = m[3] * kDeg, x.pitch_rad = m[4] * kDeg;
+        x.yaw_rad = m[3] * internal::kDeg, x.pitch_rad = m[4] * internal::kDeg;
       }
       s.stereo = x;
     }
@@ -415,7 +413,7 @@ Scenario ParseScenario(const std::string& text, const std::string& source) {
       LidarSpec& x = s.lidar;
       x.rate_hz = r.Number(l, "sensors.lidar", "rate_hz", x.rate_hz, 0.1, 100);
       x.beams = static_cast<int>(r.Number(l, "sensors.lidar", "beams", x.beams, 2, 10000));
-      x.fov_rad = r.Number(l, "sensors.lidar", "fov_deg", 180, 1, 360) * kDeg;
+      x.fov_rad = r.Number(l, "sensors.lidar", "fov_deg", 180, 1, 360) * internal::kDeg;
       x.max_range_m = r.Number(l, "sensors.lidar", "max_range_m", x.max_range_m, 0.5, 500);
       x.range_noise_m = r.Number(l, "sensors.lidar", "range_noise_m", x.range_noise_m, 0, 5);
       x.dropout = r.Number(l, "sensors.lidar", "dropout", x.dropout, 0, 1);

@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "internal/geometry.h"
+
 namespace specht::sim {
 namespace {
 
@@ -26,17 +28,15 @@ bool Due(int64_t step, double rate_hz) {
   return periods(step) > periods(step - 1);
 }
 
-double Wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
-
 // Pose b seen from pose a.
 Pose2 Relative(const Pose2& a, const Pose2& b) {
   const double c = std::cos(a.yaw_rad), s = std::sin(a.yaw_rad), dx = b.x - a.x, dy = b.y - a.y;
-  return {c * dx + s * dy, -s * dx + c * dy, Wrap(b.yaw_rad - a.yaw_rad)};
+  return {c * dx + s * dy, -s * dx + c * dy, internal::WrapAngle(b.yaw_rad - a.yaw_rad)};
 }
 
 Pose2 Compose(const Pose2& a, const Pose2& d) {
   const double c = std::cos(a.yaw_rad), s = std::sin(a.yaw_rad);
-  return {a.x + c * d.x - s * d.y, a.y + s * d.x + c * d.y, Wrap(a.yaw_rad + d.yaw_rad)};
+  return {a.x + c * d.x - s * d.y, a.y + s * d.x + c * d.y, internal::WrapAngle(a.yaw_rad + d.yaw_rad)};
 }
 
 }  // namespace

@@ -1,11 +1,17 @@
-// 2D polygon geometry shared by scenario validation and the world model.
+// 2D geometry shared by the simulator's sources: angles, polygons, segments.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "specht/sim/scenario.h"
 
 namespace specht::sim::internal {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// An angle in (-π, π].
+inline double WrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 // Even-odd rule: whether p lies inside the closed polygon.
 inline bool InsidePolygon(const std::vector<Vec2>& poly, Vec2 p) {
