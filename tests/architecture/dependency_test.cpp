@@ -125,7 +125,9 @@ TEST(DependencyTest, TheTreeKeepsTheModuleGraph) {
 TEST(DependencyTest, OnlyThePipelineUsesTheSimulatorAndTheWorldModelReadsNoProducer) {
   const Graph graph = ReadGraph(fs::path(testing::SourceDir()) / "modules/dependencies.txt");
   for (const auto& [module, deps] : graph) {
-    if (module != "pipeline") EXPECT_FALSE(deps.count("sim")) << module << " may use the simulator";
+    if (module != "pipeline") {
+      EXPECT_FALSE(deps.count("sim")) << module << " may use the simulator";
+    }
   }
   for (const char* producer : {"slam", "stereo", "detect", "track", "classify"}) {
     EXPECT_FALSE(graph.at("world").count(producer)) << "the world model depends on " << producer;

@@ -372,7 +372,9 @@ TEST(StereoRenderTest, RasterisedDepthAgreesWithARayCast) {
       }
       ++compared;
       if (std::abs(rendered - best) > 1e-4 * best) ++disagree;
-      if (rendered > 0) EXPECT_NEAR(f.disparity.at<float>(v, u), c.focal_px * c.baseline_m / rendered, 1e-3);
+      if (rendered > 0) {
+        EXPECT_NEAR(f.disparity.at<float>(v, u), c.focal_px * c.baseline_m / rendered, 1e-3);
+      }
     }
   }
   EXPECT_GT(compared, 5000);

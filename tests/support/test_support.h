@@ -65,15 +65,14 @@ bool DataRequired();
 }  // namespace specht::testing
 
 // Skips the test for missing input (stream the reason into it), or fails it when
-// the input is required (DataRequired).
-#define SPECHT_SKIP()                                      \
-  switch (0)                                               \
-  case 0:                                                  \
-  default:                                                 \
-    if (::specht::testing::DataRequired())                 \
-      FAIL() << "input missing (SPECHT_REQUIRE_DATA=1): "; \
-    else                                                   \
-      GTEST_SKIP()
+// the input is required (DataRequired). One statement, as gtest's own FAIL() and
+// GTEST_SKIP() expand to, so `if (...) SPECHT_SKIP() << ...;` needs no braces.
+#define SPECHT_SKIP()                                                                                                \
+  return ::testing::internal::AssertHelper(                                                                          \
+             ::specht::testing::DataRequired() ? ::testing::TestPartResult::kFatalFailure                            \
+                                               : ::testing::TestPartResult::kSkip,                                   \
+             __FILE__, __LINE__, ::specht::testing::DataRequired() ? "input missing (SPECHT_REQUIRE_DATA=1)" : "") = \
+             ::testing::Message()
 
 #define SPECHT_REQUIRE_FILE(path)                      \
   do {                                                 \
