@@ -71,9 +71,11 @@ run() {
   # Filling those takes seconds and gigabytes: that target runs in libFuzzer's fork
   # mode, which counts out-of-memory and slow inputs and goes on. A count too large
   # to allocate at all throws std::bad_alloc in the release build (the reader turns
-  # it into a DatasetError) but is fatal under ASan, whose operator new never throws:
-  # fork mode goes on past crashes too, and each crash it kept is replayed below;
-  # only that allocation failure is no finding. Leak checking is off in fork mode: a
+  # it into a DatasetError) but is fatal under ASan, whose operator new never throws;
+  # the target's own operator new throws as the release build's does, but MRPT's
+  # aligned allocator goes around it (tests/fuzz/fuzz_rawlog.cpp). Fork mode goes on
+  # past crashes too, and each crash it kept is replayed below; only that allocation
+  # failure is no finding. Leak checking is off in fork mode: a
   # job ended by the memory limit once hung in LeakSanitizer's stop-the-world (its
   # tracer waiting on a lock for 45 min, 2026-12-06), and the fork-mode parent waits
   # on its jobs without bound; the reader's own leaks are ASan's unit tests' to find.
