@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "report.h"
 #include "specht/io/object_tracks.h"
 #include "test_support.h"
 
@@ -38,7 +39,7 @@ TEST(PerceptionReplayTest, StereoFramesBecomeObstaclesInTheWorldModel) {
                   fs::copy_options::overwrite_existing);
   const auto r = testing::RunSpecht("replay -q '" + sim + "/sim.rawlog' --data-dir '" + data + "' -o '" + out + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  const auto report = Report(out);
   ASSERT_TRUE(report.contains("perception")) << report.dump();
   EXPECT_EQ(report["perception"]["frames"], 6);
   EXPECT_GE(report["perception"]["detections"].get<int>(), 4);
@@ -72,7 +73,7 @@ TEST(PerceptionReplayTest, StereoFramesBecomeObstaclesInTheWorldModel) {
   const auto off = testing::RunSpecht("replay -q '" + sim + "/sim.rawlog' --data-dir '" + data +
                                       "' --set perception.mode=off -o '" + out + "-off'");
   ASSERT_EQ(off.exit_code, 0) << off.err;
-  EXPECT_FALSE(nlohmann::json::parse(testing::ReadFile(out + "-off/report.json")).contains("perception"));
+  EXPECT_FALSE(Report(out + "-off").contains("perception"));
   EXPECT_FALSE(fs::exists(out + "-off/tracks.csv"));
 }
 
@@ -94,7 +95,7 @@ TEST(PerceptionReplayTest, DetectionsBecomeTracksInTheWorldModel) {
       "replay -q '" + sim + "/sim.rawlog' --data-dir '" + data + "' --set perception.octree=false -o '";
   const auto r = testing::RunSpecht(replay + out + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  const auto report = Report(out);
   EXPECT_GE(report["perception"]["tracks_confirmed"].get<int>(), 2) << report["perception"].dump();
 
   const std::string csv = testing::ReadFile(out + "/tracks.csv");
@@ -152,7 +153,7 @@ TEST(PerceptionReplayTest, TheClassifierLabelsTracksAndTheVideosShowTheDrive) {
   const std::string replay = "replay -q '" + base + "/sim/sim.rawlog' --data-dir '" + data + "' --model '";
   const auto r = testing::RunSpecht(replay + base + "/model' -o '" + base + "/replay'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto report = nlohmann::json::parse(testing::ReadFile(base + "/replay/report.json"));
+  const auto report = Report(base + "/replay");
   EXPECT_GT(report["perception"]["windows_classified"].get<int>(), 0) << report["perception"].dump();
 
   const auto tracks = io::ReadObjectTracks(base + "/replay/tracks.csv");

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "report.h"
 #include "test_support.h"
 
 namespace specht {
@@ -18,7 +19,7 @@ TEST(PlanCliTest, ParksInAScenarioBay) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* f : {"path.csv", "plan.png", "params.yaml", "report.json", "report.md"})
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
-  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  const auto report = Report(out);
   EXPECT_TRUE(report["metrics"]["found"].get<bool>());
   EXPECT_GT(report["metrics"]["min_clearance_m"].get<double>(), 0.1);  // the safety margin
   EXPECT_LE(report["metrics"]["max_curvature_per_m"].get<double>(),
@@ -47,7 +48,7 @@ TEST(PlanCliTest, KinodynamicPlannerReachesTheGoalWithinTolerance) {
         "plan '" + scenario + "' --goal bay:middle-14 --planner rrt --guided -q " +
         "--set kinodynamic.time_budget_ms=60000 --set kinodynamic.max_iterations=100000 " + "-o '" + out + "'");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-    const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+    const auto report = Report(out);
     EXPECT_TRUE(report["metrics"]["found"].get<bool>());
     EXPECT_EQ(report["inputs"]["planner"], "rrt");
     EXPECT_LE(report["metrics"]["goal_distance_m"].get<double>(), 0.3);

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "report.h"
 #include "test_support.h"
 
 namespace specht {
@@ -22,7 +23,7 @@ nlohmann::json RunParked(const std::string& scenario, const std::string& seeds, 
   const auto r = testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/" + scenario + "' --seeds " +
                                     seeds + " -q -o '" + out + "' " + extra);
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  const auto report = Report(out);
   const auto& m = report["metrics"];
   EXPECT_EQ(m["success_rate"].get<double>(), 1.0);
   EXPECT_EQ(m["collisions"].get<int>(), 0);  // scored against the true map
@@ -163,7 +164,7 @@ TEST(RunCliTest, TheLidarStopHaltsTheCarBeforeAPedestrianPerceptionMissesAndItGo
     testing::RunSpecht("run '" + dir + "/standing.yaml' --seeds 1 -q -o '" + dir + "/" + name +
                        "' --set synthetic_detections.detection_probability=0 --set closed_loop.time_limit_s=60 " +
                        extra);
-    return nlohmann::json::parse(testing::ReadFile(dir + "/" + name + "/report.json"))["runs"][0];
+    return Report(dir + "/" + name)["runs"][0];
   };
   EXPECT_GT(drive("off", "--set closed_loop.lidar_stop=false")["collisions"].get<int>(), 0)
       << "no contact without the check: the test lost its point";
@@ -218,7 +219,7 @@ TEST(RunCliTest, AKidnappedPoseIsNoticedTheCarStopsRelocalisesAndParks) {
   testing::RunSpecht("run '" + testing::SourceDir() + "/datasets/scenarios/parking-lot.yaml' --seeds 1 -q -o '" + off +
                      "' --stack full --set closed_loop.kidnap_at_s=4 --set pose_check.enabled=false --set "
                      "closed_loop.time_limit_s=60");
-  const auto unchecked = nlohmann::json::parse(testing::ReadFile(off + "/report.json"))["runs"][0];
+  const auto unchecked = Report(off)["runs"][0];
   EXPECT_FALSE(unchecked["success"].get<bool>()) << "the kidnap did no harm unnoticed: the test lost its point";
 }
 
@@ -260,7 +261,7 @@ TEST(RunCliTest, TheCameraPerceivesTheRoadUsersInTheLoop) {
                        dir + "/" + name + "' --data-dir '" + testing::DataDir() +
                        "' --set closed_loop.perception=camera --set perception.stereo_downsample=2 "
                        "--set closed_loop.time_limit_s=8");
-    return nlohmann::json::parse(testing::ReadFile(dir + "/" + name + "/report.json"))["runs"][0];
+    return Report(dir + "/" + name)["runs"][0];
   };
   const auto run = drive("a");
   const auto& seen = run["perception"];

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "report.h"
 #include "test_support.h"
 
 namespace specht {
@@ -25,7 +26,7 @@ TEST(StereoCliTest, LidarGuidedRunWritesDisparityDepthCloudAndOctomap) {
   for (const char* f : {"disparity.png", "disparity_color.png", "hints.png", "depth.png", "depth_color.png",
                         "points.ply", "octomap.bt", "params.yaml", "report.json", "report.md"})
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
-  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/report.json"));
+  const auto report = Report(out);
   EXPECT_GT(report["metrics"]["match"]["density"].get<double>(), 0.6);
   EXPECT_GT(report["metrics"]["unguided"]["lr_consistency"].get<double>(), 0.7);
   EXPECT_GT(report["metrics"]["points"].get<long>(), 100000);
@@ -51,7 +52,7 @@ TEST(StereoCliTest, KittiFrameScoredWithFilledHoles) {
   const auto e = testing::RunSpecht("eval stereo --fill-holes --estimate '" + out + "/disparity.png' --truth '" + in +
                                     "disp_occ_0/000000_10.png' -o '" + out + "/eval'");
   ASSERT_EQ(e.exit_code, 0) << e.err;
-  const auto report = nlohmann::json::parse(testing::ReadFile(out + "/eval/report.json"));
+  const auto report = Report(out + "/eval");
   EXPECT_LT(report["metrics"]["d1_all"].get<double>(), 0.080);  // 7.43 % measured
   EXPECT_GT(report["metrics"]["density_gt"].get<double>(), 0.99);
 }

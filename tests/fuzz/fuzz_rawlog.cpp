@@ -21,9 +21,11 @@ namespace {
 // Past this, a request comes from a corrupt count: fail it as an exhausted heap does.
 constexpr std::size_t kLargestRequest = std::size_t{256} << 20;
 
+// Null where an exhausted heap would refuse.
+void* TryAllocate(std::size_t n) { return n <= kLargestRequest ? std::malloc(n == 0 ? 1 : n) : nullptr; }
+
 void* Allocate(std::size_t n) {
-  if (n <= kLargestRequest)
-    if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  if (void* p = TryAllocate(n)) return p;
   throw std::bad_alloc();
 }
 
@@ -39,12 +41,8 @@ void* operator new(std::size_t n) { return Allocate(n); }
 void* operator new[](std::size_t n) { return Allocate(n); }
 void* operator new(std::size_t n, std::align_val_t a) { return AllocateAligned(n, a); }
 void* operator new[](std::size_t n, std::align_val_t a) { return AllocateAligned(n, a); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  return n <= kLargestRequest ? std::malloc(n == 0 ? 1 : n) : nullptr;
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  return n <= kLargestRequest ? std::malloc(n == 0 ? 1 : n) : nullptr;
-}
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return TryAllocate(n); }
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return TryAllocate(n); }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "report.h"
 #include "specht/io/ros_messages.h"
 #include "specht/io/trajectory_io.h"
 #include "specht/net/dds.h"
@@ -90,7 +91,7 @@ TEST(SimNodeTest, LockstepDriveOverDdsEqualsTheInProcessDrive) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(commands, static_cast<int>(expected.size()) - 1);
   EXPECT_TRUE(testing::ReadFile(dir + "/node/ground_truth.tum") == testing::ReadFile(dir + "/expected.tum"));
-  const auto report = nlohmann::json::parse(testing::ReadFile(dir + "/node/report.json"));
+  const auto report = Report(dir + "/node");
   EXPECT_EQ(report["counts"]["commands"], commands);
   EXPECT_GT(report["counts"]["published"]["/scan"].get<int>(), 50);
   // It drove somewhere: 8 s at 1–3 m/s.
@@ -106,7 +107,7 @@ TEST(SimNodeTest, LockstepWithoutCommandsEndsAfterTheTimeout) {
                                     "--domain " +
                                     std::to_string(1 + getpid() % 200) + " -o '" + dir + "'");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  const auto report = nlohmann::json::parse(testing::ReadFile(dir + "/report.json"));
+  const auto report = Report(dir);
   EXPECT_EQ(report["status"], "incomplete");
   EXPECT_NE(report["error"].get<std::string>().find("no command on /drive"), std::string::npos);
 }

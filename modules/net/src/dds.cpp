@@ -1,6 +1,5 @@
 #include "specht/net/dds.h"
 
-#include <arpa/inet.h>
 #include <dds/dds.h>
 #include <dds/ddsi/ddsi_cdrstream.h>
 #include <dds/ddsi/ddsi_serdata.h>

@@ -1,6 +1,5 @@
 #include "specht/net/launch.h"
 
-#include <arpa/inet.h>
 #include <signal.h>
 #include <yaml-cpp/yaml.h>
 

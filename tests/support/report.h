@@ -1,4 +1,4 @@
-// tests/e2e/report.h: a command's report.json, as the e2e suites read it.
+// tests/support/report.h: a command's report.json, as the suites that run the binary read it.
 #pragma once
 
 #include <nlohmann/json.hpp>
