@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace specht::params {
 namespace {
@@ -351,11 +352,16 @@ size_t EditDistance(const std::string& a, const std::string& b, size_t cap) {
   const size_t n = b.size(), over = cap + 1;
   if ((a.size() > n ? a.size() - n : n - a.size()) > cap) return over;
   if (cap < std::max(a.size(), n)) {
+    // Half the letter-count difference bounds the distance from below. Summed over
+    // the letters of a and b only (each taken once), not all 256: this runs per
+    // candidate key and per unknown key.
     std::array<int, 256> count{};
     for (unsigned char c : a) ++count[c];
     for (unsigned char c : b) --count[c];
     size_t l1 = 0;
-    for (int c : count) l1 += static_cast<size_t>(std::abs(c));
+    for (const std::string* s : {&a, &b}) {
+      for (unsigned char c : *s) l1 += static_cast<size_t>(std::abs(std::exchange(count[c], 0)));
+    }
     if ((l1 + 1) / 2 > cap) return over;
   }
   std::vector<size_t> prev(n + 2, over), cur(n + 2, over);
@@ -392,17 +398,16 @@ std::string NearestKey(const std::string& key, const std::vector<std::string>& c
 
 namespace {
 
-std::string UnknownKeyMessage(const std::string& key, const Leaf& leaf, const std::vector<ParamInfo>& known) {
+std::string UnknownKeyMessage(const std::string& key, const Leaf& leaf, const std::vector<std::string>& known) {
   std::string message = Where(leaf.file, leaf.line) + "unknown key '" + key + "'";
   // A declared key below this one means a group was given a value.
-  for (const ParamInfo& info : known) {
-    if (info.key.rfind(key + ".", 0) == 0) {
+  const std::string group = key + ".";
+  for (const std::string& k : known) {
+    if (k.compare(0, group.size(), group) == 0) {
       return message + ": '" + key + "' is a group of parameters and needs a map";
     }
   }
-  std::vector<std::string> keys;
-  for (const ParamInfo& info : known) keys.push_back(info.key);
-  if (const std::string nearest = NearestKey(key, keys); !nearest.empty()) {
+  if (const std::string nearest = NearestKey(key, known); !nearest.empty()) {
     message += " (did you mean '" + nearest + "'?)";
   }
   return message;
@@ -416,11 +421,14 @@ Params Registry::Load(ParamTree& tree) const {
   std::vector<std::string> errors;
   tree.ResetUsed();
   for (const Entry& e : entries_) params.values_[e.section] = e.load(tree, errors);
-  const std::vector<ParamInfo> known = params.Describe();
   // As a compiler stops at an error limit: past twenty, more lines (and the search
   // for a near key behind each) help nobody; the count says how many were left out.
   constexpr size_t kReportedUnknownKeys = 20;
   const auto unused = tree.Unused();
+  std::vector<std::string> known;  // declared keys, listed only when a hint is needed
+  if (!unused.empty()) {
+    for (const ParamInfo& info : params.Describe()) known.push_back(info.key);
+  }
   for (size_t i = 0; i < std::min(unused.size(), kReportedUnknownKeys); ++i)
     errors.push_back(UnknownKeyMessage(unused[i].first, *unused[i].second, known));
   if (unused.size() > kReportedUnknownKeys)
