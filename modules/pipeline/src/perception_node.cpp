@@ -84,6 +84,11 @@ int RunPerceptionNode(const params::Params& params, const PerceptionNodeInputs& 
   };
   while (!done() && !InterruptRequested()) {
     if (wait.Wait(std::chrono::milliseconds(50))) last_message = std::chrono::steady_clock::now();
+    // The end first: the run publishes it only once every reader has acknowledged the
+    // detections before it, so the takes below see them all. Taken last, a frame
+    // arriving between the two takes was missed (its end seen, the loop ended).
+    for (auto& s : vehicle.Take())
+      if (const auto v = ros::DecodeVehicleState(s.cdr); !v.stop.empty()) end = v.header.stamp;
     for (auto& s : detections.Take()) {
       ros::Obstacles m = ros::DecodeObstacles(s.cdr);
       if (m.header.stamp > last) pending[m.header.stamp].detections = std::move(m);
@@ -93,8 +98,6 @@ int RunPerceptionNode(const params::Params& params, const PerceptionNodeInputs& 
       if (m.header.stamp > last) pending[m.header.stamp].believed = internal::PoseFromRos(m);
     }
     track_complete();
-    for (auto& s : vehicle.Take())
-      if (const auto v = ros::DecodeVehicleState(s.cdr); !v.stop.empty()) end = v.header.stamp;
     // Silence ends the node; after the drive's end, a frame whose pose does not come.
     if (std::chrono::steady_clock::now() - last_message > silence) {
       if (!end) stopped = "no message for " + std::to_string(timeout_s) + " s (node.command_timeout_s)";

@@ -56,7 +56,7 @@ const std::vector<std::pair<std::string, std::string>>& CarTopics() {
   static const std::vector<std::pair<std::string, std::string>> topics = {
       {"/tf_static", ros::kTfMessageType},     {"/scan", ros::kLaserScanType},
       {"/odom", ros::kOdometryType},           {"/imu", ros::kImuType},
-      {kDetectionsTopic, ros::kObstaclesType}, {kVehicleStateTopic, ros::kVehicleStateType}};
+      {kDetectionsTopic, ros::kObstaclesType}, {kVehicleStateTopic, ros::kVehicleStateType}};  // questions last
   return topics;
 }
 
@@ -422,8 +422,16 @@ int RunStackNode(const params::Params& params, const StackNodeInputs& inputs, co
   while (!ended) {
     if (InterruptRequested()) break;
     if (wait.Wait(std::chrono::milliseconds(50))) last_message = std::chrono::steady_clock::now();
-    for (size_t k = 0; k < readers.size(); ++k)
+    // The questions (the vehicle state, last in CarTopics()) are taken first and queued
+    // last. The car publishes one only once every reader has acknowledged the messages
+    // before it, so the takes after it see all of them (taken last, a message arriving
+    // between two takes came after its question, and the drive diverged); queued last,
+    // a question stays behind the inputs of its own time in the stable sort.
+    const size_t questions = readers.size() - 1;
+    auto asked = readers[questions]->Take();
+    for (size_t k = 0; k < questions; ++k)
       for (auto& sample : readers[k]->Take()) queued.push_back({sample.source_time, k, std::move(sample.cdr)});
+    for (auto& sample : asked) queued.push_back({sample.source_time, questions, std::move(sample.cdr)});
     // Everything before a vehicle state has come (the car waited for the acknowledgements).
     std::stable_sort(queued.begin(), queued.end(),
                      [](const CarMessage& a, const CarMessage& b) { return a.source_time < b.source_time; });
