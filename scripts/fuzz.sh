@@ -62,9 +62,10 @@ run() {
   local t=$1 dir="$work/$1"
   mkdir -p "$dir/corpus" "$dir/seeds" "$dir/tmp"
   # Targets that parse a path write each input to a scratch file; a process killed on a
-  # finding (fork mode goes on past them) leaves its file here, not in /tmp. On tmpfs
-  # (/dev/shm) when there is one: rewriting a file on ext4 costs a fifth of
-  # fuzz_carmen's time (truncate, open, close; 1,250 → 1,670 executions/s).
+  # finding (fork mode goes on past them) leaves its file in this folder, not in /tmp.
+  # The folder is on tmpfs (/dev/shm) when there is one, and then goes when the target
+  # ends (the reproducer is the crash-* file): rewriting a file on ext4 costs a fifth
+  # of fuzz_carmen's time (truncate, open, close; 1,250 → 1,670 executions/s).
   local scratch="$dir/tmp"
   if [[ -d /dev/shm && -w /dev/shm ]]; then
     scratch=$(mktemp -d "/dev/shm/specht-fuzz-$t.XXXXXX")
