@@ -419,15 +419,15 @@ int RunStackNode(const params::Params& params, const StackNodeInputs& inputs, co
                              {"overrides", inputs.overrides}};
   bool ended = false;
   std::string stopped;
+  const size_t questions = readers.size() - 1;  // the vehicle state, last in CarTopics()
   while (!ended) {
     if (InterruptRequested()) break;
     if (wait.Wait(std::chrono::milliseconds(50))) last_message = std::chrono::steady_clock::now();
-    // The questions (the vehicle state, last in CarTopics()) are taken first and queued
-    // last. The car publishes one only once every reader has acknowledged the messages
-    // before it, so the takes after it see all of them (taken last, a message arriving
-    // between two takes came after its question, and the drive diverged); queued last,
-    // a question stays behind the inputs of its own time in the stable sort.
-    const size_t questions = readers.size() - 1;
+    // The questions are taken first and queued last. The car publishes one only once
+    // every reader has acknowledged the messages before it, so the takes after it see
+    // all of them (taken last, a message arriving between two takes came after its
+    // question, and the drive diverged); queued last, a question stays behind the
+    // inputs of its own time in the stable sort.
     auto asked = readers[questions]->Take();
     for (size_t k = 0; k < questions; ++k)
       for (auto& sample : readers[k]->Take()) queued.push_back({sample.source_time, k, std::move(sample.cdr)});
