@@ -425,12 +425,8 @@ Params Registry::Load(ParamTree& tree) const {
   // for a near key behind each) help nobody; the count says how many were left out.
   constexpr size_t kReportedUnknownKeys = 20;
   const auto unused = tree.Unused();
-  std::vector<std::string> known;  // declared keys, listed only when a hint is needed
-  if (!unused.empty()) {
-    for (const ParamInfo& info : params.Describe()) known.push_back(info.key);
-  }
   for (size_t i = 0; i < std::min(unused.size(), kReportedUnknownKeys); ++i)
-    errors.push_back(UnknownKeyMessage(unused[i].first, *unused[i].second, known));
+    errors.push_back(UnknownKeyMessage(unused[i].first, *unused[i].second, declared_keys_));
   if (unused.size() > kReportedUnknownKeys)
     errors.push_back("... and " + std::to_string(unused.size() - kReportedUnknownKeys) + " more unknown keys");
   if (!errors.empty()) {

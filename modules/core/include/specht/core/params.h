@@ -303,6 +303,8 @@ class Registry {
       options.Visit(describer);
       return infos;
     };
+    // A struct's keys do not depend on its values: listed once, for the hints.
+    for (ParamInfo& info : e.describe(defaults)) declared_keys_.push_back(std::move(info.key));
     entries_.push_back(std::move(e));
   }
 
@@ -323,6 +325,7 @@ class Registry {
     std::function<std::vector<ParamInfo>(const std::any&)> describe;
   };
   std::vector<Entry> entries_;
+  std::vector<std::string> declared_keys_;  // every section's, for "did you mean"
 };
 
 // Decoded, validated options of every section.
