@@ -8,10 +8,14 @@
 #
 #   scripts/fuzz.sh [seconds per target, default 30] [target ...]
 #
-# SPECHT_FUZZ_RUNS=N also ends each target after N executions (a long campaign:
-# SPECHT_FUZZ_RUNS=10000000 with a large time bound); SPECHT_FUZZ_MAX_LEN caps an
-# input's bytes (default 16384; shorter inputs run faster). ASAN_OPTIONS passes
-# through (a campaign may trade allocation stack traces for speed: docs/testing.md).
+# SPECHT_FUZZ_RUNS=N makes each target a campaign of N executions (10000000 for the
+# long ones), which may run in segments: a segment ends at the time bound or on
+# Ctrl-C, and the next run with the same SPECHT_FUZZ_DIR resumes from its corpus with
+# the executions still owed. Each target's folder keeps campaign.tsv, a row per run
+# (date, seed, input cap, executions, coverage, seconds, how it ended), and its logs
+# (log-<row>.txt). SPECHT_FUZZ_MAX_LEN caps an input's bytes (default 16384; shorter
+# inputs run faster). ASAN_OPTIONS passes through (a campaign may trade allocation
+# stack traces for speed: docs/testing.md).
 #
 # A finding (crash, sanitizer report, an exception that is not specht's own error)
 # fails the script; its reproducer is kept in $SPECHT_FUZZ_DIR/<target>/ (crash-*),
@@ -58,7 +62,40 @@ if [[ ${#targets[@]} -eq 0 ]]; then
   for t in "$bin"/fuzz_*; do targets+=("$(basename "$t")"); done
 fi
 
+# executions_in <log>: what a libFuzzer log says it ran: the larger of its final
+# statistics and its last progress line (a run killed prints no statistics; a
+# fork-mode parent prints its own, which count none of its jobs' executions).
+executions_in() {
+  local stats progress
+  stats=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$1" | grep -o '[0-9]*$' | tail -1 || true)
+  progress=$(grep -o '^#[0-9]*' "$1" | tail -1 | tr -d '#' || true)
+  echo $((${stats:-0} > ${progress:-0} ? ${stats:-0} : ${progress:-0}))
+}
+
+# coverage_in <log>: the edges the log's last status line reports.
+coverage_in() { grep -o 'cov: [0-9]*' "$1" | tail -1 | grep -o '[0-9]*' || echo '?'; }
+
+# record <dir> <seconds> <end>: the folder's log.txt as a row of campaign.tsv (its
+# number in $recorded), the log kept beside it as log-<row>.txt.
+record() {
+  local dir=$1 ledger="$1/campaign.tsv" seed
+  [[ -f $ledger ]] || printf 'row\tended\tseed\texecutions\tcoverage\tseconds\tend\n' > "$ledger"
+  recorded=$(($(wc -l < "$ledger")))
+  seed=$(grep -o -m1 'INFO: Seed: [0-9]*' "$dir/log.txt" | grep -o '[0-9]*$' || echo '?')
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$recorded" "$(date -u -r "$dir/log.txt" +%FT%TZ)" "$seed" \
+    "$(executions_in "$dir/log.txt")" "$(coverage_in "$dir/log.txt")" "$2" "$3" >> "$ledger"
+  mv "$dir/log.txt" "$dir/log-$recorded.txt"
+}
+
+# campaign_executions <dir>: the executions of every row so far.
+campaign_executions() {
+  awk -F'\t' 'NR > 1 { n += $4 } END { print n + 0 }' "$1/campaign.tsv" 2>/dev/null || echo 0
+}
+
 run() {
+  # A stop reaches every process of the script's group as INT and TERM: a fork-mode
+  # parent ignores INT while its job runs, and this shell must live to record the run.
+  trap '' TERM
   local t=$1 dir="$work/$1"
   mkdir -p "$dir/corpus" "$dir/seeds" "$dir/tmp"
   # Targets that parse a path write each input to a scratch file; a process killed on a
@@ -90,21 +127,41 @@ run() {
   local mode=()
   [[ $t == fuzz_rawlog ]] && mode=(-fork=1 -ignore_ooms=1 -ignore_timeouts=1 -ignore_crashes=1 -detect_leaks=0)
   # Whatever hangs, the stage ends: a run past its time by 5 minutes is killed, and
-  # counts as a finding (it did not reach its end).
-  local bound=(timeout -k 10 $((seconds + 300)))
+  # counts as a finding (it did not reach its end). In the foreground: the fuzzer
+  # stays in this script's process group, where Ctrl-C reaches it.
+  local bound=(timeout --foreground -k 10 $((seconds + 300)))
   # -seed: the same mutations every run (SPECHT_FUZZ_SEED to explore others), so a
-  # CI run does not turn red on a finding another run missed by chance.
+  # CI run does not turn red on a finding another run missed by chance. -print_funcs=0:
+  # no symbolizer naming each newly covered function (Ctrl-C ends it too, and the
+  # fork-mode parent then died of SIGPIPE instead of stopping).
   local rc=0
   local runs=() start=$SECONDS
-  [[ -n "${SPECHT_FUZZ_RUNS:-}" ]] && runs=(-runs="$SPECHT_FUZZ_RUNS")
+  # A log no row holds is a run stopped before it was recorded (Ctrl-C, a kill).
+  [[ -f $dir/log.txt ]] && record "$dir" '?' stopped
+  if [[ -n "${SPECHT_FUZZ_RUNS:-}" ]]; then
+    local owed=$((SPECHT_FUZZ_RUNS - $(campaign_executions "$dir")))
+    if [[ $owed -le 0 ]]; then
+      echo "fuzz: $t: campaign complete, $(campaign_executions "$dir") executions ($dir/campaign.tsv)"
+      return 0
+    fi
+    runs=(-runs="$owed")
+  fi
   (cd "$dir" && "${bound[@]}" "$bin/$t" "${mode[@]}" "${runs[@]}" -seed="${SPECHT_FUZZ_SEED:-1}" -max_total_time="$seconds" -max_len="${SPECHT_FUZZ_MAX_LEN:-16384}" -timeout=10 \
-    -rss_limit_mb=2048 -print_final_stats=1 corpus seeds > log.txt 2>&1) || rc=$?
+    -rss_limit_mb=2048 -print_final_stats=1 -print_funcs=0 corpus seeds > log.txt 2>&1) || rc=$?
   # Fork mode exits with the last job's code even when it ignored it (libFuzzer 14),
   # and copies a failed job's log (sanitizer report included) into ours. Its verdict
   # is therefore the replay of every input it kept as a crash or a leak: one that is
   # not an unallocatable count is a finding. A run that did not reach its end is one
   # too.
   local unallocatable=0
+  # Stopped by Ctrl-C: libFuzzer exits 72 (in fork mode the job does, then the parent
+  # with the job's code), or 130 when the signal ended it first.
+  if [[ $rc -eq 72 || $rc -eq 130 ]]; then
+    record "$dir" $((SECONDS - start)) stopped
+    echo "fuzz: $t: stopped after $(executions_in "$dir/log-$recorded.txt") executions$([[ -n ${SPECHT_FUZZ_RUNS:-} ]] &&
+      echo "; campaign: $(campaign_executions "$dir") of $SPECHT_FUZZ_RUNS")"
+    return 0
+  fi
   if [[ ${#mode[@]} -gt 0 ]] && grep -q "^INFO: exiting:" "$dir/log.txt"; then
     rc=0
     for kept in "$dir"/crash-* "$dir"/leak-*; do
@@ -117,25 +174,33 @@ run() {
       fi
     done
   fi
+  local execs cov skipped campaign=''
+  execs=$(executions_in "$dir/log.txt")
+  cov=$(coverage_in "$dir/log.txt")
+  skipped=$(grep -o 'oom/timeout/crash: [0-9/]*' "$dir/log.txt" | tail -1 || true)
+  [[ $unallocatable -gt 0 ]] && skipped="${skipped:+$skipped, }$unallocatable unallocatable counts"
   if [[ $rc -eq 0 ]]; then
-    local execs cov
-    execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$dir/log.txt" | grep -o '[0-9]*$' ||
-            grep -o '^#[0-9]*' "$dir/log.txt" | tail -1 | tr -d '#')
-    cov=$(grep -o 'cov: [0-9]*' "$dir/log.txt" | tail -1 | grep -o '[0-9]*' || echo '?')
-    local skipped
-    skipped=$(grep -o 'oom/timeout/crash: [0-9/]*' "$dir/log.txt" | tail -1 || true)
-    [[ $unallocatable -gt 0 ]] && skipped="${skipped:+$skipped, }$unallocatable unallocatable counts"
-    echo "fuzz: $t: $execs executions in $((SECONDS - start)) s, coverage $cov edges, no finding${skipped:+ ($skipped)}"
+    record "$dir" $((SECONDS - start)) finished
+    [[ -n "${SPECHT_FUZZ_RUNS:-}" ]] && campaign="; campaign: $(campaign_executions "$dir") of $SPECHT_FUZZ_RUNS"
+    echo "fuzz: $t: $execs executions in $((SECONDS - start)) s, coverage $cov edges, no finding${skipped:+ ($skipped)}$campaign"
   else
-    echo "fuzz: $t: FINDING (see $dir/log.txt; reproducer in $dir)" >&2
-    tail -40 "$dir/log.txt" >&2
+    record "$dir" $((SECONDS - start)) finding
+    echo "fuzz: $t: FINDING (see $dir/log-$recorded.txt; reproducer in $dir)" >&2
+    tail -40 "$dir/log-$recorded.txt" >&2
     return 1
   fi
 }
 
+# Ctrl-C or TERM stops every target at once: each fuzzer prints what it ran, which is
+# recorded as a stopped row (a campaign resumes from its corpus), and the script
+# exits 130. The targets' own shells ignore it (they run in the background).
+interrupted=0
+trap 'interrupted=1; trap "" INT TERM; kill -INT 0; kill -TERM 0' INT TERM
+
 failed=0
 pids=()
 for t in "${targets[@]}"; do
+  [[ $interrupted -eq 1 ]] && break
   run "$t" &
   pids+=($!)
   if [[ ${#pids[@]} -ge ${SPECHT_FUZZ_JOBS:-2} ]]; then
@@ -144,5 +209,8 @@ for t in "${targets[@]}"; do
   fi
 done
 for p in "${pids[@]}"; do wait "$p" || failed=1; done
+# A signal breaks a wait off early: the targets still record what they ran.
+while [[ -n $(jobs -pr) ]]; do wait || true; done
+[[ $interrupted -eq 1 ]] && exit 130
 [[ "${SPECHT_FUZZ_DIR:-}" ]] || { [[ $failed -eq 0 ]] && rm -rf "$work"; }
 exit $failed
