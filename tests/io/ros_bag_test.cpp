@@ -252,5 +252,51 @@ TEST(Ros2BagTest, BrokenBagsNameWhatBroke) {
   EXPECT_THROW(OpenRos2Bag(dir + "/not.db3"), InputError);
 }
 
+// A ROS 1 bag (CCNY's scan_tools demo) whose records run past the end of the file: a
+// corrupt bag-header length, an index record claiming more data than is left, and a
+// bag cut short (its index gone) are named before rosbag_storage allocates what they
+// claim.
+TEST(Ros1BagTest, RecordsPastTheEndOfTheFileAreNamedByByte) {
+  const std::string bag = testing::DataDir() + "/ros/ccny-scan-tools/demo.bag";
+  if (testing::DataDir().empty() || !std::filesystem::exists(bag)) SPECHT_SKIP() << bag;
+  const std::string bytes = testing::ReadFile(bag);
+  EXPECT_TRUE(OpenRos1Bag(bag)->Next());
+
+  const std::string dir = testing::TempDir("ros1_bag_bad");
+  std::string corrupt = bytes;
+  corrupt.replace(13, 4, "\xf0\xff\xff\xff");  // the bag header's header length
+  testing::WriteFile(dir + "/header.bag", corrupt);
+  try {
+    OpenRos1Bag(dir + "/header.bag");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("header.bag: the record at byte 13 has a header of 4294967280 bytes past the end "
+                                    "of the file (" +
+                                    std::to_string(bytes.size()) + " bytes)"));
+  }
+  EXPECT_THROW(ListRos1Bag(dir + "/header.bag"), InputError);
+
+  // The last chunk info record, at the end of the index, claiming more data than is left.
+  corrupt = bytes;
+  corrupt.replace(corrupt.size() - 4 - 8, 4, std::string("\xff\xff\x00\x00", 4));
+  testing::WriteFile(dir + "/index.bag", corrupt);
+  try {
+    OpenRos1Bag(dir + "/index.bag");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(),
+                ::testing::ContainsRegex("index.bag: the record at byte [0-9]+ has data of 65535 bytes past"));
+  }
+
+  testing::WriteFile(dir + "/cut.bag", bytes.substr(0, 500000));
+  try {
+    OpenRos1Bag(dir + "/cut.bag");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::ContainsRegex("cut.bag: the bag header's index_pos \\([0-9]+\\) does not point "
+                                                   "into the file \\(500000 bytes\\).*rosbag reindex"));
+  }
+}
+
 }  // namespace
 }  // namespace specht::io
