@@ -320,31 +320,34 @@ bool DecodeMessage(const RawMessage& raw, Message& m, std::string& reason) {
     reason = "unknown message type " + std::to_string(m.type);
     return false;
   }
-  std::vector<const std::vector<Field>*> tables;
+  // The message's field tables in bit order. Assigned as whole vectors (moved): GCC 12
+  // warns of a null memmove in copying an initializer list into an empty one.
+  using Tables = std::vector<const std::vector<Field>*>;
+  Tables tables;
   switch (m.type) {
     case 1:
     case 2:
     case 3:
-      tables = {&kPositionA};
+      tables = Tables{&kPositionA};
       break;
     case 4:
     case 11:
-      tables = {&kBaseStation};
+      tables = Tables{&kBaseStation};
       break;
     case 5:
-      tables = {&kStaticVoyage};
+      tables = Tables{&kStaticVoyage};
       break;
     case 9:
-      tables = {&kSarAircraft};
+      tables = Tables{&kSarAircraft};
       break;
     case 18:
-      tables = {&kPositionBCommon, &kPositionBStandard};
+      tables = Tables{&kPositionBCommon, &kPositionBStandard};
       break;
     case 19:
-      tables = {&kPositionBCommon, &kPositionBExtended};
+      tables = Tables{&kPositionBCommon, &kPositionBExtended};
       break;
     case 27:
-      tables = {&kLongRange};
+      tables = Tables{&kLongRange};
       break;
     case 24: {
       if (b.size() < 40) {
@@ -359,9 +362,7 @@ bool DecodeMessage(const RawMessage& raw, Message& m, std::string& reason) {
       // Auxiliary craft (MMSI 98xxxyyyy) carry their mother ship's MMSI in place
       // of the dimensions.
       const bool auxiliary = m.mmsi / 10000000 == 98;
-      tables = part == 0 ? std::vector<const std::vector<Field>*>{&kStaticA}
-                         : std::vector<const std::vector<Field>*>{
-                               &kStaticB, auxiliary ? &kStaticBMothership : &kStaticBDimensions};
+      tables = part == 0 ? Tables{&kStaticA} : Tables{&kStaticB, auxiliary ? &kStaticBMothership : &kStaticBDimensions};
       break;
     }
     default:
