@@ -133,6 +133,8 @@ TEST(TuneSpaceTest, RejectsBadParametersBeforeAnyEvaluation) {
   fails("f.mode: {choices: [a, z]}", "choice 'z' is not a valid value");
   fails("f.x0: {mni: 1}", "unknown field 'mni'");
   fails("{}", "at least one");
+  // Found by fuzz_params (2026-12-08, after 3.0 M executions): a flow map as a key.
+  fails("f.x0: {}\n{f.x1: , max: 16}: {}\n", "t.yaml:2: a parameter key must be a name such as stereo.p2");
 }
 
 // A GA over one three-way choice asks the same values again and again: each is run

@@ -32,14 +32,19 @@ std::vector<Goal> LoadMission(const std::string& path, const MissionSite& s, con
   const auto at = [&](const YAML::Node& n) { return path + ":" + std::to_string(n.Mark().line + 1) + ": "; };
   if (!root.IsMap() || !root["goals"] || !root["goals"].IsSequence() || root["goals"].size() == 0)
     throw InputError(path + ": a mission is a map with a non-empty 'goals' list");
+  // YAML allows a map or a list where a mission has names (keys, a bay).
+  const auto name = [&](const YAML::Node& n, const std::string& what) {
+    if (!n.IsScalar()) throw InputError(at(n) + what + " is a name, not a map or a list");
+    return n.Scalar();
+  };
   for (const auto& kv : root)
-    if (kv.first.as<std::string>() != "goals")
-      throw InputError(at(kv.first) + "unknown field '" + kv.first.as<std::string>() + "' (goals)");
+    if (name(kv.first, "a field") != "goals")
+      throw InputError(at(kv.first) + "unknown field '" + kv.first.Scalar() + "' (goals)");
   std::vector<Goal> goals;
   int waypoints = 0;
   for (const auto& g : root["goals"]) {
     if (!g.IsMap() || g.size() != 1) throw InputError(at(g) + "a goal is {waypoint: [x, y, deg]} or {park: BAY}");
-    const std::string kind = g.begin()->first.as<std::string>();
+    const std::string kind = name(g.begin()->first, "a goal's kind");
     const YAML::Node v = g.begin()->second;
     if (kind == "waypoint") {
       std::vector<double> xyz;
@@ -50,10 +55,10 @@ std::vector<Goal> LoadMission(const std::string& path, const MissionSite& s, con
       if (xyz.size() != 3) throw InputError(at(v) + "a waypoint is [x, y, heading_deg]");
       goals.push_back({"waypoint " + std::to_string(++waypoints), {xyz[0], xyz[1], xyz[2] * M_PI / 180}, false});
     } else if (kind == "park") {
-      const std::string name = v.as<std::string>();
-      const auto bay = std::find_if(s.bays.begin(), s.bays.end(), [&](const auto& b) { return b.name == name; });
-      if (bay == s.bays.end()) throw InputError(at(v) + s.name + " has no bay '" + name + "'");
-      goals.push_back({"park " + name, BayPose(*bay, car), true});
+      const std::string bay_name = name(v, "a bay");
+      const auto bay = std::find_if(s.bays.begin(), s.bays.end(), [&](const auto& b) { return b.name == bay_name; });
+      if (bay == s.bays.end()) throw InputError(at(v) + s.name + " has no bay '" + bay_name + "'");
+      goals.push_back({"park " + bay_name, BayPose(*bay, car), true});
     } else {
       throw InputError(at(g) + "unknown goal '" + kind + "' (waypoint, park)");
     }

@@ -94,6 +94,11 @@ SearchSpace SearchSpace::FromTuneFile(const std::vector<params::ParamInfo>& decl
   std::vector<Dimension> dims;
   std::vector<std::string> problems;
   for (const auto& kv : parameters) {
+    if (!kv.first.IsScalar()) {  // YAML allows a map or a list as a key
+      problems.push_back(source + ":" + std::to_string(kv.first.Mark().line + 1) +
+                         ": a parameter key must be a name such as stereo.p2, not a map or a list");
+      continue;
+    }
     const std::string key = kv.first.as<std::string>();
     const std::string where = source + ":" + std::to_string(kv.first.Mark().line + 1) + ": parameter '" + key + "'";
     const auto it = std::find_if(declared.begin(), declared.end(), [&](const auto& p) { return p.key == key; });
