@@ -153,16 +153,12 @@ run() {
   # is therefore the replay of every input it kept as a crash or a leak: one that is
   # not an unallocatable count is a finding. A run that did not reach its end is one
   # too.
+  # Stopped by Ctrl-C or TERM: the script's trap leaves a mark (a fork-mode parent's
+  # exit code then depends on where its job was); libFuzzer alone exits 72 or 130.
+  local stopped=0
+  [[ -e $work/.stop || $rc -eq 72 || $rc -eq 130 ]] && stopped=1 && rc=0
   local unallocatable=0
-  # Stopped by Ctrl-C: libFuzzer exits 72 (in fork mode the job does, then the parent
-  # with the job's code), or 130 when the signal ended it first.
-  if [[ $rc -eq 72 || $rc -eq 130 ]]; then
-    record "$dir" $((SECONDS - start)) stopped
-    echo "fuzz: $t: stopped after $(executions_in "$dir/log-$recorded.txt") executions$([[ -n ${SPECHT_FUZZ_RUNS:-} ]] &&
-      echo "; campaign: $(campaign_executions "$dir") of $SPECHT_FUZZ_RUNS")"
-    return 0
-  fi
-  if [[ ${#mode[@]} -gt 0 ]] && grep -q "^INFO: exiting:" "$dir/log.txt"; then
+  if [[ ${#mode[@]} -gt 0 ]] && { [[ $stopped -eq 1 ]] || grep -q "^INFO: exiting:" "$dir/log.txt"; }; then
     rc=0
     for kept in "$dir"/crash-* "$dir"/leak-*; do
       [[ -e $kept ]] || continue
@@ -180,9 +176,11 @@ run() {
   skipped=$(grep -o 'oom/timeout/crash: [0-9/]*' "$dir/log.txt" | tail -1 || true)
   [[ $unallocatable -gt 0 ]] && skipped="${skipped:+$skipped, }$unallocatable unallocatable counts"
   if [[ $rc -eq 0 ]]; then
-    record "$dir" $((SECONDS - start)) finished
+    local end=finished
+    [[ $stopped -eq 1 ]] && end=stopped
+    record "$dir" $((SECONDS - start)) $end
     [[ -n "${SPECHT_FUZZ_RUNS:-}" ]] && campaign="; campaign: $(campaign_executions "$dir") of $SPECHT_FUZZ_RUNS"
-    echo "fuzz: $t: $execs executions in $((SECONDS - start)) s, coverage $cov edges, no finding${skipped:+ ($skipped)}$campaign"
+    echo "fuzz: $t: $execs executions in $((SECONDS - start)) s, coverage $cov edges, no finding${skipped:+ ($skipped)}, $end$campaign"
   else
     record "$dir" $((SECONDS - start)) finding
     echo "fuzz: $t: FINDING (see $dir/log-$recorded.txt; reproducer in $dir)" >&2
@@ -195,7 +193,8 @@ run() {
 # recorded as a stopped row (a campaign resumes from its corpus), and the script
 # exits 130. The targets' own shells ignore it (they run in the background).
 interrupted=0
-trap 'interrupted=1; trap "" INT TERM; kill -INT 0; kill -TERM 0' INT TERM
+rm -f "$work/.stop"
+trap 'interrupted=1; touch "$work/.stop"; trap "" INT TERM; kill -INT 0; kill -TERM 0' INT TERM
 
 failed=0
 pids=()
