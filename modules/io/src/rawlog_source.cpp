@@ -21,6 +21,7 @@
 #include <string_view>
 #include <utility>
 
+#include "little_endian.h"
 #include "specht/io/dataset.h"
 
 namespace specht::io {
@@ -95,7 +96,7 @@ class GuardStream final : public mrpt::io::CStream {
     const std::string_view read(reinterpret_cast<const char*>(bytes), n);
     const bool is_name = n > 0 && n == name_length_;
     const Expect expected = std::exchange(expect_, Expect::kAnything);
-    if (expected == Expect::kVersion && (n == 1 || n == 4)) CheckVersion(LittleEndian(bytes, n));
+    if (expected == Expect::kVersion && (n == 1 || n == 4)) CheckVersion(static_cast<uint32_t>(LittleEndian(bytes, n)));
     if (expected == Expect::kMethod && n == 4 && LittleEndian(bytes, n) != 0) pdf_next_ = true;
     if (is_name) OnClassName(read);
     if (n != 3) name_length_ = n == 1 ? (bytes[0] & 0x7F) : 0;  // 3: the old format's zero bytes
@@ -139,12 +140,6 @@ class GuardStream final : public mrpt::io::CStream {
   [[noreturn]] void Refuse(std::string reason) {
     refusal_ = std::move(reason);
     throw std::runtime_error(refusal_);
-  }
-
-  static uint32_t LittleEndian(const unsigned char* bytes, size_t n) {
-    uint32_t value = 0;
-    for (size_t i = n; i-- > 0;) value = value << 8 | bytes[i];
-    return value;
   }
 
   mrpt::io::CFileGZInputStream in_;

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 
+#include "little_endian.h"
 #include "specht/io/ros_bag.h"
 #include "specht/io/ros_conversion.h"
 
@@ -91,7 +92,7 @@ class BagRecords {
     unsigned char b[4] = {};
     in_.seekg(static_cast<std::streamoff>(at));
     in_.read(reinterpret_cast<char*>(b), 4);
-    return static_cast<uint64_t>(b[0]) | b[1] << 8 | b[2] << 16 | static_cast<uint64_t>(b[3]) << 24;
+    return LittleEndian(b, 4);
   }
   InputError PastTheEnd(uint64_t record, const std::string& what) const {
     return InputError(path_ + ": the record at byte " + std::to_string(record) + " has " + what +
@@ -116,16 +117,12 @@ class BagRecords {
   // leave it unset (0, refused by the caller).
   static uint64_t IndexPosition(const std::string& header) {
     const std::string name = "index_pos=";
+    const auto* bytes = reinterpret_cast<const unsigned char*>(header.data());
     for (size_t at = 0; header.size() - at >= 4;) {
-      uint64_t length = 0;
-      for (int i = 3; i >= 0; --i) length = length << 8 | static_cast<unsigned char>(header[at + i]);
+      const uint64_t length = LittleEndian(bytes + at, 4);
       if (header.size() - at - 4 < length) break;
-      const std::string field = header.substr(at + 4, length);
-      if (field.size() == name.size() + 8 && field.compare(0, name.size(), name) == 0) {
-        uint64_t value = 0;
-        for (int i = 7; i >= 0; --i) value = value << 8 | static_cast<unsigned char>(field[name.size() + i]);
-        return value;
-      }
+      if (length == name.size() + 8 && header.compare(at + 4, name.size(), name) == 0)
+        return LittleEndian(bytes + at + 4 + name.size(), 8);
       at += 4 + length;
     }
     return 0;
