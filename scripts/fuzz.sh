@@ -12,7 +12,7 @@
 # long ones), which may run in segments: a segment ends at the time bound or on
 # Ctrl-C, and the next run with the same SPECHT_FUZZ_DIR resumes from its corpus with
 # the executions still owed. Each target's folder keeps campaign.tsv, a row per run
-# (date, seed, input cap, executions, coverage, seconds, how it ended), and its logs
+# (end time, seed, executions, coverage, seconds, how it ended), and its logs
 # (log-<row>.txt). SPECHT_FUZZ_MAX_LEN caps an input's bytes (default 16384; shorter
 # inputs run faster). ASAN_OPTIONS passes through (a campaign may trade allocation
 # stack traces for speed: docs/testing.md).

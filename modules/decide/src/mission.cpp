@@ -38,8 +38,8 @@ std::vector<Goal> LoadMission(const std::string& path, const MissionSite& s, con
     return n.Scalar();
   };
   for (const auto& kv : root)
-    if (name(kv.first, "a field") != "goals")
-      throw InputError(at(kv.first) + "unknown field '" + kv.first.Scalar() + "' (goals)");
+    if (const std::string field = name(kv.first, "a field"); field != "goals")
+      throw InputError(at(kv.first) + "unknown field '" + field + "' (goals)");
   std::vector<Goal> goals;
   int waypoints = 0;
   for (const auto& g : root["goals"]) {

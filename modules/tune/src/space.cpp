@@ -94,13 +94,13 @@ SearchSpace SearchSpace::FromTuneFile(const std::vector<params::ParamInfo>& decl
   std::vector<Dimension> dims;
   std::vector<std::string> problems;
   for (const auto& kv : parameters) {
+    const std::string line = source + ":" + std::to_string(kv.first.Mark().line + 1);
     if (!kv.first.IsScalar()) {  // YAML allows a map or a list as a key
-      problems.push_back(source + ":" + std::to_string(kv.first.Mark().line + 1) +
-                         ": a parameter key must be a name such as stereo.p2, not a map or a list");
+      problems.push_back(line + ": a parameter key must be a name such as stereo.p2, not a map or a list");
       continue;
     }
-    const std::string key = kv.first.as<std::string>();
-    const std::string where = source + ":" + std::to_string(kv.first.Mark().line + 1) + ": parameter '" + key + "'";
+    const std::string key = kv.first.Scalar();
+    const std::string where = line + ": parameter '" + key + "'";
     const auto it = std::find_if(declared.begin(), declared.end(), [&](const auto& p) { return p.key == key; });
     if (it == declared.end()) {
       problems.push_back(where + ": not a declared parameter" + NearestKey(declared, key));
